@@ -1,0 +1,76 @@
+/* @brief The renderer: one object with a small surface. Create from a description, load a scene, draw frames from
+ * fv_frame_input, read statistics and images back, destroy. Owns the Vulkan device. One thread at a time. */
+#ifndef FV_RENDERER_H
+#define FV_RENDERER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fovea/fv_frame_input.h"
+#include "fv_result.h"
+#include "fv_scene.h"
+
+typedef struct fv_renderer fv_renderer;
+
+typedef struct fv_renderer_desc {
+    uint32_t eye_width, eye_height; /* per-eye render size; 0 = 720x800 */
+    const char *device;             /* index or name substring; NULL = $FOVEA_DEVICE, else prefer a discrete GPU */
+    int validation;                 /* 1 on, 0 = from $FOVEA_VALIDATION */
+    uint32_t frames_in_flight;      /* 0 = 2 */
+} fv_renderer_desc;
+
+#define FV_MAX_PASSES 16
+
+/** One entry of the frame plan: a pass, whether it runs, and why. */
+typedef struct fv_plan_entry {
+    char pass[24];
+    bool enabled;
+    char reason[160];
+} fv_plan_entry;
+
+typedef struct fv_frame_plan {
+    fv_plan_entry entries[FV_MAX_PASSES];
+    uint32_t count;
+} fv_frame_plan;
+
+/** Per-pass GPU time of the most recently completed frame. */
+typedef struct fv_render_stats {
+    uint64_t frame_id;               /* frame these timings belong to */
+    uint32_t pass_count;
+    char pass_name[FV_MAX_PASSES][24];
+    double pass_gpu_ms[FV_MAX_PASSES];
+    double frame_gpu_ms;             /* first timestamp to last */
+    uint64_t pixels_shaded;
+    uint64_t device_memory_bytes;    /* currently allocated device memory */
+    uint64_t peak_device_memory_bytes;
+} fv_render_stats;
+
+FV_MUST_CHECK fv_result fv_renderer_create(const fv_renderer_desc *desc, fv_renderer **out_renderer);
+/** Wait for the GPU, free everything, set *r to NULL. Safe on NULL. */
+void fv_renderer_destroy(fv_renderer **r);
+/** Upload a scene (the renderer keeps no pointer to it) and rebuild the frame plan. */
+FV_MUST_CHECK fv_result fv_renderer_load_scene(fv_renderer *r, const fv_scene *scene);
+const fv_frame_plan *fv_renderer_plan(const fv_renderer *r);
+/** Record and submit one frame. Returns once submitted (frames in flight overlap). */
+FV_MUST_CHECK fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in);
+/** Wait for all submitted frames; stats then describe the last one. */
+FV_MUST_CHECK fv_result fv_renderer_finish(fv_renderer *r);
+/** Timings of the most recently completed frame (FV_NO_NEW_DATA before the first completes). */
+FV_MUST_CHECK fv_result fv_renderer_stats(const fv_renderer *r, fv_render_stats *out_stats);
+/** Read the last drawn frame's final colour as 8-bit sRGB RGBA. sbs: both eyes side by side (2W x H), else one eye
+ *  (eye 0/1, W x H). out must hold the stated size. Waits for the GPU. */
+FV_MUST_CHECK fv_result fv_renderer_read_rgba8(fv_renderer *r, bool sbs, int eye, uint8_t *out, size_t out_size);
+/** Read the last frame's linear colour (RGBA float) of one eye, for tests against a CPU reference. */
+FV_MUST_CHECK fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *out_rgba, size_t out_floats);
+/** Count of validation-layer messages seen so far (warnings and errors). */
+uint32_t fv_renderer_validation_messages(const fv_renderer *r);
+/** Device name, for summaries. */
+const char *fv_renderer_device_name(const fv_renderer *r);
+
+/** Build per-eye views from a head pose, IPD and the HMD default (asymmetric) field of view; near/far from the
+ *  scene bounds when 0. Gaze set to straight ahead, valid. */
+void fv_frame_input_from_head(const fv_head *head, float near_m, float far_m, uint32_t eye_width,
+                              uint32_t eye_height, uint64_t frame_id, double time_s, fv_frame_input *out);
+
+#endif

@@ -1,0 +1,138 @@
+/* @brief Logging implementation: a default stderr sink, a replaceable sink, per-module levels. */
+#include "fv_log.h"
+
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_MODULES 32
+
+typedef struct module_level {
+    char name[24];
+    fv_log_level level;
+} module_level;
+
+static pthread_once_t g_once = PTHREAD_ONCE_INIT;
+static pthread_mutex_t g_mutex = PTHREAD_MUTEX_INITIALIZER;
+static fv_log_sink_fn g_sink;
+static void *g_sink_user;
+static fv_log_level g_default = FV_LOG_LEVEL_WARN;
+static module_level g_levels[MAX_MODULES];
+static int g_level_count;
+
+const char *fv_log_level_str(fv_log_level level)
+{
+    static const char *names[] = {"error", "warn", "info", "debug", "trace"};
+    return (level >= 0 && level <= FV_LOG_LEVEL_TRACE) ? names[level] : "?";
+}
+
+static int parse_level(const char *s, size_t n, fv_log_level *out)
+{
+    for (int l = 0; l <= FV_LOG_LEVEL_TRACE; l++) {
+        const char *name = fv_log_level_str((fv_log_level)l);
+        if (strlen(name) == n && strncmp(s, name, n) == 0) {
+            *out = (fv_log_level)l;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static void set_level_locked(const char *module, size_t n, fv_log_level level)
+{
+    if (n == 1 && module[0] == '*') {
+        g_default = level;
+        return;
+    }
+    if (n >= sizeof(g_levels[0].name)) return;
+    for (int i = 0; i < g_level_count; i++) {
+        if (strlen(g_levels[i].name) == n && strncmp(g_levels[i].name, module, n) == 0) {
+            g_levels[i].level = level;
+            return;
+        }
+    }
+    if (g_level_count == MAX_MODULES) return;
+    memcpy(g_levels[g_level_count].name, module, n);
+    g_levels[g_level_count].name[n] = '\0';
+    g_levels[g_level_count].level = level;
+    g_level_count++;
+}
+
+/* FOVEA_LOG="hid=debug,gi=trace" or a bare level ("debug") for every module. Bad entries are ignored with a note. */
+static void init_from_env(void)
+{
+    const char *env = getenv("FOVEA_LOG");
+    if (!env) return;
+    const char *p = env;
+    while (*p) {
+        const char *end = strchr(p, ',');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        const char *eq = memchr(p, '=', len);
+        fv_log_level level;
+        if (eq) {
+            if (parse_level(eq + 1, len - (size_t)(eq + 1 - p), &level)) set_level_locked(p, (size_t)(eq - p), level);
+            else fprintf(stderr, "fovea: FOVEA_LOG: ignoring '%.*s' (unknown level)\n", (int)len, p);
+        } else if (parse_level(p, len, &level)) {
+            g_default = level;
+        } else {
+            fprintf(stderr, "fovea: FOVEA_LOG: ignoring '%.*s' (expected module=level)\n", (int)len, p);
+        }
+        p += len;
+        if (*p == ',') p++;
+    }
+}
+
+static void ensure_init(void) { pthread_once(&g_once, init_from_env); }
+
+void fv_log_set_sink(fv_log_sink_fn fn, void *user)
+{
+    pthread_mutex_lock(&g_mutex);
+    g_sink = fn;
+    g_sink_user = user;
+    pthread_mutex_unlock(&g_mutex);
+}
+
+void fv_log_set_level(const char *module, fv_log_level level)
+{
+    ensure_init();
+    pthread_mutex_lock(&g_mutex);
+    set_level_locked(module, strlen(module), level);
+    pthread_mutex_unlock(&g_mutex);
+}
+
+int fv_log_enabled(const char *module, fv_log_level level)
+{
+    ensure_init();
+    fv_log_level limit = g_default;
+    pthread_mutex_lock(&g_mutex);
+    for (int i = 0; i < g_level_count; i++) {
+        if (strcmp(g_levels[i].name, module) == 0) {
+            limit = g_levels[i].level;
+            break;
+        }
+    }
+    pthread_mutex_unlock(&g_mutex);
+    return level <= limit;
+}
+
+void fv_log_write(fv_log_level level, const char *module, const char *file, int line, const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    const char *base = strrchr(file, '/');
+    base = base ? base + 1 : file;
+    pthread_mutex_lock(&g_mutex);
+    fv_log_sink_fn sink = g_sink;
+    void *user = g_sink_user;
+    pthread_mutex_unlock(&g_mutex);
+    if (sink) {
+        sink(user, level, module, base, line, msg);
+        return;
+    }
+    fprintf(stderr, "fovea: %s: %s: %s (%s:%d)\n", fv_log_level_str(level), module, msg, base, line);
+}

@@ -1,0 +1,117 @@
+/* @brief Shared test helpers (see fv_test.h). */
+#include "fv_test.h"
+
+#include <errno.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "fovea_config.h"
+
+static char g_paths[8][1024];
+static int g_path_slot;
+
+static char *next_slot(void)
+{
+    char *p = g_paths[g_path_slot];
+    g_path_slot = (g_path_slot + 1) % 8;
+    return p;
+}
+
+const char *fv_test_data(const char *relative)
+{
+    const char *root = getenv("FV_SHARED_DATA_DIR");
+    if (!root || !*root) root = FV_SHARED_DATA_DIR;
+    char *p = next_slot();
+    snprintf(p, 1024, "%s/%s", root, relative);
+    return p;
+}
+
+static void mkdirs(const char *dir)
+{
+    char tmp[1024];
+    snprintf(tmp, sizeof tmp, "%s", dir);
+    for (char *s = tmp + 1; *s; s++) {
+        if (*s == '/') {
+            *s = '\0';
+            mkdir(tmp, 0755);
+            *s = '/';
+        }
+    }
+    mkdir(tmp, 0755);
+}
+
+const char *fv_test_tmp(const char *name)
+{
+    const char *root = getenv("FV_TEST_TMP");
+    if (!root || !*root) root = "/tmp/fovea-test";
+    mkdirs(root);
+    char *p = next_slot();
+    snprintf(p, 1024, "%s/%s", root, name);
+    return p;
+}
+
+const char *fv_test_write_file(const char *name, const void *data, size_t size)
+{
+    const char *path = fv_test_tmp(name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    if (size) assert_int_equal(fwrite(data, 1, size, f), size);
+    fclose(f);
+    return path;
+}
+
+static pthread_mutex_t g_mutex = PTHREAD_MUTEX_INITIALIZER;
+static char *g_log;
+static size_t g_log_len, g_log_cap;
+static int g_counts[FV_LOG_LEVEL_TRACE + 1];
+
+static void sink(void *user, fv_log_level level, const char *module, const char *file, int line, const char *msg)
+{
+    (void)user;
+    (void)file;
+    (void)line;
+    char buf[1400];
+    int n = snprintf(buf, sizeof buf, "%s %s: %s\n", fv_log_level_str(level), module, msg);
+    if (n < 0) return;
+    if ((size_t)n >= sizeof buf) n = (int)sizeof buf - 1;
+    pthread_mutex_lock(&g_mutex);
+    if (g_log_len + (size_t)n + 1 > g_log_cap) {
+        size_t cap = (g_log_cap ? g_log_cap * 2 : 4096) + (size_t)n;
+        char *p = realloc(g_log, cap);
+        if (p) {
+            g_log = p;
+            g_log_cap = cap;
+        }
+    }
+    if (g_log_len + (size_t)n + 1 <= g_log_cap) {
+        memcpy(g_log + g_log_len, buf, (size_t)n);
+        g_log_len += (size_t)n;
+        g_log[g_log_len] = '\0';
+    }
+    if (level >= 0 && level <= FV_LOG_LEVEL_TRACE) g_counts[level]++;
+    pthread_mutex_unlock(&g_mutex);
+}
+
+void fv_test_log_capture_begin(void)
+{
+    pthread_mutex_lock(&g_mutex);
+    g_log_len = 0;
+    if (g_log) g_log[0] = '\0';
+    memset(g_counts, 0, sizeof g_counts);
+    pthread_mutex_unlock(&g_mutex);
+    fv_log_set_sink(sink, NULL);
+}
+
+void fv_test_log_capture_end(void) { fv_log_set_sink(NULL, NULL); }
+
+const char *fv_test_log_text(void) { return g_log ? g_log : ""; }
+
+int fv_test_log_count(fv_log_level at_most)
+{
+    int n = 0;
+    for (int l = 0; l <= (int)at_most && l <= FV_LOG_LEVEL_TRACE; l++) n += g_counts[l];
+    return n;
+}

@@ -1,0 +1,35 @@
+/* @brief Shared test helpers: a recording log sink, shared-data paths, temp files. Used with cmocka. */
+#ifndef FV_TEST_H
+#define FV_TEST_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "fv_log.h"
+
+/** Path of a file under ../shared/data (from $FV_SHARED_DATA_DIR, else the configure-time path). Static buffer
+ *  rotated over 8 slots. */
+const char *fv_test_data(const char *relative);
+/** A fresh path under the test's temp dir ($FV_TEST_TMP), creating the dir. Static buffer rotated over 8 slots. */
+const char *fv_test_tmp(const char *name);
+/** Write bytes to a temp file and return its path. */
+const char *fv_test_write_file(const char *name, const void *data, size_t size);
+
+/** Capture log messages (errors and warnings) into a buffer instead of stderr. */
+void fv_test_log_capture_begin(void);
+void fv_test_log_capture_end(void);
+/** Everything captured since begin, one message per line as "level module: message". */
+const char *fv_test_log_text(void);
+/** Number of captured messages at or above `level` (error=0 is highest). */
+int fv_test_log_count(fv_log_level at_most);
+/** Assert that the captured text contains `needle`. */
+#define fv_assert_log_contains(needle)                                                                                 \
+    do {                                                                                                               \
+        if (!strstr(fv_test_log_text(), (needle)))                                                                     \
+            fail_msg("log does not contain \"%s\"; log was:\n%s", (needle), fv_test_log_text());                      \
+    } while (0)
+
+#endif

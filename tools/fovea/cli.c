@@ -1,0 +1,76 @@
+/* @brief Shared command-line helpers for the fovea subcommands. */
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+int fv_cli_usage_error(const char *cmd, const char *usage, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "fovea %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\n%s", usage);
+    va_end(ap);
+    return FV_EXIT_USAGE;
+}
+
+bool fv_cli_parse_i64(const char *s, int64_t lo, int64_t hi, int64_t *out)
+{
+    if (!s || !*s) return false;
+    char *end = NULL;
+    errno = 0;
+    long long v = strtoll(s, &end, 10);
+    if (errno || *end != '\0' || v < lo || v > hi) return false;
+    *out = v;
+    return true;
+}
+
+bool fv_cli_parse_f64(const char *s, double lo, double hi, double *out)
+{
+    if (!s || !*s) return false;
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || *end != '\0' || !isfinite(v) || v < lo || v > hi) return false;
+    *out = v;
+    return true;
+}
+
+bool fv_cli_parse_size(const char *s, uint32_t max, uint32_t *out_w, uint32_t *out_h)
+{
+    if (!s) return false;
+    const char *x = strchr(s, 'x');
+    if (!x || x == s) return false;
+    char wbuf[16];
+    size_t n = (size_t)(x - s);
+    if (n >= sizeof wbuf) return false;
+    memcpy(wbuf, s, n);
+    wbuf[n] = '\0';
+    int64_t w, h;
+    if (!fv_cli_parse_i64(wbuf, 1, max, &w) || !fv_cli_parse_i64(x + 1, 1, max, &h)) return false;
+    *out_w = (uint32_t)w;
+    *out_h = (uint32_t)h;
+    return true;
+}
+
+bool fv_cli_is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }
+
+int fv_cli_option(int argc, char **argv, int *i, const char *name, const char **out_value)
+{
+    size_t n = strlen(name);
+    const char *a = argv[*i];
+    if (strncmp(a, name, n) != 0) return 0;
+    if (a[n] == '=') {
+        *out_value = a + n + 1;
+        return 1;
+    }
+    if (a[n] != '\0') return 0;
+    if (*i + 1 >= argc) return -1;
+    (*i)++;
+    *out_value = argv[*i];
+    return 1;
+}

@@ -1,0 +1,31 @@
+/* @brief Small helpers shared by the fovea subcommands: usage errors, number parsing, JSON output. */
+#ifndef FV_CLI_H
+#define FV_CLI_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/** Exit codes of the fovea command. */
+enum {
+    FV_EXIT_OK = 0,
+    FV_EXIT_FAIL = 1,  /* the command ran and failed (bad file, device error) */
+    FV_EXIT_USAGE = 2, /* bad command line */
+};
+
+/** Print "fovea CMD: <message>" and the usage to stderr; returns FV_EXIT_USAGE. */
+int fv_cli_usage_error(const char *cmd, const char *usage, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/** Parse a whole string as an integer in [lo, hi]; false on junk, overflow or out of range. */
+bool fv_cli_parse_i64(const char *s, int64_t lo, int64_t hi, int64_t *out);
+/** Parse a whole string as a finite double in [lo, hi]. */
+bool fv_cli_parse_f64(const char *s, double lo, double hi, double *out);
+/** Parse "WxH" with each in [1, max]. */
+bool fv_cli_parse_size(const char *s, uint32_t max, uint32_t *out_w, uint32_t *out_h);
+/** True when argv[i] is "--help" or "-h". */
+bool fv_cli_is_help(const char *arg);
+/** Option with a value, as "--opt VALUE" or "--opt=VALUE". Returns 0 when argv[*i] is not this option, 1 when it
+ *  is (value in *out_value; *i advanced past a separate value), -1 when it is but the value is missing. */
+int fv_cli_option(int argc, char **argv, int *i, const char *name, const char **out_value);
+
+#endif

@@ -1,0 +1,101 @@
+/* @brief The `fovea` command: dispatches to subcommands (cmd_<name>.c). */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "fovea_config.h"
+
+typedef int (*cmd_fn)(int argc, char **argv);
+
+typedef struct command {
+    const char *name;
+    const char *summary;
+    cmd_fn fn;
+} command;
+
+#define DECLARE(name) int fv_cmd_##name(int argc, char **argv);
+#ifdef FV_HAVE_CMD_RUN
+DECLARE(run)
+#endif
+#ifdef FV_HAVE_CMD_INFO
+DECLARE(info)
+#endif
+#ifdef FV_HAVE_CMD_DEVICES
+DECLARE(devices)
+#endif
+#ifdef FV_HAVE_CMD_TRACE
+DECLARE(trace)
+#endif
+#ifdef FV_HAVE_CMD_HID
+DECLARE(hid)
+#endif
+#ifdef FV_HAVE_CMD_GAZE
+DECLARE(gaze)
+#endif
+#ifdef FV_HAVE_CMD_LATENCY
+DECLARE(latency)
+#endif
+#ifdef FV_HAVE_CMD_BENCH
+DECLARE(bench)
+#endif
+
+static const command g_commands[] = {
+#ifdef FV_HAVE_CMD_RUN
+    {"run", "render frames of a scene (headless by default) and report per-pass GPU time", fv_cmd_run},
+#endif
+#ifdef FV_HAVE_CMD_INFO
+    {"info", "list Vulkan devices, the one fovea picks, and the features it uses", fv_cmd_info},
+#endif
+#ifdef FV_HAVE_CMD_DEVICES
+    {"devices", "list eye trackers each driver can see", fv_cmd_devices},
+#endif
+#ifdef FV_HAVE_CMD_TRACE
+    {"trace", "inspect, convert and record gaze recordings", fv_cmd_trace},
+#endif
+#ifdef FV_HAVE_CMD_HID
+    {"hid", "parse HID report descriptors and decode eye-tracker reports", fv_cmd_hid},
+#endif
+#ifdef FV_HAVE_CMD_GAZE
+    {"gaze", "evaluate the gaze pipeline (filtering, saccades, prediction)", fv_cmd_gaze},
+#endif
+#ifdef FV_HAVE_CMD_LATENCY
+    {"latency", "simulate the frame loop and report gaze-to-photon latency", fv_cmd_latency},
+#endif
+#ifdef FV_HAVE_CMD_BENCH
+    {"bench", "measure speed/accuracy trade-offs", fv_cmd_bench},
+#endif
+    {NULL, NULL, NULL},
+};
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: fovea [--version] [--help] COMMAND [ARGS]\n\n"
+               "fovea is an eye-tracked VR display runtime. Commands:\n");
+    for (size_t i = 0; g_commands[i].name; i++)
+        fprintf(f, "  %-9s %s\n", g_commands[i].name, g_commands[i].summary);
+    fprintf(f, "\n'fovea COMMAND --help' describes one command.\n"
+               "Environment: FOVEA_DEVICE (Vulkan device index or name), FOVEA_VALIDATION=1 (Khronos validation),\n"
+               "             FOVEA_LOG (e.g. 'hid=debug,*=info').\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return FV_EXIT_USAGE;
+    }
+    const char *cmd = argv[1];
+    if (fv_cli_is_help(cmd) || strcmp(cmd, "help") == 0) {
+        usage(stdout);
+        return FV_EXIT_OK;
+    }
+    if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
+        printf("fovea %s\n", FV_VERSION_STRING);
+        return FV_EXIT_OK;
+    }
+    for (size_t i = 0; g_commands[i].name; i++)
+        if (strcmp(cmd, g_commands[i].name) == 0) return g_commands[i].fn(argc - 1, argv + 1);
+    fprintf(stderr, "fovea: unknown command '%s'\n", cmd);
+    usage(stderr);
+    return FV_EXIT_USAGE;
+}

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# @brief Installs the Debian packages fovea needs, and nothing else. The one list of packages lives here.
+# Fast when everything is present: it only asks dpkg. Run as root (or with sudo available) on Debian 12.
+set -euo pipefail
+
+PACKAGES=(
+  # build
+  cmake make gcc clang pkg-config libclang-rt-14-dev
+  # Vulkan: loader, headers, Mesa lavapipe (CPU driver), validation layer, shader compiler and validator
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools spirv-tools vulkan-tools
+  # models, scene files, images, window
+  libassimp-dev libcjson-dev libstb-dev libglfw3-dev
+  # eye-tracker I/O
+  libhidapi-dev libusb-1.0-0-dev zlib1g-dev
+  # tests
+  libcmocka-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+((${#missing[@]} == 0)) && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "install-deps: missing packages (${missing[*]}) and not root; run as root" >&2; exit 1; }
+  SUDO="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q >&2 || true
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >&2
