@@ -1,0 +1,59 @@
+/* @brief The gaze pipeline: samples in (device clock) → host clock → validity → 1€ filter → classification →
+ * prediction to a target time (the frame's photon time) with an uncertainty radius. One owner; not thread-safe.
+ * The frame loop pushes every sample it drains from a device ring, then asks for a prediction per frame. */
+#ifndef FV_GAZE_PIPELINE_H
+#define FV_GAZE_PIPELINE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fovea/fv_gaze_sample.h"
+#include "fv_result.h"
+
+typedef enum fv_gaze_event {
+    FV_GAZE_EVENT_NONE = 0, /* no valid data yet */
+    FV_GAZE_EVENT_FIXATION = 1,
+    FV_GAZE_EVENT_SACCADE = 2,
+    FV_GAZE_EVENT_PURSUIT = 3,
+    FV_GAZE_EVENT_BLINK = 4, /* both eyes invalid for a blink-length gap: last fixation held */
+    FV_GAZE_EVENT_LOST = 5,  /* no valid sample for longer than a blink, or the device is lost */
+} fv_gaze_event;
+
+const char *fv_gaze_event_str(fv_gaze_event e);
+
+typedef struct fv_gaze_prediction {
+    int64_t t_target_ns;         /* host time the prediction is for */
+    int64_t t_sample_ns;         /* host time of the newest sample used */
+    bool eye_valid[2];           /* per eye: a direction is available (possibly held through a blink) */
+    fv_vec3 dir_head[2];         /* predicted unit gaze direction per eye, head frame (-z forward) */
+    bool combined_valid;
+    fv_vec3 combined_dir_head;   /* predicted cyclopean direction */
+    float uncertainty_deg;       /* radius the renderer widens the fovea by (>= tracker accuracy); finite */
+    float pupil_mm;              /* filtered pupil diameter, NaN when unknown */
+    fv_gaze_event event;         /* current classification */
+    bool predicted;              /* false when prediction is disabled and the latest sample was used as is */
+} fv_gaze_prediction;
+
+typedef struct fv_gaze_pipeline_desc {
+    float accuracy_deg;          /* tracker accuracy floor for the uncertainty; 0 = 0.5 */
+    float filter_min_cutoff_hz;  /* 1€ filter f_cmin; 0 = default */
+    float filter_beta;           /* 1€ filter β; 0 = default */
+    float saccade_on_deg_s;      /* velocity threshold to enter a saccade; 0 = default */
+    float saccade_off_deg_s;     /* hysteresis: velocity to leave it; 0 = default */
+    bool disable_prediction;     /* true: predict() returns the latest filtered sample (the baseline) */
+} fv_gaze_pipeline_desc;
+
+typedef struct fv_gaze_pipeline fv_gaze_pipeline;
+
+FV_MUST_CHECK fv_result fv_gaze_pipeline_create(const fv_gaze_pipeline_desc *desc, fv_gaze_pipeline **out);
+void fv_gaze_pipeline_destroy(fv_gaze_pipeline **p);
+/** Push one sample. t_host_ns must be set (receipt time, or mapped from the device clock by the pipeline's clock
+ *  mapper when FV_GAZE_HOST_TIME_VALID is clear). Duplicates and out-of-order samples are rejected with
+ *  FV_NO_NEW_DATA; invalid values are kept as invalid (a blink), never as NaN directions. */
+FV_MUST_CHECK fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s);
+/** Predict to host time t_target_ns. Always fills *out with finite values (eye_valid false when nothing known). */
+void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_prediction *out);
+/** Tell the pipeline the device is lost (or back): uncertainty widens while lost. */
+void fv_gaze_pipeline_set_device_lost(fv_gaze_pipeline *p, bool lost, int64_t now_ns);
+
+#endif
