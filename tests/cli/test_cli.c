@@ -1,0 +1,246 @@
+/* @brief The `fovea` command as a user runs it: exit codes, one-line usage errors, clear messages for malformed
+ * input, the JSON summary on stdout, PNG output of real model files, and zero validation messages. */
+#include <cjson/cJSON.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include <stb_image.h>
+
+#include "fv_test.h"
+
+static const char *g_fovea;
+
+typedef struct run_result {
+    int exit_code;
+    char out[65536];
+    char err[65536];
+} run_result;
+
+static void slurp(const char *path, char *buf, size_t cap)
+{
+    FILE *f = fopen(path, "rb");
+    size_t n = 0;
+    if (f) {
+        n = fread(buf, 1, cap - 1, f);
+        fclose(f);
+    }
+    buf[n] = '\0';
+}
+
+/* Run `fovea ARGS` with optional environment prefix; capture stdout and stderr separately. */
+static run_result *run(const char *env, const char *args)
+{
+    static run_result res;
+    const char *o = fv_test_tmp("stdout.txt"), *e = fv_test_tmp("stderr.txt");
+    char out_path[1024], err_path[1024], cmd[8192];
+    snprintf(out_path, sizeof out_path, "%s", o);
+    snprintf(err_path, sizeof err_path, "%s", e);
+    snprintf(cmd, sizeof cmd, "%s %s %s >%s 2>%s", env ? env : "", g_fovea, args, out_path, err_path);
+    int st = system(cmd);
+    res.exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    slurp(out_path, res.out, sizeof res.out);
+    slurp(err_path, res.err, sizeof res.err);
+    return &res;
+}
+
+static void assert_contains(const char *hay, const char *needle)
+{
+    if (!strstr(hay, needle)) fail_msg("expected \"%s\" in:\n%s", needle, hay);
+}
+
+static int count_lines(const char *s)
+{
+    int n = 0;
+    for (; *s; s++) n += *s == '\n';
+    return n;
+}
+
+static void version_and_help_exit_zero(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "--version");
+    assert_int_equal(r->exit_code, 0);
+    assert_contains(r->out, "fovea ");
+    r = run(NULL, "--help");
+    assert_int_equal(r->exit_code, 0);
+    assert_contains(r->out, "run");
+    r = run(NULL, "run --help");
+    assert_int_equal(r->exit_code, 0);
+    assert_contains(r->out, "--eye-size");
+}
+
+static void unknown_command_and_bad_options_exit_2_with_one_line_error(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "frobnicate");
+    assert_int_equal(r->exit_code, 2);
+    assert_contains(r->err, "unknown command 'frobnicate'");
+    const char *bad[][2] = {
+        {"run --bogus", "unknown option '--bogus'"},
+        {"run --frames abc", "--frames: 'abc'"},
+        {"run --frames 0", "--frames: '0'"},
+        {"run --frames", "needs a value"},
+        {"run --eye-size 64", "--eye-size: '64'"},
+        {"run --eye-size 0x64", "--eye-size: '0x64'"},
+        {"run --save sometimes", "--save: 'sometimes'"},
+        {"run --layout tb", "--layout: 'tb'"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        r = run(NULL, bad[i][0]);
+        if (r->exit_code != 2) fail_msg("'%s' exited %d, not 2", bad[i][0], r->exit_code);
+        assert_contains(r->err, bad[i][1]);
+        assert_contains(r->err, "usage: fovea run");
+        /* The first line is the error, one line; the usage follows. */
+        assert_true(strncmp(r->err, "fovea run: ", 11) == 0);
+    }
+}
+
+static void missing_scene_file_exits_1_naming_the_file(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "run --scene /nonexistent/dir/model.obj --eye-size 32x32");
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "/nonexistent/dir/model.obj");
+    r = run(NULL, "run --scene no-such-builtin --eye-size 32x32");
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "no-such-builtin");
+}
+
+static void malformed_scene_json_names_the_field(void **state)
+{
+    (void)state;
+    const char *json = "{\"objects\":[{\"model\":\"builtin:cornell\"},{\"model\":\"builtin:cornell\","
+                       "\"material\":{\"translucency\":{\"sigma_a_per_mm\":[0.1,-2,0.3],"
+                       "\"sigma_s_prime_per_mm\":[1,1,1],\"eta\":1.3}}}]}";
+    const char *path = fv_test_write_file("bad.scene.json", json, strlen(json));
+    char args[1200];
+    snprintf(args, sizeof args, "run --scene %s --eye-size 32x32", path);
+    run_result *r = run(NULL, args);
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "bad.scene.json");
+    assert_contains(r->err, "sigma_a_per_mm[1]");
+
+    const char *broken = "{\"objects\": [ {\"model\": }";
+    path = fv_test_write_file("broken.scene.json", broken, strlen(broken));
+    snprintf(args, sizeof args, "run --scene %s --eye-size 32x32", path);
+    r = run(NULL, args);
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "broken.scene.json");
+}
+
+static void json_summary_is_the_only_stdout(void **state)
+{
+    (void)state;
+    run_result *r = run("FOVEA_VALIDATION=1", "run --frames 3 --eye-size 64x64 --json --explain");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    assert_int_equal(count_lines(r->out), 1);
+    cJSON *j = cJSON_Parse(r->out);
+    assert_non_null(j);
+    assert_int_equal((int)cJSON_GetObjectItem(j, "frames")->valuedouble, 3);
+    assert_int_equal((int)cJSON_GetObjectItem(j, "validation_messages")->valuedouble, 0);
+    cJSON *passes = cJSON_GetObjectItem(j, "passes");
+    assert_true(cJSON_IsArray(passes) && cJSON_GetArraySize(passes) >= 2);
+    cJSON *p;
+    cJSON_ArrayForEach(p, passes)
+    {
+        double med = cJSON_GetObjectItem(p, "gpu_ms_median")->valuedouble;
+        assert_true(med >= 0 && med < 60000);
+    }
+    assert_true(cJSON_IsArray(cJSON_GetObjectItem(j, "plan")));
+    cJSON_Delete(j);
+    /* Validation on, and the layer said nothing. */
+    assert_null(strstr(r->err, "VUID"));
+    assert_null(strstr(r->err, "validation"));
+}
+
+/* Renders a file to a side-by-side PNG and checks its size and that something was drawn in both halves. */
+static void render_file_to_png(const char *scene, const char *tag)
+{
+    char dir[1024], args[3000];
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp(tag));
+    snprintf(args, sizeof args, "run --scene %s --frames 3 --eye-size 96x80 --out %s", scene, dir);
+    run_result *r = run("FOVEA_VALIDATION=1", args);
+    if (r->exit_code != 0) fail_msg("%s: exit %d; stderr:\n%s", scene, r->exit_code, r->err);
+    char png[1200];
+    snprintf(png, sizeof png, "%s/frame_00002.png", dir);
+    int w = 0, h = 0, c = 0;
+    unsigned char *px = stbi_load(png, &w, &h, &c, 4);
+    if (!px) fail_msg("%s: no PNG at %s", scene, png);
+    assert_int_equal(w, 192);
+    assert_int_equal(h, 80);
+    /* Framed sensibly: in each eye, the central half of the image is not one flat colour. */
+    for (int eye = 0; eye < 2; eye++) {
+        int lo = 255 * 3, hi = 0;
+        for (int y = h / 4; y < 3 * h / 4; y++)
+            for (int x = w / 8; x < 3 * w / 8; x++) {
+                const unsigned char *q = px + 4 * ((size_t)y * (size_t)w + (size_t)(x + eye * w / 2));
+                int s = q[0] + q[1] + q[2];
+                if (s < lo) lo = s;
+                if (s > hi) hi = s;
+            }
+        if (hi - lo < 30) fail_msg("%s: eye %d centre is flat (%d..%d): not framed or not lit", scene, eye, lo, hi);
+    }
+    stbi_image_free(px);
+    assert_null(strstr(r->err, "VUID"));
+}
+
+static void renders_gltf_cornell_box(void **state)
+{
+    (void)state;
+    render_file_to_png(fv_test_data("scenes/cornell_box_gltf/cornellBox.gltf"), "gltf");
+}
+
+static void renders_embree_obj_cornell_box(void **state)
+{
+    (void)state;
+    render_file_to_png(fv_test_data("scenes/cornell_box/cornell_box_embree.obj"), "obj");
+}
+
+static void renders_stanford_bunny_ply(void **state)
+{
+    (void)state;
+    render_file_to_png(fv_test_data("scenes/bunny/bun_zipper.ply"), "ply");
+}
+
+static void eyes_layout_writes_one_png_per_eye(void **state)
+{
+    (void)state;
+    char dir[1024], args[2000];
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp("eyes"));
+    snprintf(args, sizeof args, "run --frames 2 --eye-size 48x40 --out %s --layout eyes --save every", dir);
+    run_result *r = run(NULL, args);
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    const char *names[] = {"frame_00000_left.png", "frame_00000_right.png", "frame_00001_left.png",
+                           "frame_00001_right.png"};
+    for (int i = 0; i < 4; i++) {
+        char png[1200];
+        snprintf(png, sizeof png, "%s/%s", dir, names[i]);
+        int w = 0, h = 0, c = 0;
+        assert_true(stbi_info(png, &w, &h, &c));
+        assert_int_equal(w, 48);
+        assert_int_equal(h, 40);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: test_cli PATH_TO_FOVEA\n");
+        return 2;
+    }
+    g_fovea = argv[1];
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(version_and_help_exit_zero),
+        cmocka_unit_test(unknown_command_and_bad_options_exit_2_with_one_line_error),
+        cmocka_unit_test(missing_scene_file_exits_1_naming_the_file),
+        cmocka_unit_test(malformed_scene_json_names_the_field),
+        cmocka_unit_test(json_summary_is_the_only_stdout),
+        cmocka_unit_test(renders_gltf_cornell_box),
+        cmocka_unit_test(renders_embree_obj_cornell_box),
+        cmocka_unit_test(renders_stanford_bunny_ply),
+        cmocka_unit_test(eyes_layout_writes_one_png_per_eye),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
