@@ -19,6 +19,9 @@
 #define FV_SCENE_MAX_INDICES (192u * 1024u * 1024u)
 #define FV_SCENE_MAX_ITEMS 65536u /* meshes, nodes, materials, lights, textures each */
 #define FV_SCENE_MAX_TEXTURE_DIM 16384u
+/** Interpupillary distance used when nothing says otherwise, and the largest accepted (millimetres). */
+#define FV_SCENE_DEFAULT_IPD_MM 63.0f
+#define FV_SCENE_MAX_IPD_MM 100.0f
 
 typedef struct fv_mesh {
     char name[FV_SCENE_NAME_MAX];
@@ -26,7 +29,7 @@ typedef struct fv_mesh {
     uint32_t index_count; /* a multiple of 3: triangle list */
     fv_vec3 *positions;   /* vertex_count, object space, metres */
     fv_vec3 *normals;     /* vertex_count, unit; generated (area-weighted) when the file has none */
-    fv_vec2 *texcoords;   /* vertex_count, or NULL */
+    fv_vec2 *texcoords;   /* vertex_count, or NULL; origin at the image's top-left (glTF convention) */
     uint32_t *indices;    /* index_count, each < vertex_count (validated) */
     uint32_t material;    /* index into fv_scene.materials */
     fv_vec3 bounds_min, bounds_max; /* object space */
@@ -165,8 +168,14 @@ uint64_t fv_scene_triangle_count(const fv_scene *s);
 /** Check every invariant (indices in range, finite values, parents before children...). Logs each broken rule
  *  with the scene source and the item; returns FV_ERR_PARSE if any is broken. */
 FV_MUST_CHECK fv_result fv_scene_validate(const fv_scene *s);
-/** Place the head so the whole scene is in view (used when a file has no camera). */
+/** Place the head so the whole scene is in view (used when a file has no camera): it looks at the centre of the
+ *  world bounds along -z from the +z side (or along +z from the -z side when clearly more triangle area faces -z,
+ *  as for a box open towards -z), far enough that the bounding sphere fits the narrowest half-angle of the HMD
+ *  default field of view. Keeps the IPD; clears head.from_file. */
 void fv_scene_frame_head(fv_scene *s);
+/** Set head->position_m and an orientation looking from position_m at target_m with +y up (degenerate input
+ *  falls back to a valid basis). Leaves the IPD and from_file alone. */
+void fv_scene_head_look_at(fv_head *head, fv_vec3 position_m, fv_vec3 target_m);
 
 /* ---- loading ----------------------------------------------------------------------------------------------- */
 /** Load by name or path: a built-in name ("cornell", "cornell-translucent"), a `*.scene.json` file, or a model
@@ -174,9 +183,22 @@ void fv_scene_frame_head(fv_scene *s);
 FV_MUST_CHECK fv_result fv_scene_load(const char *name_or_path, fv_scene **out_scene);
 /** Names of the built-in scenes, NULL-terminated. */
 const char *const *fv_scene_builtin_names(void);
+/** Build a built-in scene by name ("cornell", "cornell-translucent"); FV_ERR_NOT_FOUND for another name. */
+FV_MUST_CHECK fv_result fv_scene_builtin(const char *name, fv_scene **out_scene);
+/** Import one model file through assimp (glTF 2.0, OBJ+MTL, PLY, ...). unit_scale_m > 0 forces metres per file
+ *  unit; 0 guesses (bounds over 50 units: millimetres). The first camera becomes the head; no camera: framed. No
+ *  light: a default light is added (logged at info). Validated before it is returned. */
+FV_MUST_CHECK fv_result fv_scene_import(const char *path, float unit_scale_m, fv_scene **out_scene);
+/** Parse a `*.scene.json` document from memory (see docs/scene-file.md). `origin` names it in messages (a path
+ *  or "<buffer>"); model paths resolve against base_dir (NULL = current directory). len excludes any NUL. */
+FV_MUST_CHECK fv_result fv_scene_load_json_buffer(const char *json, size_t len, const char *base_dir,
+                                                  const char *origin, fv_scene **out_scene);
+/** Read and parse a `*.scene.json` file; model paths resolve relative to the file's folder. */
+FV_MUST_CHECK fv_result fv_scene_load_json_file(const char *path, fv_scene **out_scene);
 
 /* ---- materials --------------------------------------------------------------------------------------------- */
-/** Look up a measured material (Jensen et al. 2001) by case-insensitive name ("marble", "skin1"). */
+/** Look up a measured material (Jensen et al. 2001) by case-insensitive name ("marble", "skin1"). Unknown name:
+ *  FV_ERR_NOT_FOUND, not logged (the caller knows the context to name). */
 FV_MUST_CHECK fv_result fv_translucency_preset(const char *name, fv_translucency *out);
 /** Names of the presets, NULL-terminated. */
 const char *const *fv_translucency_preset_names(void);

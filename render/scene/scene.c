@@ -530,6 +530,7 @@ fv_result fv_scene_validate(const fv_scene *s)
 }
 
 /* ---- head ------------------------------------------------------------------------------------------------- */
+static bool node_draws(const fv_scene *s, const fv_node *n);
 
 fv_quat fv_scene_quat_from_basis(fv_vec3 right, fv_vec3 up, fv_vec3 back)
 {
@@ -586,9 +587,95 @@ void fv_scene_frame_head(fv_scene *s)
     double r = 0.5 * fv_v3_len(fv_v3_sub(hi, lo));
     if (!(r > 1e-6)) r = 1e-6;
     double d = FRAME_MARGIN * r / sin(fv_deg_to_rad(FRAME_HALF_ANGLE_DEG));
-    fv_vec3 eye = fv_v3(c.x, c.y, (float)(c.z + d));
+    /* Look from +z unless clearly more surface faces -z (a box open towards -z, like the measured Cornell data in
+     * its own frame): sum the area seen front-on from each side. */
+    double towards_pz = 0, towards_nz = 0;
+    for (uint32_t i = 0; i < s->node_count; i++) {
+        const fv_node *n = &s->nodes[i];
+        if (!node_draws(s, n)) continue;
+        const fv_mesh *m = &s->meshes[n->mesh];
+        fv_mat4 w = fv_scene_node_world(s, i, 0.0);
+        for (uint32_t t = 0; t + 2 < m->index_count; t += 3) {
+            fv_vec3 a = fv_mat4_mul_point(&w, m->positions[m->indices[t]]);
+            fv_vec3 b = fv_mat4_mul_point(&w, m->positions[m->indices[t + 1]]);
+            fv_vec3 e = fv_mat4_mul_point(&w, m->positions[m->indices[t + 2]]);
+            double z = 0.5 * (double)fv_v3_cross(fv_v3_sub(b, a), fv_v3_sub(e, a)).z; /* signed area along z */
+            if (!isfinite(z)) continue;
+            if (z > 0) towards_pz += z;
+            else towards_nz -= z;
+        }
+    }
+    double side = towards_nz > 1.5 * towards_pz ? -1.0 : 1.0;
+    fv_vec3 eye = fv_v3(c.x, c.y, (float)(c.z + side * d));
     if (!fv_v3_isfinite(eye)) eye = fv_v3(c.x, c.y, c.z + 1.0f);
     fv_scene_head_look_at(&s->head, eye, c);
     s->head.ipd_mm = (isfinite(ipd) && ipd > 0) ? ipd : FV_SCENE_DEFAULT_IPD_MM;
     s->head.from_file = false;
+}
+
+/* ---- merging (scene files compose several models) -------------------------------------------------------- */
+
+fv_result fv_scene_merge(fv_scene *dst, fv_scene *src, const fv_scene_merge_desc *desc)
+{
+    if (!dst || !src || !desc) return FV_ERR_INVALID_ARG;
+    uint32_t tex_base = dst->texture_count, mat_base = dst->material_count, mesh_base = dst->mesh_count;
+    for (uint32_t i = 0; i < src->texture_count; i++) {
+        fv_texture t = src->textures[i];
+        src->textures[i].rgba8 = NULL; /* ownership moves even on failure */
+        FV_TRY(fv_scene_add_texture(dst, &t, NULL));
+    }
+    for (uint32_t i = 0; i < src->material_count; i++) {
+        fv_material m = src->materials[i];
+        if (m.base_color_texture >= 0) m.base_color_texture += (int32_t)tex_base;
+        if (desc->override) {
+            if (desc->override_mask & FV_MERGE_BASE_COLOR) {
+                m.base_color = desc->override->base_color;
+                m.base_color_texture = -1;
+            }
+            if (desc->override_mask & FV_MERGE_TRANSLUCENCY) m.translucency = desc->override->translucency;
+            if (desc->override_mask & FV_MERGE_EMISSIVE) m.emissive = desc->override->emissive;
+        }
+        FV_TRY(fv_scene_add_material(dst, &m, NULL));
+    }
+    for (uint32_t i = 0; i < src->mesh_count; i++) {
+        fv_mesh m = src->meshes[i];
+        memset(&src->meshes[i], 0, sizeof src->meshes[i]);
+        src->meshes[i].vertex_count = 0;
+        m.material += mat_base;
+        /* Arrays are already checked and normals present: append directly without re-checking. */
+        fv_scene_impl *impl = (fv_scene_impl *)dst;
+        fv_result r = grow(dst, (void **)&dst->meshes, &impl->cap_meshes, dst->mesh_count, sizeof m, "meshes");
+        if (r < 0) {
+            free_mesh_arrays(&m);
+            return r;
+        }
+        dst->meshes[dst->mesh_count++] = m;
+    }
+    int32_t root_index = -1;
+    if (desc->root) {
+        uint32_t ri;
+        fv_node root = *desc->root;
+        root.mesh = -1;
+        root.parent = -1;
+        FV_TRY(fv_scene_add_node(dst, &root, &ri));
+        root_index = (int32_t)ri;
+    }
+    uint32_t node_base = dst->node_count;
+    for (uint32_t i = 0; i < src->node_count; i++) {
+        fv_node n = src->nodes[i];
+        if (n.mesh >= 0) n.mesh += (int32_t)mesh_base;
+        n.parent = n.parent >= 0 ? n.parent + (int32_t)node_base : root_index;
+        FV_TRY(fv_scene_add_node(dst, &n, NULL));
+    }
+    if (desc->take_lights) {
+        fv_mat4 w = desc->root ? fv_mat4_trs(desc->root->translation_m, desc->root->rotation, desc->root->scale)
+                               : fv_mat4_identity();
+        for (uint32_t i = 0; i < src->light_count; i++) {
+            fv_light l = src->lights[i];
+            l.position_m = fv_mat4_mul_point(&w, l.position_m);
+            l.direction = fv_v3_normalize_or(fv_mat4_mul_dir(&w, l.direction), l.direction);
+            FV_TRY(fv_scene_add_light(dst, &l, NULL));
+        }
+    }
+    return FV_OK;
 }

@@ -1,0 +1,308 @@
+/* @brief `*.scene.json`: composing built-ins and model files, overrides, animation, lights, head; and every kind of
+ * bad input reported with the file, the JSON path and the reason. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fv_scene.h"
+#include "fv_test.h"
+
+#ifndef SEED_DIR
+#define SEED_DIR "."
+#endif
+
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) fail_msg("cannot open %s", path);
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    assert_non_null(buf);
+    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
+    buf[n] = '\0';
+    fclose(f);
+    return buf;
+}
+
+static const fv_mesh *mesh_named(const fv_scene *s, const char *name)
+{
+    for (uint32_t i = 0; i < s->mesh_count; i++)
+        if (!strcmp(s->meshes[i].name, name)) return &s->meshes[i];
+    return NULL;
+}
+
+static void bunny_in_marble_inside_the_cornell_box(void **state)
+{
+    (void)state;
+    char *text = read_text(SEED_DIR "/bunny.scene.json");
+    /* the seed's model path is "../bunny/bun_zipper.ply": resolve it from the shared Cornell folder */
+    char base[1024];
+    snprintf(base, sizeof base, "%s", fv_test_data("scenes/cornell_box"));
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    fv_result r = fv_scene_load_json_buffer(text, strlen(text), base, "bunny.scene.json", &s);
+    if (r != FV_OK) fail_msg("%s; log:\n%s", fv_result_str(r), fv_test_log_text());
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 0);
+    fv_test_log_capture_end();
+    free(text);
+    assert_string_equal(s->name, "bunny in box");
+    assert_int_equal(fv_scene_triangle_count(s), 32 + 69451);
+    assert_true(fv_scene_has_translucency(s));
+    assert_true(fv_scene_is_animated(s));
+    /* bunny material took the marble preset; the box's walls did not */
+    const fv_mesh *red = mesh_named(s, "left_wall_red");
+    assert_non_null(red);
+    assert_false(s->materials[red->material].translucency.enabled);
+    const fv_mesh *bunny = &s->meshes[s->mesh_count - 1];
+    assert_int_equal(bunny->index_count, 69451 * 3);
+    assert_string_equal(s->materials[bunny->material].translucency.preset, "Marble");
+    /* head from the file, IPD 63, looking towards -z */
+    assert_true(s->head.from_file);
+    assert_float_equal(s->head.position_m.z, 1.1f, 1e-6f);
+    assert_float_equal(s->head.ipd_mm, 63.0f, 0.0f);
+    /* the cornell spot plus the file's spot; no default light */
+    assert_int_equal(s->light_count, 2);
+    assert_float_equal(s->lights[1].outer_cone_rad, (float)fv_deg_to_rad(60.0), 1e-6f);
+    /* The bunny's root node carries translate/scale/rotate and the spin: find the node drawing the bunny. */
+    int32_t bn = -1;
+    for (uint32_t i = 0; i < s->node_count; i++)
+        if (s->nodes[i].mesh == (int32_t)(s->mesh_count - 1)) bn = (int32_t)i;
+    assert_true(bn >= 0);
+    const fv_node *root = &s->nodes[s->nodes[bn].parent];
+    assert_string_equal(root->name, "bunny");
+    assert_float_equal(root->scale.x, 1.5f, 0.0f);
+    assert_int_equal(root->anim.kind, FV_ANIM_ROTATE);
+    assert_float_equal(root->anim.rate_rad_s, (float)fv_deg_to_rad(30.0), 1e-6f);
+    /* after 3 s the bunny has turned 90 degrees about +y around its node origin */
+    fv_mat4 w0 = fv_scene_node_world(s, (uint32_t)bn, 0.0), w3 = fv_scene_node_world(s, (uint32_t)bn, 3.0);
+    fv_vec3 a = fv_mat4_mul_dir(&w0, fv_v3(1, 0, 0)), b = fv_mat4_mul_dir(&w3, fv_v3(1, 0, 0));
+    assert_float_equal(fv_v3_dot(a, b), 0.0f, 1e-4f);
+    fv_scene_destroy(&s);
+}
+
+static void scene_file_on_disk_resolves_models_relative_to_itself(void **state)
+{
+    (void)state;
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"objects\":[{\"model\":\"%s\",\"unit_scale_m\":0.002,\"material\":{\"base_color\":[0.1,0.2,0.3]}},"
+             "{\"model\":\"teapot.obj\",\"translate_m\":[0,0,-5],\"scale\":[1,2,1]}]}",
+             fv_test_data("scenes/cornell_box/cornell_box_embree.obj"));
+    const char *teapot = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    fv_test_write_file("teapot.obj", teapot, strlen(teapot));
+    const char *path = fv_test_write_file("relative.scene.json", json, strlen(json));
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    fv_result r = fv_scene_load(path, &s);
+    if (r != FV_OK) fail_msg("%s; log:\n%s", fv_result_str(r), fv_test_log_text());
+    fv_test_log_capture_end();
+    assert_int_equal(fv_scene_triangle_count(s), 36 + 1);
+    /* override applied to every material of the first model */
+    assert_float_equal(s->materials[0].base_color.z, 0.3f, 1e-6f);
+    fv_vec3 lo, hi;
+    assert_true(fv_scene_world_bounds(s, 0, &lo, &hi));
+    assert_float_equal(hi.x, 1.112f, 0.01f); /* 556 units x 0.002 m */
+    assert_float_equal(lo.z, -5.0f, 1e-5f);
+    assert_false(s->head.from_file); /* framed */
+    assert_true(s->light_count >= 1);  /* default light(s) */
+    fv_scene_destroy(&s);
+}
+
+static void seed_with_every_light_type_and_animation_loads(void **state)
+{
+    (void)state;
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    fv_result r = fv_scene_load(SEED_DIR "/lights.scene.json", &s);
+    if (r != FV_OK) fail_msg("%s; log:\n%s", fv_result_str(r), fv_test_log_text());
+    fv_test_log_capture_end();
+    /* "lights": false dropped the translucent box's spot; the second box keeps its own */
+    assert_int_equal(s->light_count, 1 + 3);
+    assert_int_equal(s->lights[1].type, FV_LIGHT_POINT);
+    assert_int_equal(s->lights[2].type, FV_LIGHT_DIRECTIONAL);
+    assert_float_equal(s->lights[2].direction.z, -(float)sqrt(0.5), 1e-6f);
+    assert_int_equal(s->lights[3].type, FV_LIGHT_SPOT);
+    assert_float_equal(s->lights[3].direction.y, -(float)sqrt(0.5), 1e-6f);
+    assert_true(fv_scene_has_translucency(s));
+    const fv_material *m = &s->materials[0];
+    assert_true(m->translucency.enabled);
+    assert_float_equal(m->translucency.sigma_s_prime_per_mm[2], 3.0f, 0.0f);
+    assert_float_equal(m->base_color.x, 0.9f, 1e-6f);
+    assert_float_equal(s->ambient.x, 0.01f, 1e-6f);
+    assert_true(fv_scene_is_animated(s));
+    fv_scene_destroy(&s);
+}
+
+/* Parse `json` from memory; it must fail and the log must hold every needle. */
+static void expect_error(const char *json, const char *const *needles)
+{
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    fv_result r = fv_scene_load_json_buffer(json, strlen(json), "/nonexistent", "bad.scene.json", &s);
+    if (r >= 0) fail_msg("loaded but should fail: %s", json);
+    assert_null(s);
+    fv_assert_log_contains("bad.scene.json");
+    for (; *needles; needles++) fv_assert_log_contains(*needles);
+    fv_test_log_capture_end();
+}
+
+static void invalid_json_reports_line_and_column(void **state)
+{
+    (void)state;
+    const char *n1[] = {"line 3 column 14: invalid JSON (unexpected '\"')", NULL};
+    expect_error("{\n  \"objects\": [\n    {\"model\" \"builtin:cornell\"}\n  ]\n}", n1);
+    const char *n2[] = {"invalid JSON (unexpected end of the text)", NULL};
+    expect_error("{\"objects\": [", n2);
+    const char *n3[] = {"(root): expected an object, got an array", NULL};
+    expect_error("[1,2]", n3);
+    const char *n4[] = {"line 1 column 1: invalid JSON", NULL};
+    expect_error("", n4);
+}
+
+static void unknown_preset_names_the_path_and_lists_the_known_ones(void **state)
+{
+    (void)state;
+    const char *n[] = {"objects[1].material.translucency.preset: unknown preset 'jade'", "Marble", "Skin1", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\"},{\"model\":\"builtin:cornell\","
+                 "\"material\":{\"translucency\":{\"preset\":\"jade\"}}}]}",
+                 n);
+}
+
+static void negative_and_non_finite_coefficients_are_errors(void **state)
+{
+    (void)state;
+    const char *n[] = {"objects[0].material.translucency.sigma_a_per_mm[1]: -0.5 is negative", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"sigma_a_per_mm\":[0.1,-0.5,0.1],\"sigma_s_prime_per_mm\":[1,1,1]}}}]}",
+                 n);
+    const char *inf[] = {"objects[0].material.translucency.eta: inf is not a finite number", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"preset\":\"marble\",\"eta\":1e999}}}]}",
+                 inf);
+    const char *zero[] = {"sigma_s_prime_per_mm: all three are zero", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"sigma_a_per_mm\":[0,0,0],\"sigma_s_prime_per_mm\":[0,0,0]}}}]}",
+                 zero);
+    const char *eta[] = {"translucency.eta: 0 must be > 0", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"preset\":\"skin1\",\"eta\":0}}}]}",
+                 eta);
+}
+
+static void wrong_types_name_what_was_expected_and_found(void **state)
+{
+    (void)state;
+    const char *n1[] = {"objects[0].translate_m: expected an array of 3 numbers, got a string", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"translate_m\":\"far\"}]}", n1);
+    const char *n2[] = {"objects[0].scale: expected a number, got a boolean", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"scale\":true}]}", n2);
+    const char *n3[] = {"objects: expected an array, got an object", NULL};
+    expect_error("{\"objects\":{}}", n3);
+    const char *n4[] = {"lights[0].cone_deg: expected 2 numbers, got 3", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\"}],\"lights\":[{\"type\":\"spot\",\"cone_deg\":[1,2,3]}]}",
+                 n4);
+    const char *n5[] = {"lights[0].type: unknown light type 'laser'", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\"}],\"lights\":[{\"type\":\"laser\"}]}", n5);
+    const char *n6[] = {"objects[0].model: missing", NULL};
+    expect_error("{\"objects\":[{}]}", n6);
+    const char *n7[] = {"objects: is empty", NULL};
+    expect_error("{\"objects\":[]}", n7);
+    const char *n8[] = {"head.ipd_mm: -63 must be > 0", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\"}],\"head\":{\"ipd_mm\":-63}}", n8);
+    const char *n9[] = {"objects[0].animate: give one of", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"animate\":{\"rotate\":{\"deg_per_s\":1},"
+                 "\"bob\":{}}}]}",
+                 n9);
+    const char *n10[] = {"objects[0].scale[1]: 0 must be > 0", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"scale\":[1,0,1]}]}", n10);
+}
+
+static void missing_model_file_and_unknown_builtin_are_errors(void **state)
+{
+    (void)state;
+    const char *n[] = {"objects[0].model: model file '/nonexistent/nothing.ply' cannot be opened", NULL};
+    expect_error("{\"objects\":[{\"model\":\"nothing.ply\"}]}", n);
+    const char *b[] = {"objects[0].model: 'builtin:sponza' is not a built-in scene", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:sponza\"}]}", b);
+    /* a model file that exists but the importer rejects */
+    const char *junk = fv_test_write_file("junk.ply", "not a ply at all", 16);
+    char json[1024];
+    snprintf(json, sizeof json, "{\"objects\":[{\"model\":\"%s\"}]}", junk);
+    const char *j[] = {"junk.ply: the importer rejected the file", "objects[0].model: model file", NULL};
+    expect_error(json, j);
+    /* missing scene file */
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load(fv_test_tmp("absent.scene.json"), &s), FV_ERR_NOT_FOUND);
+    fv_assert_log_contains("absent.scene.json: cannot open scene file");
+    fv_test_log_capture_end();
+}
+
+static void several_errors_are_all_reported_and_unknown_keys_warn(void **state)
+{
+    (void)state;
+    fv_scene *s = NULL;
+    const char *json = "{\"objects\":[{\"model\":\"builtin:cornell\",\"colour\":[1,0,0],"
+                       "\"material\":{\"translucency\":{\"preset\":\"nope\"}}},"
+                       "{\"model\":\"builtin:cornell\",\"translate_m\":[0,\"x\",0]}],\"extra\":1}";
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, "multi.scene.json", &s), FV_ERR_PARSE);
+    fv_assert_log_contains("warn scene: multi.scene.json: objects[0].colour: unknown key; ignored");
+    fv_assert_log_contains("warn scene: multi.scene.json: extra: unknown key");
+    fv_assert_log_contains("objects[0].material.translucency.preset: unknown preset 'nope'");
+    fv_assert_log_contains("objects[1].translate_m[1]: expected a number, got a string");
+    fv_assert_log_contains("2 problems; the scene is not loaded");
+    fv_test_log_capture_end();
+    assert_null(s);
+    /* Unknown keys alone are only warnings: the scene loads. */
+    const char *ok = "{\"objects\":[{\"model\":\"builtin:cornell\",\"shiny\":true}]}";
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load_json_buffer(ok, strlen(ok), NULL, "warn.scene.json", &s), FV_OK);
+    fv_assert_log_contains("objects[0].shiny: unknown key");
+    fv_test_log_capture_end();
+    assert_true(s->head.from_file); /* the built-in's head is kept */
+    fv_scene_destroy(&s);
+}
+
+static void buffer_without_terminator_and_embedded_nul_are_safe(void **state)
+{
+    (void)state;
+    /* exact-length buffer (no NUL after it: ASan would see a read past the end) */
+    const char src[] = "{\"objects\":[{\"model\":\"builtin:cornell\"}]}";
+    char *exact = malloc(sizeof src - 1);
+    memcpy(exact, src, sizeof src - 1);
+    fv_scene *s = NULL;
+    assert_int_equal(fv_scene_load_json_buffer(exact, sizeof src - 1, NULL, NULL, &s), FV_OK);
+    fv_scene_destroy(&s);
+    /* truncated by one byte */
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load_json_buffer(exact, sizeof src - 2, NULL, NULL, &s), FV_ERR_PARSE);
+    fv_assert_log_contains("<buffer>: line 1 column");
+    fv_test_log_capture_end();
+    free(exact);
+    const char nul[] = "{\"objects\":[{\"model\":\"builtin:\0cornell\"}]}";
+    fv_test_log_capture_begin();
+    assert_true(fv_scene_load_json_buffer(nul, sizeof nul - 1, NULL, NULL, &s) < 0);
+    fv_test_log_capture_end();
+    assert_null(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(bunny_in_marble_inside_the_cornell_box),
+        cmocka_unit_test(scene_file_on_disk_resolves_models_relative_to_itself),
+        cmocka_unit_test(seed_with_every_light_type_and_animation_loads),
+        cmocka_unit_test(invalid_json_reports_line_and_column),
+        cmocka_unit_test(unknown_preset_names_the_path_and_lists_the_known_ones),
+        cmocka_unit_test(negative_and_non_finite_coefficients_are_errors),
+        cmocka_unit_test(wrong_types_name_what_was_expected_and_found),
+        cmocka_unit_test(missing_model_file_and_unknown_builtin_are_errors),
+        cmocka_unit_test(several_errors_are_all_reported_and_unknown_keys_warn),
+        cmocka_unit_test(buffer_without_terminator_and_embedded_nul_are_safe),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
