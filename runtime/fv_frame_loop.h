@@ -1,0 +1,67 @@
+/* @brief The frame loop: wait for the frame → latch the newest gaze → predict to photon time → render → present →
+ * one latency record per frame id.
+ *
+ * Pacing: each frame targets the earliest refresh that leaves room for the expected render time (the longest of the
+ * recent frames) plus a safety margin and the display's latch margin, and never a refresh already used; the loop
+ * sleeps (on the injected clock) until that deadline minus the expected cost, so the gaze is latched as late as
+ * possible. One frame at a time: a render over budget makes that frame late (shown a refresh later) and later frames
+ * are paced further ahead — refreshes repeat, latency stays bounded, nothing queues. The gaze device is only ever
+ * drained (lock-free ring), never waited for; a device that is lost, has ended, or has sent nothing for
+ * stall_timeout_ns is reported to the pipeline (fv_gaze_pipeline_set_device_lost), which widens the uncertainty.
+ * One owner thread; not thread-safe. */
+#ifndef FV_FRAME_LOOP_H
+#define FV_FRAME_LOOP_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fovea/fv_display.h"
+#include "fovea/fv_frame_input.h"
+#include "fv_gaze_pipeline.h"
+#include "fv_gaze_source.h"
+#include "fv_latency.h"
+
+/** What the renderer reports about one frame, on the loop's host clock. Zero = unknown: submit defaults to when the
+ *  callback returned, GPU begin/end to submit (no separate GPU timeline). */
+typedef struct fv_frame_render_times {
+    int64_t t_submit_ns;    /* CPU work handed to the GPU */
+    int64_t t_gpu_begin_ns; /* GPU started this frame's work */
+    int64_t t_gpu_end_ns;   /* GPU finished (the frame may be presented from then on) */
+} fv_frame_render_times;
+
+/** Render one frame. May adjust in->eye (head pose, views) before drawing. An error stops the loop's step. */
+typedef fv_result (*fv_frame_render_fn)(void *user, fv_frame_input *in, fv_frame_render_times *out_times);
+
+/** Zero means default. */
+typedef struct fv_frame_loop_desc {
+    const fv_clock *clock;          /* required: the host clock (the one the display and the device use) */
+    fv_display *display;            /* required; borrowed */
+    fv_frame_render_fn render;      /* required */
+    void *render_user;
+    fv_gaze_source *gaze;           /* optional; borrowed. Without it every frame has no gaze */
+    fv_gaze_pipeline *pipeline;     /* required with gaze; borrowed */
+    int64_t tracker_latency_ns;     /* the tracker's capture → host receipt latency, if known (0: counted as 0) */
+    int64_t stall_timeout_ns;       /* no new sample for this long: treated as lost; 0 = 100 ms */
+    int64_t safety_margin_ns;       /* slack added to the expected render time; 0 = 1 ms; negative = none */
+    int64_t initial_render_estimate_ns; /* expected render time before any frame ran; 0 = half a period */
+    const fv_eye_view *eye_views;   /* optional [2]: views to start each frame from; NULL = an HMD default */
+    float ipd_mm;                   /* for the default views; 0 = 63 */
+} fv_frame_loop_desc;
+
+typedef struct fv_frame_loop fv_frame_loop;
+
+FV_MUST_CHECK fv_result fv_frame_loop_create(const fv_frame_loop_desc *desc, fv_frame_loop **out_loop);
+void fv_frame_loop_destroy(fv_frame_loop **loop);
+
+/** Run one frame and fill its latency record (optional). Returns the render callback's or the display's error as is
+ *  (logged). */
+FV_MUST_CHECK fv_result fv_frame_loop_step(fv_frame_loop *loop, fv_latency_record *out_record);
+
+/** The prediction used by the most recent frame. */
+void fv_frame_loop_last_prediction(const fv_frame_loop *loop, fv_gaze_prediction *out_prediction);
+
+/** Fill two HMD-like eye views: identity head pose, eyes at ±ipd/2 on x, the FV_HMD_FOV_* frustum (outer side
+ *  wider), near 0.05 m, far 100 m. */
+void fv_frame_loop_default_views(float ipd_mm, fv_eye_view out_views[2]);
+
+#endif

@@ -1,0 +1,206 @@
+/* @brief `fovea devices` and `fovea latency` as a user runs them: plain "no eye trackers attached", JSON that matches
+ * the text, the latency budget on the simulated eye, missed frames when the render is over budget, deterministic
+ * output, replay of a real recording, and exit codes 2 (bad command line) and 1 (device cannot open). */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "fv_test.h"
+
+static const char *g_fovea;
+
+typedef struct run_result {
+    int exit_code;
+    char out[65536];
+    char err[16384];
+} run_result;
+
+static void slurp(const char *path, char *buf, size_t cap)
+{
+    FILE *f = fopen(path, "rb");
+    size_t n = 0;
+    if (f) {
+        n = fread(buf, 1, cap - 1, f);
+        fclose(f);
+    }
+    buf[n] = '\0';
+}
+
+static void run(run_result *res, const char *args)
+{
+    char out_path[1024], err_path[1024], cmd[4096];
+    snprintf(out_path, sizeof out_path, "%s", fv_test_tmp("stdout.txt"));
+    snprintf(err_path, sizeof err_path, "%s", fv_test_tmp("stderr.txt"));
+    snprintf(cmd, sizeof cmd, "%s %s >%s 2>%s", g_fovea, args, out_path, err_path);
+    int st = system(cmd);
+    res->exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    slurp(out_path, res->out, sizeof res->out);
+    slurp(err_path, res->err, sizeof res->err);
+}
+
+#define assert_contains(hay, needle)                                                                                   \
+    do {                                                                                                               \
+        if (!strstr((hay), (needle))) fail_msg("expected \"%s\" in:\n%s", (needle), (hay));                          \
+    } while (0)
+
+static double num(const cJSON *o, const char *key)
+{
+    const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!cJSON_IsNumber(x)) fail_msg("JSON has no number \"%s\"", key);
+    return x->valuedouble;
+}
+
+static void devices_lists_drivers_and_says_when_no_tracker_is_attached(void **state)
+{
+    (void)state;
+    static run_result text, json;
+    run(&text, "devices");
+    assert_int_equal(text.exit_code, 0);
+    run(&json, "devices --json");
+    assert_int_equal(json.exit_code, 0);
+    cJSON *root = cJSON_Parse(json.out);
+    assert_non_null(root);
+    const cJSON *drivers = cJSON_GetObjectItemCaseSensitive(root, "drivers");
+    assert_true(cJSON_IsArray(drivers));
+    int n = cJSON_GetArraySize(drivers);
+    assert_true(n >= 1);
+    /* virtual drivers come last */
+    bool seen_virtual = false;
+    for (int i = 0; i < n; i++) {
+        const cJSON *d = cJSON_GetArrayItem(drivers, i);
+        bool hw = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(d, "hardware"));
+        if (!hw) seen_virtual = true;
+        else assert_false(seen_virtual);
+        assert_contains(text.out, cJSON_GetObjectItemCaseSensitive(d, "scheme")->valuestring);
+    }
+    if (num(root, "eye_trackers") == 0) {
+        assert_false(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(root, "eye_trackers_attached")));
+        assert_contains(text.out, "no eye trackers attached");
+    } else {
+        assert_contains(text.out, "attached");
+    }
+    cJSON_Delete(root);
+}
+
+static void devices_refuses_unknown_arguments(void **state)
+{
+    (void)state;
+    static run_result r;
+    run(&r, "devices --list");
+    assert_int_equal(r.exit_code, 2);
+    assert_contains(r.err, "fovea devices: unknown argument '--list'");
+    assert_contains(r.err, "usage: fovea devices");
+}
+
+static void latency_on_the_simulated_eye_meets_the_budget(void **state)
+{
+    (void)state;
+    static run_result r, again;
+    run(&r, "latency --gaze sim:seed=1,rate_hz=250,latency_ms=4 --hz 90 --render-ms 5 --frames 600 --json");
+    assert_int_equal(r.exit_code, 0);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    const cJSON *g = cJSON_GetObjectItemCaseSensitive(root, "gaze_to_photon_ms");
+    double p50 = num(g, "p50"), p95 = num(g, "p95"), p99 = num(g, "p99");
+    print_message("sim:seed=1 at 90 Hz, 5 ms render: p50 %.2f p95 %.2f p99 %.2f ms\n", p50, p95, p99);
+    assert_true(p50 > 0 && p50 <= p95 && p95 <= p99);
+    assert_true(p99 <= 2 * 1000.0 / 90.0 + 4.0);
+    assert_true(num(root, "tracker_latency_ms") == 4.0);
+    assert_true(num(root, "missed") == 0);
+    assert_true(num(root, "frames") == 600);
+    assert_true(num(root, "frames_with_gaze") >= 590);
+    /* the stage shares cover the whole latency */
+    const cJSON *stages = cJSON_GetObjectItemCaseSensitive(root, "stages"), *st;
+    double share = 0, mean = 0;
+    cJSON_ArrayForEach(st, stages)
+    {
+        share += num(st, "share");
+        mean += num(st, "mean_ms");
+    }
+    assert_true(fabs(share - 1.0) < 1e-9);
+    assert_true(fabs(mean - num(g, "mean")) < 1e-6);
+    cJSON_Delete(root);
+    run(&again, "latency --gaze sim:seed=1,rate_hz=250,latency_ms=4 --hz 90 --render-ms 5 --frames 600 --json");
+    assert_string_equal(again.out, r.out); /* simulated clock: the same numbers every run */
+}
+
+static void latency_reports_missed_frames_when_the_render_is_over_budget(void **state)
+{
+    (void)state;
+    static run_result r;
+    run(&r, "latency --gaze sim:seed=2 --hz 90 --render-ms 20 --frames 300 --json");
+    assert_int_equal(r.exit_code, 0);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    assert_true(num(root, "missed") >= 290);
+    assert_true(fabs(num(root, "frame_interval_mean_ms") - 2 * 1000.0 / 90.0) < 0.1); /* every other refresh */
+    const cJSON *g = cJSON_GetObjectItemCaseSensitive(root, "gaze_to_photon_ms");
+    assert_true(num(g, "max") < 20.0 + 3 * 1000.0 / 90.0 + 10.0); /* bounded: no queue builds up */
+    cJSON_Delete(root);
+    static run_result text;
+    run(&text, "latency --gaze sim:seed=2 --hz 90 --render-ms 20 --frames 300");
+    assert_int_equal(text.exit_code, 0);
+    assert_contains(text.out, "repeated refreshes");
+    assert_contains(text.out, "gaze-to-photon  p50");
+}
+
+static void latency_replays_a_real_recording(void **state)
+{
+    (void)state;
+    static run_result r;
+    char args[1024];
+    snprintf(args, sizeof args, "latency --gaze trace:%s --frames 200 --json",
+             fv_test_data("gaze/pupil_invisible/gaze.csv"));
+    run(&r, args);
+    assert_int_equal(r.exit_code, 0);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    assert_true(num(root, "frames_with_gaze") >= 190);
+    cJSON_Delete(root);
+}
+
+static void latency_command_line_errors_exit_2_and_device_errors_exit_1(void **state)
+{
+    (void)state;
+    static run_result r;
+    run(&r, "latency --hz 90");
+    assert_int_equal(r.exit_code, 2);
+    assert_contains(r.err, "--gaze URI is required");
+    run(&r, "latency --gaze sim:seed=1 --hz fast");
+    assert_int_equal(r.exit_code, 2);
+    assert_contains(r.err, "--hz 'fast': expected a number in 1..1000");
+    run(&r, "latency --gaze sim:seed=1 --frames 0");
+    assert_int_equal(r.exit_code, 2);
+    run(&r, "latency --gaze sim:seed=1 --warp 9");
+    assert_int_equal(r.exit_code, 2);
+    assert_contains(r.err, "unknown argument '--warp'");
+    run(&r, "latency --gaze bluetooth:00:11 --frames 10");
+    assert_int_equal(r.exit_code, 1);
+    assert_contains(r.err, "unknown URI scheme 'bluetooth'");
+    assert_contains(r.err, "fovea latency: cannot open 'bluetooth:00:11'");
+    run(&r, "latency --gaze trace:/nonexistent/rec.csv --frames 10");
+    assert_int_equal(r.exit_code, 1);
+    assert_contains(r.err, "/nonexistent/rec.csv");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s PATH_TO_FOVEA\n", argv[0]);
+        return 2;
+    }
+    g_fovea = argv[1];
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(devices_lists_drivers_and_says_when_no_tracker_is_attached),
+        cmocka_unit_test(devices_refuses_unknown_arguments),
+        cmocka_unit_test(latency_on_the_simulated_eye_meets_the_budget),
+        cmocka_unit_test(latency_reports_missed_frames_when_the_render_is_over_budget),
+        cmocka_unit_test(latency_replays_a_real_recording),
+        cmocka_unit_test(latency_command_line_errors_exit_2_and_device_errors_exit_1),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,329 @@
+/* @brief `fovea latency --gaze URI [--hz 90] [--render-ms X] [--frames N] [--json]`: runs the frame loop on a
+ * simulated clock with a simulated display and a stand-in renderer, reading the gaze device inline (deterministic),
+ * and reports gaze-to-photon percentiles, missed refreshes and the share of latency per stage. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "fv_frame_loop.h"
+#include "fv_log.h"
+#include "fv_sim_display.h"
+#include "fv_standin_render.h"
+#include "tool_devices.h"
+
+#if defined(__has_include)
+#if __has_include("fv_sim_driver.h")
+#include "fv_sim_driver.h" /* to read the simulated eye's declared latency from a sim: URI */
+#define HAVE_SIM_DRIVER 1
+#endif
+#endif
+
+static const char *g_usage =
+    "usage: fovea latency --gaze URI [--hz HZ] [--render-ms MS] [--frames N] [--json] [options]\n"
+    "  Run the frame loop on a simulated clock: a simulated display, the gaze device read each frame, the gaze\n"
+    "  pipeline predicting to photon time, and a stand-in renderer of the given cost. Reports gaze-to-photon\n"
+    "  p50/p95/p99, missed refreshes and the share of each stage.\n"
+    "  --gaze URI             sim:seed=1, trace:FILE, ... (required)\n"
+    "  --hz HZ                display refresh rate, 1..1000 (default 90)\n"
+    "  --render-ms MS         stand-in render cost per frame, 0..1000 (default 5)\n"
+    "  --cpu-share F          part of the render cost spent on the CPU before submit, 0..1 (default 0.25)\n"
+    "  --render-jitter-ms MS  render cost varies by up to ±MS/2 (default 0)\n"
+    "  --frames N             frames to run, 1..1000000 (default 900)\n"
+    "  --tracker-ms MS        the tracker's capture-to-receipt latency, counted in gaze-to-photon\n"
+    "                         (default: the sim: URI's latency_ms, else 0 = unknown)\n"
+    "  --vsync-jitter-us US   display vsync jitter, ± (default 0)\n"
+    "  --persistence-ms MS    panel persistence (default 2, at most the period)\n"
+    "  --global               global (strobed) panel instead of a rolling scan-out\n"
+    "  --seed N               seed for the jitters (default 1)\n"
+    "  --json                 machine-readable output\n";
+
+typedef struct options {
+    const char *uri;
+    double hz, render_ms, cpu_share, render_jitter_ms, tracker_ms, vsync_jitter_us, persistence_ms;
+    bool tracker_given, global, json;
+    int64_t frames, seed;
+} options;
+
+static fv_result open_by_tool(void *user, const char *uri, const fv_device_open_desc *desc, fv_device **out)
+{
+    (void)user;
+    return fv_tool_device_open(uri, desc, out);
+}
+
+static int parse(int argc, char **argv, options *o)
+{
+    *o = (options){.hz = 90.0, .render_ms = 5.0, .cpu_share = 0.25, .frames = 900, .seed = 1, .persistence_ms = -1};
+    for (int i = 1; i < argc; i++) {
+        const char *v = NULL;
+        int m;
+#define OPT(name) ((m = fv_cli_option(argc, argv, &i, name, &v)) != 0)
+#define NEED(name)                                                                                                     \
+    if (m < 0) return fv_cli_usage_error("latency", g_usage, "%s needs a value", name)
+#define F64(name, lo, hi, dst)                                                                                         \
+    if (OPT(name)) {                                                                                                   \
+        NEED(name);                                                                                                    \
+        if (!fv_cli_parse_f64(v, lo, hi, dst))                                                                         \
+            return fv_cli_usage_error("latency", g_usage, "%s '%s': expected a number in %g..%g", name, v,            \
+                                      (double)(lo), (double)(hi));                                                     \
+        continue;                                                                                                      \
+    }
+        if (fv_cli_is_help(argv[i])) {
+            fputs(g_usage, stdout);
+            return -1;
+        }
+        if (strcmp(argv[i], "--json") == 0) {
+            o->json = true;
+            continue;
+        }
+        if (strcmp(argv[i], "--global") == 0) {
+            o->global = true;
+            continue;
+        }
+        if (OPT("--gaze")) {
+            NEED("--gaze");
+            o->uri = v;
+            continue;
+        }
+        if (OPT("--frames")) {
+            NEED("--frames");
+            if (!fv_cli_parse_i64(v, 1, 1000000, &o->frames))
+                return fv_cli_usage_error("latency", g_usage, "--frames '%s': expected an integer in 1..1000000", v);
+            continue;
+        }
+        if (OPT("--seed")) {
+            NEED("--seed");
+            if (!fv_cli_parse_i64(v, 0, INT64_MAX, &o->seed))
+                return fv_cli_usage_error("latency", g_usage, "--seed '%s': expected a non-negative integer", v);
+            continue;
+        }
+        F64("--hz", 1.0, 1000.0, &o->hz)
+        F64("--render-ms", 0.0, 1000.0, &o->render_ms)
+        F64("--cpu-share", 0.0, 1.0, &o->cpu_share)
+        F64("--render-jitter-ms", 0.0, 1000.0, &o->render_jitter_ms)
+        F64("--vsync-jitter-us", 0.0, 1e6, &o->vsync_jitter_us)
+        F64("--persistence-ms", 0.0, 1000.0, &o->persistence_ms)
+        if (OPT("--tracker-ms")) {
+            NEED("--tracker-ms");
+            if (!fv_cli_parse_f64(v, 0.0, 1000.0, &o->tracker_ms))
+                return fv_cli_usage_error("latency", g_usage, "--tracker-ms '%s': expected a number in 0..1000", v);
+            o->tracker_given = true;
+            continue;
+        }
+#undef OPT
+#undef NEED
+#undef F64
+        return fv_cli_usage_error("latency", g_usage, "unknown argument '%s'", argv[i]);
+    }
+    if (!o->uri) return fv_cli_usage_error("latency", g_usage, "--gaze URI is required");
+    if (o->render_jitter_ms > o->render_ms)
+        return fv_cli_usage_error("latency", g_usage, "--render-jitter-ms %g exceeds --render-ms %g",
+                                  o->render_jitter_ms, o->render_ms);
+    double period_ms = 1000.0 / o->hz;
+    if (o->persistence_ms < 0) o->persistence_ms = period_ms < 2.0 ? period_ms : 2.0; /* default */
+    if (o->persistence_ms > period_ms)
+        return fv_cli_usage_error("latency", g_usage, "--persistence-ms %g exceeds the refresh period %.3f ms",
+                                  o->persistence_ms, period_ms);
+    if (o->vsync_jitter_us / 1000.0 > period_ms / 4)
+        return fv_cli_usage_error("latency", g_usage, "--vsync-jitter-us %g exceeds a quarter of the period",
+                                  o->vsync_jitter_us);
+    return 0;
+}
+
+/* The declared tracker latency: --tracker-ms, else what a sim: URI says, else 0 (unknown). */
+static double tracker_latency_ms(const options *o, const char **out_origin)
+{
+    if (o->tracker_given) {
+        *out_origin = "declared with --tracker-ms";
+        return o->tracker_ms;
+    }
+#ifdef HAVE_SIM_DRIVER
+    if (strncmp(o->uri, "sim:", 4) == 0 || strcmp(o->uri, "sim") == 0) {
+        fv_sim_eye_desc d;
+        if (fv_sim_driver_parse_uri(o->uri, &d, NULL) == FV_OK && isfinite(d.latency_ms) && d.latency_ms >= 0) {
+            *out_origin = "the simulated eye's latency_ms";
+            return d.latency_ms;
+        }
+    }
+#endif
+    *out_origin = "unknown, counted as 0 (use --tracker-ms)";
+    return 0.0;
+}
+
+static const char *stage_what(fv_latency_stage s)
+{
+    switch (s) {
+    case FV_LATENCY_TRACKER: return "capture -> host receipt";
+    case FV_LATENCY_SAMPLE_AGE: return "receipt -> latch";
+    case FV_LATENCY_LATCH: return "latch -> render (predict, frame input)";
+    case FV_LATENCY_CPU: return "CPU render";
+    case FV_LATENCY_GPU: return "GPU render";
+    case FV_LATENCY_PRESENT: return "GPU end -> vsync";
+    case FV_LATENCY_DISPLAY: return "vsync -> photon (scan-out, persistence)";
+    case FV_LATENCY_STAGE_COUNT: break;
+    }
+    return "";
+}
+
+static void print_text(const options *o, const fv_latency_summary *s, const fv_gaze_source_status *st,
+                       double tracker_ms, const char *tracker_origin, const fv_standin_render *standin)
+{
+    printf("fovea latency: %s -> %.3g Hz simulated display, stand-in render %.2f ms (CPU %.2f + GPU %.2f), "
+           "%zu frames on a simulated clock\n",
+           o->uri, o->hz, o->render_ms, (double)standin->cpu_ns / 1e6, (double)standin->gpu_ns / 1e6, s->frames);
+    if (s->frames_with_gaze)
+        printf("gaze-to-photon  p50 %.2f ms  p95 %.2f ms  p99 %.2f ms  (min %.2f, mean %.2f, max %.2f; %zu frames "
+               "with gaze)\n",
+               s->g2p_p50_ms, s->g2p_p95_ms, s->g2p_p99_ms, s->g2p_min_ms, s->g2p_mean_ms, s->g2p_max_ms,
+               s->frames_with_gaze);
+    else
+        printf("gaze-to-photon  no gaze sample reached any frame\n");
+    printf("missed          %zu (%zu late frames, %zu repeated refreshes) in %zu frames; refresh period %.3f ms, "
+           "mean frame interval %.3f ms\n",
+           s->missed, s->late_frames, s->repeated_vsyncs, s->frames, 1000.0 / o->hz, s->frame_interval_mean_ms);
+    printf("device          %s; %llu samples, %llu overruns, %llu losses, %llu re-opens; %zu frames without gaze "
+           "or stalled, %zu reused an old sample\n",
+           fv_gaze_source_state_str(st->state), (unsigned long long)st->samples, (unsigned long long)st->overruns,
+           (unsigned long long)st->losses, (unsigned long long)st->reopens, s->lost_frames, s->stale_frames);
+    printf("tracker latency %.2f ms (%s)\n", tracker_ms, tracker_origin);
+    if (!s->frames_with_gaze) return;
+    printf("stages (mean, share of gaze-to-photon):\n");
+    for (int i = 0; i < FV_LATENCY_STAGE_COUNT; i++)
+        printf("  %-11s %7.2f ms  %5.1f%%  %s\n", fv_latency_stage_str((fv_latency_stage)i), s->stage_mean_ms[i],
+               100.0 * s->stage_share[i], stage_what((fv_latency_stage)i));
+}
+
+static int print_json(const options *o, const fv_latency_summary *s, const fv_gaze_source_status *st,
+                      double tracker_ms)
+{
+    cJSON *root = cJSON_CreateObject();
+    if (!root) return FV_EXIT_FAIL;
+    cJSON_AddStringToObject(root, "gaze", o->uri);
+    cJSON_AddNumberToObject(root, "hz", o->hz);
+    cJSON_AddNumberToObject(root, "render_ms", o->render_ms);
+    cJSON_AddNumberToObject(root, "frames", (double)s->frames);
+    cJSON_AddNumberToObject(root, "frames_with_gaze", (double)s->frames_with_gaze);
+    cJSON_AddNumberToObject(root, "tracker_latency_ms", tracker_ms);
+    cJSON *g = cJSON_AddObjectToObject(root, "gaze_to_photon_ms");
+    cJSON_AddNumberToObject(g, "p50", s->g2p_p50_ms);
+    cJSON_AddNumberToObject(g, "p95", s->g2p_p95_ms);
+    cJSON_AddNumberToObject(g, "p99", s->g2p_p99_ms);
+    cJSON_AddNumberToObject(g, "min", s->g2p_min_ms);
+    cJSON_AddNumberToObject(g, "mean", s->g2p_mean_ms);
+    cJSON_AddNumberToObject(g, "max", s->g2p_max_ms);
+    cJSON_AddNumberToObject(root, "missed", (double)s->missed);
+    cJSON_AddNumberToObject(root, "late_frames", (double)s->late_frames);
+    cJSON_AddNumberToObject(root, "repeated_vsyncs", (double)s->repeated_vsyncs);
+    cJSON_AddNumberToObject(root, "lost_frames", (double)s->lost_frames);
+    cJSON_AddNumberToObject(root, "stale_frames", (double)s->stale_frames);
+    cJSON_AddNumberToObject(root, "frame_interval_mean_ms", s->frame_interval_mean_ms);
+    cJSON *stages = cJSON_AddObjectToObject(root, "stages");
+    for (int i = 0; i < FV_LATENCY_STAGE_COUNT; i++) {
+        cJSON *x = cJSON_AddObjectToObject(stages, fv_latency_stage_str((fv_latency_stage)i));
+        cJSON_AddNumberToObject(x, "mean_ms", s->stage_mean_ms[i]);
+        cJSON_AddNumberToObject(x, "share", s->stage_share[i]);
+    }
+    cJSON *dev = cJSON_AddObjectToObject(root, "device");
+    cJSON_AddStringToObject(dev, "state", fv_gaze_source_state_str(st->state));
+    cJSON_AddNumberToObject(dev, "samples", (double)st->samples);
+    cJSON_AddNumberToObject(dev, "overruns", (double)st->overruns);
+    cJSON_AddNumberToObject(dev, "losses", (double)st->losses);
+    cJSON_AddNumberToObject(dev, "reopens", (double)st->reopens);
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!text) return FV_EXIT_FAIL;
+    printf("%s\n", text);
+    free(text);
+    return FV_EXIT_OK;
+}
+
+int fv_cmd_latency(int argc, char **argv)
+{
+    options o;
+    int pr = parse(argc, argv, &o);
+    if (pr < 0) return FV_EXIT_OK; /* --help */
+    if (pr > 0) return pr;
+
+    int rc = FV_EXIT_FAIL;
+    fv_clock clk;
+    fv_clock_sim_init(&clk, FV_NS_PER_S);
+    fv_display *display = NULL;
+    fv_gaze_pipeline *pipeline = NULL;
+    fv_gaze_source *source = NULL;
+    fv_frame_loop *loop = NULL;
+    fv_latency_record *records = NULL;
+    fv_standin_render standin;
+    const char *tracker_origin = "";
+    double tracker_ms = tracker_latency_ms(&o, &tracker_origin);
+
+    fv_sim_display_desc dd = {.clock = &clk,
+                              .refresh_hz = o.hz,
+                              .vsync_jitter_ns = (int64_t)llround(o.vsync_jitter_us * 1e3),
+                              .seed = (uint64_t)o.seed,
+                              .persistence_ns = (int64_t)llround(o.persistence_ms * 1e6),
+                              .scan = o.global ? FV_SIM_DISPLAY_GLOBAL : FV_SIM_DISPLAY_ROLLING};
+    if (dd.persistence_ns == 0) dd.persistence_ns = 1; /* 0 means "default" to the desc; the user asked for none */
+    fv_result r = fv_sim_display_create(&dd, &display);
+    if (FV_FAILED(r)) goto done;
+    fv_gaze_pipeline_desc pd = {0};
+    r = fv_gaze_pipeline_create(&pd, &pipeline);
+    if (FV_FAILED(r)) goto done;
+    fv_gaze_source_desc sd = {.uri = o.uri,
+                              .open = open_by_tool,
+                              .open_desc = {.clock = &clk},
+                              .mode = FV_GAZE_SOURCE_INLINE,
+                              .clock = &clk};
+    r = fv_gaze_source_create(&sd, &source);
+    if (FV_FAILED(r)) {
+        fprintf(stderr, "fovea latency: cannot open '%s' (%s)\n", o.uri, fv_result_str(r));
+        goto done;
+    }
+    r = fv_standin_render_init(&standin, &clk, (int64_t)llround(o.render_ms * 1e6), o.cpu_share,
+                               (int64_t)llround(o.render_jitter_ms * 1e6), (uint64_t)o.seed);
+    if (FV_FAILED(r)) goto done;
+    fv_frame_loop_desc ld = {.clock = &clk,
+                             .display = display,
+                             .render = fv_standin_render_frame,
+                             .render_user = &standin,
+                             .gaze = source,
+                             .pipeline = pipeline,
+                             .tracker_latency_ns = (int64_t)llround(tracker_ms * 1e6)};
+    r = fv_frame_loop_create(&ld, &loop);
+    if (FV_FAILED(r)) goto done;
+    records = calloc((size_t)o.frames, sizeof *records);
+    if (!records) {
+        fprintf(stderr, "fovea latency: out of memory for %lld frame records\n", (long long)o.frames);
+        goto done;
+    }
+    for (int64_t i = 0; i < o.frames; i++) {
+        r = fv_frame_loop_step(loop, &records[i]);
+        if (FV_FAILED(r)) {
+            fprintf(stderr, "fovea latency: frame %lld failed (%s)\n", (long long)i, fv_result_str(r));
+            goto done;
+        }
+    }
+    fv_latency_summary s;
+    r = fv_latency_summarize(records, (size_t)o.frames, &s);
+    if (FV_FAILED(r)) goto done;
+    fv_gaze_source_status st;
+    fv_gaze_source_get_status(source, &st);
+    if (o.json) {
+        rc = print_json(&o, &s, &st, tracker_ms);
+    } else {
+        print_text(&o, &s, &st, tracker_ms, tracker_origin, &standin);
+        rc = FV_EXIT_OK;
+    }
+    if (rc == FV_EXIT_OK && s.frames_with_gaze == 0) {
+        fprintf(stderr, "fovea latency: '%s' delivered no gaze sample in %lld frames\n", o.uri, (long long)o.frames);
+        rc = FV_EXIT_FAIL;
+    }
+done:
+    free(records);
+    fv_frame_loop_destroy(&loop);
+    fv_gaze_source_destroy(&source);
+    fv_gaze_pipeline_destroy(&pipeline);
+    fv_display_destroy(&display);
+    return rc;
+}
