@@ -8,42 +8,46 @@
 #include "fv_log.h"
 #include "tool_devices.h"
 
+static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc *desc, fv_device **out)
+{
+    (void)user;
+    return fv_tool_device_open(uri, desc, out);
+}
+
 fv_result run_gaze_open(run_gaze *g, const char *uri)
 {
     memset(g, 0, sizeof *g);
     snprintf(g->uri, sizeof g->uri, "%s", uri);
-    fv_device_open_desc desc = {.clock = fv_clock_monotonic()};
-    FV_TRY(fv_tool_device_open(uri, &desc, &g->dev));
+    fv_gaze_source_desc sd = {
+        .uri = uri,
+        .open = open_uri,
+        .open_desc = {.clock = fv_clock_monotonic()},
+        .mode = FV_GAZE_SOURCE_THREAD,
+    };
+    FV_TRY(fv_gaze_source_create(&sd, &g->source));
     fv_gaze_pipeline_desc pd = {0};
     fv_result r = fv_gaze_pipeline_create(&pd, &g->pipeline);
-    if (FV_FAILED(r)) fv_device_close(&g->dev);
+    if (FV_FAILED(r)) fv_gaze_source_destroy(&g->source);
     return r;
 }
 
 void run_gaze_latch(run_gaze *g, int64_t t_photon_ns, fv_frame_input *in)
 {
     g->frames++;
-    fv_gaze_sample buf[64];
-    /* Drain what has arrived; bounded so a flooding device cannot hold the frame. */
-    for (int round = 0; g->dev && !g->ended && round < 64; round++) {
-        size_t n = 0;
-        fv_result r = fv_device_read(g->dev, buf, 64, &n, 0);
-        for (size_t i = 0; i < n; i++) {
-            if (fv_gaze_pipeline_push(g->pipeline, &buf[i]) == FV_OK) g->samples++;
-            else g->rejected++;
-        }
-        if (r == FV_END_OF_STREAM) {
-            g->ended = true;
-            break;
-        }
-        if (r == FV_ERR_DEVICE_LOST) {
-            if (!g->lost) FV_WARN("run", "%s: gaze device lost; rendering on with widened uncertainty", g->uri);
-            g->lost = true;
-            fv_gaze_pipeline_set_device_lost(g->pipeline, true, t_photon_ns);
-            break;
-        }
-        if (r != FV_OK || n == 0) break;
+    /* Drain what the reader thread has queued; the ring is bounded, so this is too. */
+    fv_gaze_sample s;
+    while (fv_gaze_source_pop(g->source, &s) == FV_OK) {
+        if (fv_gaze_pipeline_push(g->pipeline, &s) == FV_OK) g->samples++;
+        else g->rejected++;
     }
+    fv_gaze_source_get_status(g->source, &g->status);
+    bool lost = g->status.state == FV_GAZE_SOURCE_LOST || g->status.state == FV_GAZE_SOURCE_FAILED;
+    if (lost != g->lost) {
+        if (lost) FV_WARN("run", "%s: gaze device lost; rendering on with widened uncertainty", g->uri);
+        fv_gaze_pipeline_set_device_lost(g->pipeline, lost, fv_time_monotonic_ns());
+        g->lost = lost;
+    }
+    g->ended = g->status.state == FV_GAZE_SOURCE_ENDED;
     fv_gaze_pipeline_predict(g->pipeline, t_photon_ns, &g->last);
     bool any = false;
     for (int e = 0; e < 2; e++) {
@@ -77,10 +81,12 @@ void run_gaze_add_json(const run_gaze *g, cJSON *obj)
     cJSON_AddNumberToObject(j, "last_uncertainty_deg", g->last.uncertainty_deg);
     cJSON_AddBoolToObject(j, "source_ended", g->ended);
     cJSON_AddBoolToObject(j, "device_lost", g->lost);
+    cJSON_AddNumberToObject(j, "overruns", (double)g->status.overruns);
+    cJSON_AddNumberToObject(j, "losses", (double)g->status.losses);
 }
 
 void run_gaze_close(run_gaze *g)
 {
     fv_gaze_pipeline_destroy(&g->pipeline);
-    fv_device_close(&g->dev);
+    fv_gaze_source_destroy(&g->source);
 }

@@ -1,5 +1,6 @@
-/* @brief Gaze for `fovea run`: open a device by URI, drain it each frame, run the gaze pipeline and put the
- * predicted per-eye gaze into the frame input. */
+/* @brief Gaze for `fovea run`: a gaze source (reader thread + lock-free ring, re-open with backoff) on the device
+ * a URI names; each frame drains the ring into the gaze pipeline and puts the predicted per-eye gaze (for the
+ * frame's photon time) into the frame input. */
 #ifndef FV_RUN_GAZE_H
 #define FV_RUN_GAZE_H
 
@@ -10,15 +11,17 @@
 #include "fovea/fv_device.h"
 #include "fovea/fv_frame_input.h"
 #include "fv_gaze_pipeline.h"
+#include "fv_gaze_source.h"
 
 typedef struct cJSON cJSON;
 
 typedef struct run_gaze {
-    fv_device *dev;
+    fv_gaze_source *source;
     fv_gaze_pipeline *pipeline;
     char uri[256];
     uint64_t samples, rejected, frames_with_gaze, frames;
     bool ended, lost;
+    fv_gaze_source_status status;
     fv_gaze_prediction last;
 } run_gaze;
 
