@@ -1,0 +1,2 @@
+/* @brief fv_trace.h compiles on its own. */
+#include "fv_trace.h"
