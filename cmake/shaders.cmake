@@ -10,8 +10,8 @@ function(fv_add_shaders target)
     get_filename_component(name ${src} NAME)
     string(REPLACE "." "_" var ${name})
     set(spv ${outdir}/${name}.spv)
-    set(hdr ${outdir}/${name}.spv.h)
-    file(GLOB_RECURSE deps ${CMAKE_CURRENT_SOURCE_DIR}/*.h ${CMAKE_SOURCE_DIR}/render/include/*.h
+    set(hdr ${outdir}/${var}.spv.h)   # gbuffer.vert -> gbuffer_vert.spv.h, as documented above
+    file(GLOB_RECURSE deps ${CMAKE_CURRENT_SOURCE_DIR}/*.h ${CMAKE_SOURCE_DIR}/render/include/*.h ${CMAKE_SOURCE_DIR}/render/include/*.glsl
          ${CMAKE_CURRENT_SOURCE_DIR}/*.glsl)
     add_custom_command(
       OUTPUT ${hdr}

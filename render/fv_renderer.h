@@ -17,7 +17,8 @@ typedef struct fv_renderer_desc {
     uint32_t eye_width, eye_height; /* per-eye render size; 0 = 720x800 */
     const char *device;             /* index or name substring; NULL = $FOVEA_DEVICE, else prefer a discrete GPU */
     int validation;                 /* 1 on, 0 = from $FOVEA_VALIDATION */
-    uint32_t frames_in_flight;      /* 0 = 2 */
+    uint32_t frames_in_flight;      /* 0 = 2, at most 8 */
+    uint64_t memory_budget_bytes;   /* 0 = 80% of the largest device-local heap */
 } fv_renderer_desc;
 
 #define FV_MAX_PASSES 16
@@ -68,8 +69,34 @@ uint32_t fv_renderer_validation_messages(const fv_renderer *r);
 /** Device name, for summaries. */
 const char *fv_renderer_device_name(const fv_renderer *r);
 
-/** Build per-eye views from a head pose, IPD and the HMD default (asymmetric) field of view; near/far from the
- *  scene bounds when 0. Gaze set to straight ahead, valid. */
+/** Re-shade only the listed pixels of the last frame's G-buffer (each packed with FV_GPU_PIXEL_PACK(x, y, eye) from
+ *  fv_gpu.h) through the same shading function, then re-encode the output. When clear_rgba is not NULL the linear
+ *  colour image is first cleared to that value (to see which pixels were written). Waits for the GPU. Errors:
+ *  FV_ERR_STATE before the first frame, FV_ERR_RANGE for a pixel outside the image (nothing is shaded then). */
+FV_MUST_CHECK fv_result fv_renderer_shade_pixels(fv_renderer *r, const uint32_t *packed, uint32_t count,
+                                                 const float *clear_rgba);
+/** Per-eye size in pixels. */
+void fv_renderer_size(const fv_renderer *r, uint32_t *out_width, uint32_t *out_height);
+/** Frame input for the loaded scene's head at time_s: near/far from the scene bounds (see
+ *  fv_frame_near_far_from_bounds). head NULL = the scene's head. FV_ERR_STATE without a scene. */
+FV_MUST_CHECK fv_result fv_renderer_frame_input(const fv_renderer *r, const fv_head *head, uint64_t frame_id,
+                                                double time_s, fv_frame_input *out);
+
+/** Build the frame plan for a scene (no GPU needed): every pass, whether it runs, and why. */
+void fv_frame_plan_build(const fv_scene *scene, fv_frame_plan *out);
+/** The entry of a pass by name ("gbuffer", "motion", "shadow", "gi", "sss", "fovea", "shade", "present"), or NULL. */
+const fv_plan_entry *fv_frame_plan_find(const fv_frame_plan *plan, const char *pass);
+
+/** Near/far planes that hold the bounding sphere of [bounds_min, bounds_max] seen from the head (both eyes), with a
+ *  margin; finite and far > near for any input (NaN bounds give 0.05 / 100 m). */
+void fv_frame_near_far_from_bounds(const fv_head *head, fv_vec3 bounds_min, fv_vec3 bounds_max, float *out_near_m,
+                                   float *out_far_m);
+
+/** Build per-eye views from a head pose, IPD (clamped to [0, FV_SCENE_MAX_IPD_MM]; NaN = 63 mm) and the HMD
+ *  default asymmetric field of view: vertical extent FV_HMD_FOV_UP/DOWN, horizontal extent from the image aspect
+ *  (square pixels) split outer:inner as FV_HMD_FOV_OUTER:INNER, mirrored per eye (eye 0 = left, outer = left).
+ *  near/far <= 0 or non-finite: 0.05 m / 100 m (fv_renderer_frame_input uses the scene bounds instead); clamped
+ *  so the projection stays finite. Gaze set to straight ahead, valid. */
 void fv_frame_input_from_head(const fv_head *head, float near_m, float far_m, uint32_t eye_width,
                               uint32_t eye_height, uint64_t frame_id, double time_s, fv_frame_input *out);
 

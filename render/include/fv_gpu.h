@@ -1,0 +1,75 @@
+/* @brief Structs shared by C and GLSL (std140 uniform / std430 storage layouts): the per-frame block, per-draw data,
+ * materials and lights. Only vec4/uvec4/mat4 members, so std140 and std430 agree with the C layout; the C side checks
+ * sizes with _Static_assert. Include from C (after nothing) or from GLSL (GL_GOOGLE_include_directive). */
+#ifndef FV_GPU_H
+#define FV_GPU_H
+
+#if defined(GL_core_profile) || defined(VULKAN) || defined(GL_SPIRV)
+#define FV_GLSL 1
+#define FV_VEC4 vec4
+#define FV_UVEC4 uvec4
+#define FV_MAT4 mat4
+#else
+#include <stdint.h>
+typedef struct fv_gpu_vec4 { float x, y, z, w; } fv_gpu_vec4;
+typedef struct fv_gpu_uvec4 { uint32_t x, y, z, w; } fv_gpu_uvec4;
+typedef struct fv_gpu_mat4 { float m[16]; } fv_gpu_mat4; /* column-major, as fv_mat4 */
+#define FV_VEC4 fv_gpu_vec4
+#define FV_UVEC4 fv_gpu_uvec4
+#define FV_MAT4 fv_gpu_mat4
+#endif
+
+/** Light types (fv_gpu_light.direction_type.w). Match fv_light_type. */
+#define FV_GPU_LIGHT_POINT 0
+#define FV_GPU_LIGHT_SPOT 1
+#define FV_GPU_LIGHT_DIRECTIONAL 2
+
+/** Per frame, both eyes (uniform block). Eye index = gl_ViewIndex / image layer. */
+struct fv_gpu_frame {
+    FV_MAT4 view_proj[2];      /* world -> clip (Vulkan: y down, depth 0..1) */
+    FV_MAT4 prev_view_proj[2]; /* the previous frame's, for motion vectors */
+    FV_MAT4 inv_view_proj[2];  /* clip -> world, for positions from depth */
+    FV_VEC4 eye_pos[2];        /* xyz world metres */
+    FV_VEC4 ambient;           /* rgb ambient radiance */
+    FV_UVEC4 counts;           /* x lights, y width px, z height px, w frame index (low bits) */
+};
+
+/** One drawn node (storage buffer, indexed by a push constant). */
+struct fv_gpu_draw {
+    FV_MAT4 model;         /* object -> world at this frame's time */
+    FV_MAT4 prev_model;    /* at the previous frame's time (object motion) */
+    FV_MAT4 normal_matrix; /* inverse transpose of model (upper 3x3 used) */
+    FV_UVEC4 info;         /* x material index, y texture index or 0xffffffff */
+};
+
+/** One material (storage buffer, indexed by material id - 1). */
+struct fv_gpu_material {
+    FV_VEC4 base_color; /* linear rgb albedo factor */
+    FV_VEC4 emissive;   /* rgb emitted radiance */
+    FV_UVEC4 info;      /* x texture index or 0xffffffff, y flags (bit 0: translucent) */
+};
+
+/** One light (storage buffer). */
+struct fv_gpu_light {
+    FV_VEC4 position_range; /* xyz world metres, w range in metres (0 = infinite) */
+    FV_VEC4 direction_type; /* xyz unit direction the light travels, w type (FV_GPU_LIGHT_*) */
+    FV_VEC4 intensity;      /* rgb: colour * intensity (W/sr for point/spot, W/m^2 for directional) */
+    FV_VEC4 cone;           /* spot: x cos(inner), y cos(outer) */
+};
+
+#ifndef FV_GLSL
+typedef struct fv_gpu_frame fv_gpu_frame;
+typedef struct fv_gpu_draw fv_gpu_draw;
+typedef struct fv_gpu_material fv_gpu_material;
+typedef struct fv_gpu_light fv_gpu_light;
+_Static_assert(sizeof(fv_gpu_frame) == 6 * 64 + 4 * 16, "fv_gpu_frame layout");
+_Static_assert(sizeof(fv_gpu_draw) == 3 * 64 + 16, "fv_gpu_draw layout");
+_Static_assert(sizeof(fv_gpu_material) == 48, "fv_gpu_material layout");
+_Static_assert(sizeof(fv_gpu_light) == 64, "fv_gpu_light layout");
+#endif
+
+/** Sparse shading: a pixel of one eye packed in 32 bits (x: 15 bits, y: 15 bits, eye layer: 2 bits). */
+#define FV_GPU_PIXEL_PACK(x, y, layer) (((x) & 0x7fffu) | (((y) & 0x7fffu) << 15) | (((layer) & 3u) << 30))
+#define FV_GPU_PIXEL_MAX_DIM 32768u
+
+#endif

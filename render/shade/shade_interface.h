@@ -1,0 +1,50 @@
+/* @brief Shading pass interface shared by C and GLSL: bindings, workgroup size, push constants, modes. */
+#ifndef FV_SHADE_INTERFACE_H
+#define FV_SHADE_INTERFACE_H
+
+#define FV_SHADE_BINDING_FRAME 0     /* uniform fv_gpu_frame */
+#define FV_SHADE_BINDING_LIGHTS 1    /* storage fv_gpu_light[] */
+#define FV_SHADE_BINDING_MATERIALS 2 /* storage fv_gpu_material[] */
+#define FV_SHADE_BINDING_DEPTH 3     /* sampler2DArray (D32) */
+#define FV_SHADE_BINDING_NORMAL 4    /* sampler2DArray (octahedral) */
+#define FV_SHADE_BINDING_ALBEDO 5    /* sampler2DArray (sRGB -> linear on read) */
+#define FV_SHADE_BINDING_MATERIAL 6  /* usampler2DArray (id + 1) */
+#define FV_SHADE_BINDING_COLOR 7     /* image2DArray rgba32f, linear radiance (written) */
+#define FV_SHADE_BINDING_PIXELS 8    /* storage { uint count; uint pad[3]; uint pixels[]; } (list mode) */
+
+#define FV_SHADE_GROUP_X 8
+#define FV_SHADE_GROUP_Y 8
+#define FV_SHADE_GROUP_SIZE (FV_SHADE_GROUP_X * FV_SHADE_GROUP_Y)
+
+/* Specialization constant 0: what to shade. */
+#define FV_SHADE_MODE_ALL 0  /* every pixel of both eyes (tiles interleaved over the dispatch) */
+#define FV_SHADE_MODE_LIST 1 /* only the packed pixels of the list buffer (FV_GPU_PIXEL_PACK) */
+
+/* Full-image mode: tiles are visited in an interleaved order so that any contiguous range of workgroups (one CPU
+ * thread's share on lavapipe, which splits a dispatch into contiguous parts) covers the whole image evenly:
+ * workgroup g shades tile (g % stripes) * tiles_per_stripe + g / stripes. */
+#define FV_SHADE_STRIPES 32u
+
+#if defined(GL_core_profile) || defined(VULKAN) || defined(GL_SPIRV)
+#define FV_SHADE_UINT uint
+#else
+#include <stdint.h>
+#define FV_SHADE_UINT uint32_t
+#endif
+
+struct fv_shade_push {
+    FV_SHADE_UINT tiles_x, tiles_y; /* per eye */
+    FV_SHADE_UINT tile_count;       /* tiles_x * tiles_y * 2 */
+    FV_SHADE_UINT tiles_per_stripe; /* ceil(tile_count / FV_SHADE_STRIPES) */
+    FV_SHADE_UINT groups_x;         /* dispatch width (workgroups are linearised as x + y * groups_x) */
+    FV_SHADE_UINT pad[3];
+};
+
+/* List mode is dispatched indirectly: x = min(groups, FV_SHADE_LIST_GROUPS_X), y = ceil(groups / that), z = 1, with
+ * groups = ceil(count / FV_SHADE_GROUP_SIZE); workgroup (x, y) handles list entries from (x + y * 65535) * 64. */
+#define FV_SHADE_LIST_GROUPS_X 65535u
+
+/* Header of the pixel list buffer: the count, then the packed pixels from byte 16. */
+#define FV_SHADE_LIST_HEADER_BYTES 16u
+
+#endif
