@@ -608,13 +608,14 @@ static int cmd_decode(const char *dpath, const char *rpath, bool json, int force
                 const fv_hid_report *rep;
                 if (fv_hid_report_check(d, FV_HID_REPORT_INPUT, b->bytes, b->len, &rep) != FV_OK) break;
                 size_t skip = d->uses_report_ids ? 1u : 0u;
+                bool all_read = true;
                 for (uint32_t f = 0; f < d->field_count; f++) {
                     int64_t v;
                     const fv_hid_field *fd = &d->fields[f];
                     if (fd->report_id == rep->id && fd->type == rep->type && fd->usage_ranges)
-                        (void)fv_hid_field_read(fd, 0, b->bytes + skip, b->len - skip, &v);
+                        all_read &= fv_hid_field_read(fd, 0, b->bytes + skip, b->len - skip, &v) == FV_OK;
                 }
-                ok++;
+                ok += all_read;
             }
         }
         double secs = (double)(fv_time_monotonic_ns() - t0) * 1e-9;
