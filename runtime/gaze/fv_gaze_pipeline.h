@@ -1,6 +1,9 @@
 /* @brief The gaze pipeline: samples in (device clock) → host clock → validity → 1€ filter → classification →
  * prediction to a target time (the frame's photon time) with an uncertainty radius. One owner; not thread-safe.
- * The frame loop pushes every sample it drains from a device ring, then asks for a prediction per frame. */
+ * The frame loop pushes every sample it drains from a device ring, then asks for a prediction per frame.
+ * Time: samples are ordered by t_device_ns (it must advance); with FV_GAZE_HOST_TIME_VALID the pipeline maps the
+ * device clock onto the host clock from the receipt times (lower envelope: the mapped time is the capture time plus
+ * the smallest transport delay, free of jitter). Details, defaults and measured figures: docs/gaze.md. */
 #ifndef FV_GAZE_PIPELINE_H
 #define FV_GAZE_PIPELINE_H
 
@@ -41,6 +44,11 @@ typedef struct fv_gaze_pipeline_desc {
     float saccade_on_deg_s;      /* velocity threshold to enter a saccade; 0 = default */
     float saccade_off_deg_s;     /* hysteresis: velocity to leave it; 0 = default */
     bool disable_prediction;     /* true: predict() returns the latest filtered sample (the baseline) */
+    /* Extensions (zero = default): */
+    float min_confidence;        /* samples with a finite confidence below this are invalid; 0 = 0.5 */
+    float max_eccentricity_deg;  /* directions further than this from straight ahead are invalid; 0 = 60, <= 90 */
+    float main_sequence_vmax_deg_s; /* main sequence Vp = Vmax (1 - e^(-A/C)) for landing prediction; 0 = 600 */
+    float main_sequence_c_deg;   /* 0 = 9 */
 } fv_gaze_pipeline_desc;
 
 typedef struct fv_gaze_pipeline fv_gaze_pipeline;
@@ -53,6 +61,22 @@ void fv_gaze_pipeline_destroy(fv_gaze_pipeline **p);
 FV_MUST_CHECK fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s);
 /** Predict to host time t_target_ns. Always fills *out with finite values (eye_valid false when nothing known). */
 void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_prediction *out);
+/** Counters for diagnostics and evaluation. */
+typedef struct fv_gaze_pipeline_stats {
+    uint64_t pushed;         /* samples given to push() */
+    uint64_t rejected;       /* duplicates / out of order (FV_NO_NEW_DATA) */
+    uint64_t invalid;        /* accepted samples with no usable eye (blink, NaN, low confidence, implausible) */
+    uint64_t one_eye;        /* accepted samples with exactly one usable eye */
+    uint64_t saccades;       /* saccade onsets detected */
+    uint64_t clock_resets;   /* device clock discontinuities (mapper restarted) */
+    double clock_skew_ppm;   /* current device-to-host skew estimate */
+} fv_gaze_pipeline_stats;
+
+void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stats *out);
+/** The classification after the newest sample (FIXATION/SACCADE/PURSUIT; BLINK while invalid; NONE before data). */
+fv_gaze_event fv_gaze_pipeline_event(const fv_gaze_pipeline *p);
+/** Host time the pipeline assigned to the newest accepted sample (mapped from the device clock); 0 before any. */
+int64_t fv_gaze_pipeline_last_sample_ns(const fv_gaze_pipeline *p);
 /** Tell the pipeline the device is lost (or back): uncertainty widens while lost. */
 void fv_gaze_pipeline_set_device_lost(fv_gaze_pipeline *p, bool lost, int64_t now_ns);
 

@@ -1,0 +1,1 @@
+#include "fv_gaze_clock.h" /* compiles on its own */

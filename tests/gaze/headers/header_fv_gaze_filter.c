@@ -1,0 +1,1 @@
+#include "fv_gaze_filter.h" /* compiles on its own */

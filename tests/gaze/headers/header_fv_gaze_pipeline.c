@@ -1,0 +1,1 @@
+#include "fv_gaze_pipeline.h" /* compiles on its own */

@@ -1,0 +1,1 @@
+#include "fv_gaze_saccade.h" /* compiles on its own */

@@ -1,0 +1,1 @@
+#include "fv_gaze_unwrap.h" /* compiles on its own */

@@ -1,0 +1,1 @@
+#include "fv_sim_driver.h" /* compiles on its own */

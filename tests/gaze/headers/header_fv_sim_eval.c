@@ -1,0 +1,1 @@
+#include "fv_sim_eval.h" /* compiles on its own */

@@ -1,0 +1,1 @@
+#include "fv_sim_eye.h" /* compiles on its own */
