@@ -86,6 +86,7 @@ static void unknown_command_and_bad_options_exit_2_with_one_line_error(void **st
         {"run --eye-size 0x64", "--eye-size: '0x64'"},
         {"run --save sometimes", "--save: 'sometimes'"},
         {"run --layout tb", "--layout: 'tb'"},
+        {"run --hz 0", "--hz: '0'"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         r = run(NULL, bad[i][0]);
@@ -224,6 +225,50 @@ static void eyes_layout_writes_one_png_per_eye(void **state)
     }
 }
 
+/* --gaze runs go through the frame loop: every recording replays, and the summary carries gaze-to-photon latency. */
+static void gaze_runs_replay_every_recording_with_latency(void **state)
+{
+    (void)state;
+    const char *uris[] = {
+        "sim:seed=1",
+        "trace:%s/gaze/htc_vive_pro_eye_sranipal/TESTNA01_2D_Fist3.csv",
+        "trace:%s/gaze/htc_vive_pro_eye_sranipal/TESTNA10_360VR_Fist3.csv",
+        "trace:%s/gaze/tobii_pro_glasses3/gazedata.gz",
+        "trace:%s/gaze/pupil_core/gaze_positions.csv",
+        "trace:%s/gaze/pupil_invisible/gaze.csv",
+        "trace:%s/gaze/pico_neo3_pro/boxing_VR.tsv",
+    };
+    const char *root = getenv("FV_SHARED_DATA_DIR");
+    for (size_t i = 0; i < sizeof uris / sizeof uris[0]; i++) {
+        char uri[1200], args[1600];
+        snprintf(uri, sizeof uri, uris[i], root);
+        snprintf(args, sizeof args, "run --gaze '%s' --frames 12 --eye-size 32x32 --json", uri);
+        run_result *r = run("FOVEA_VALIDATION=1", args);
+        if (r->exit_code != 0) fail_msg("%s: exit %d; stderr:\n%s", uri, r->exit_code, r->err);
+        cJSON *j = cJSON_Parse(r->out);
+        if (!j) fail_msg("%s: stdout is not JSON:\n%s", uri, r->out);
+        cJSON *g = cJSON_GetObjectItem(j, "gaze"), *l = cJSON_GetObjectItem(j, "latency");
+        assert_non_null(g);
+        assert_non_null(l);
+        assert_true(cJSON_GetObjectItem(g, "samples")->valuedouble > 0);
+        double p50 = cJSON_GetObjectItem(l, "gaze_to_photon_ms_p50")->valuedouble;
+        double with = cJSON_GetObjectItem(l, "frames_with_gaze")->valuedouble;
+        /* At least one refresh and scan-out stand between a sample and its photons; far less than a second. */
+        if (!(with > 0 && p50 > 5.0 && p50 < 1000.0)) fail_msg("%s: gaze-to-photon p50 %.3f ms over %.0f frames", uri, p50, with);
+        assert_int_equal((int)cJSON_GetObjectItem(j, "validation_messages")->valuedouble, 0);
+        cJSON_Delete(j);
+    }
+}
+
+static void unknown_gaze_scheme_fails_naming_known_ones(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "run --gaze bogus:thing --frames 1 --eye-size 16x16");
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "unknown URI scheme 'bogus'");
+    assert_contains(r->err, "trace");
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -241,6 +286,8 @@ int main(int argc, char **argv)
         cmocka_unit_test(renders_embree_obj_cornell_box),
         cmocka_unit_test(renders_stanford_bunny_ply),
         cmocka_unit_test(eyes_layout_writes_one_png_per_eye),
+        cmocka_unit_test(gaze_runs_replay_every_recording_with_latency),
+        cmocka_unit_test(unknown_gaze_scheme_fails_naming_known_ones),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

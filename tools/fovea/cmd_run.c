@@ -22,7 +22,7 @@
 
 static const char *USAGE =
     "usage: fovea run [--scene NAME|FILE] [--frames N] [--eye-size WxH] [--out DIR]\n"
-    "                 [--save last|every|none] [--layout sbs|eyes] [--gaze URI] [--explain] [--json]\n"
+    "                 [--save last|every|none] [--layout sbs|eyes] [--gaze URI [--hz HZ]] [--explain] [--json]\n"
     "  --scene     built-in scene name (cornell, cornell-translucent) or a file: *.scene.json, .gltf/.glb, .obj, .ply\n"
     "              (default cornell)\n"
     "  --frames    frames to render (default 1; 1..1000000)\n"
@@ -30,7 +30,10 @@ static const char *USAGE =
     "  --out       write PNGs into DIR (created if missing); without it images stay on the GPU\n"
     "  --save      which frames to write with --out (default last)\n"
     "  --layout    sbs: one side-by-side stereo image per frame (default); eyes: one image per eye\n"
-    "  --gaze      follow an eye tracker or recording (hid:auto, trace:FILE, sim:seed=1); default: straight ahead\n"
+    "  --gaze      follow an eye tracker or recording (hid:auto, trace:FILE, sim:seed=1); frames then run through\n"
+    "              the frame loop, paced by a display, with one gaze-to-photon latency record per frame\n"
+    "              (default: no tracker, gaze straight ahead, frames as fast as the GPU allows)\n"
+    "  --hz        refresh rate of the (simulated) display that paces --gaze runs (default 90; 1..1000)\n"
     "  --explain   print the frame plan (which passes run and why)\n"
     "  --json      print the summary as one JSON object on stdout (and nothing else on stdout)\n";
 
@@ -44,12 +47,14 @@ typedef struct run_opts {
     save_mode save;
     bool sbs;
     const char *gaze_uri;
+    double hz;
     bool explain, json;
 } run_opts;
 
 static int parse_args(int argc, char **argv, run_opts *o)
 {
-    *o = (run_opts){.scene = "cornell", .frames = 1, .eye_w = 720, .eye_h = 800, .save = SAVE_LAST, .sbs = true};
+    *o = (run_opts){.scene = "cornell", .frames = 1, .eye_w = 720, .eye_h = 800, .save = SAVE_LAST, .sbs = true,
+                    .hz = 90};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = NULL;
         int r;
@@ -94,6 +99,12 @@ static int parse_args(int argc, char **argv, run_opts *o)
         }
         if ((r = OPT("--gaze")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->gaze_uri = v; continue; }
+        if ((r = OPT("--hz")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_f64(v, 1, 1000, &o->hz))
+                return fv_cli_usage_error("run", USAGE, "--hz: '%s' is not a number in 1..1000", v);
+            continue;
+        }
 #undef OPT
         if (strcmp(a, "--explain") == 0) { o->explain = true; continue; }
         if (strcmp(a, "--json") == 0) { o->json = true; continue; }
@@ -181,27 +192,81 @@ typedef struct pass_series {
     size_t n;
 } pass_series;
 
+/* Everything one run measures. */
+typedef struct run_state {
+    const run_opts *o;
+    fv_renderer *r;
+    double *cpu_ms, *frame_gpu_ms;
+    size_t drawn;    /* frames drawn */
+    size_t measured; /* frames whose GPU timings were taken */
+    uint64_t last_timed;
+    pass_series passes[FV_MAX_PASSES];
+    uint32_t pass_count;
+    fv_render_stats last_stats;
+} run_state;
+
 /* GPU timings arrive for the most recently completed frame (frames in flight overlap): take each frame once. */
-static bool take_stats(fv_renderer *r, uint64_t *last_timed, pass_series *passes, uint32_t *pass_count,
-                       double *frame_gpu_ms, size_t *measured, size_t cap, fv_render_stats *last)
+static bool take_stats(run_state *st)
 {
-    fv_render_stats st;
-    if (fv_renderer_stats(r, &st) != FV_OK || st.frame_id == *last_timed || *measured >= cap) return true;
-    *last_timed = st.frame_id;
-    frame_gpu_ms[*measured] = st.frame_gpu_ms;
-    for (uint32_t p = 0; p < st.pass_count && p < FV_MAX_PASSES; p++) {
-        pass_series *ps = &passes[p];
+    fv_render_stats rs;
+    size_t cap = (size_t)st->o->frames;
+    if (fv_renderer_stats(st->r, &rs) != FV_OK || rs.frame_id == st->last_timed || st->measured >= cap) return true;
+    st->last_timed = rs.frame_id;
+    st->frame_gpu_ms[st->measured] = rs.frame_gpu_ms;
+    for (uint32_t p = 0; p < rs.pass_count && p < FV_MAX_PASSES; p++) {
+        pass_series *ps = &st->passes[p];
         if (!ps->ms) {
             ps->ms = calloc(cap, sizeof *ps->ms);
             if (!ps->ms) return false;
-            snprintf(ps->name, sizeof ps->name, "%s", st.pass_name[p]);
-            if (p + 1 > *pass_count) *pass_count = p + 1;
+            snprintf(ps->name, sizeof ps->name, "%s", rs.pass_name[p]);
+            if (p + 1 > st->pass_count) st->pass_count = p + 1;
         }
-        if (ps->n < cap) ps->ms[ps->n++] = st.pass_gpu_ms[p];
+        if (ps->n < cap) ps->ms[ps->n++] = rs.pass_gpu_ms[p];
     }
-    *last = st;
-    (*measured)++;
+    st->last_stats = rs;
+    st->measured++;
     return true;
+}
+
+/* Draw one frame: views from the scene's head, gaze as given (the frame loop's prediction) or straight ahead.
+ * With times (a frame-loop frame), wait for the GPU so that its end is known on the host clock. */
+static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, fv_frame_render_times *times)
+{
+    fv_frame_input base;
+    double time_s = (double)in->frame_id / (st->o->hz > 0 ? st->o->hz : 90.0); /* scene time at the refresh rate */
+    FV_TRY(fv_renderer_frame_input(st->r, NULL, in->frame_id, time_s, &base));
+    if (keep_gaze) {
+        in->eye[0] = base.eye[0];
+        in->eye[1] = base.eye[1];
+        in->time_s = time_s;
+    } else {
+        *in = base;
+    }
+    int64_t c0 = thread_cpu_ns();
+    fv_result res = fv_renderer_draw(st->r, in);
+    if (st->drawn < (size_t)st->o->frames) st->cpu_ms[st->drawn] = (double)(thread_cpu_ns() - c0) / 1e6;
+    st->drawn++;
+    if (FV_FAILED(res)) {
+        fprintf(stderr, "fovea run: frame %llu failed (see the messages above)\n", (unsigned long long)in->frame_id);
+        return res;
+    }
+    if (times) {
+        times->t_submit_ns = fv_time_monotonic_ns();
+        FV_TRY(fv_renderer_finish(st->r));
+        int64_t t_end = fv_time_monotonic_ns();
+        if (!take_stats(st)) return FV_ERR_NO_MEMORY;
+        /* The GPU ran this frame's work for frame_gpu_ms before the fence was seen signalled. */
+        int64_t gpu_ns = (int64_t)(st->last_stats.frame_gpu_ms * 1e6);
+        times->t_gpu_end_ns = t_end;
+        times->t_gpu_begin_ns = t_end - gpu_ns > times->t_submit_ns ? t_end - gpu_ns : times->t_submit_ns;
+        return FV_OK;
+    }
+    return take_stats(st) ? FV_OK : FV_ERR_NO_MEMORY;
+}
+
+static fv_result render_cb(void *user, fv_frame_input *in, fv_frame_render_times *out_times)
+{
+    return draw_frame(user, in, true, out_times);
 }
 
 int fv_cmd_run(int argc, char **argv)
@@ -215,22 +280,18 @@ int fv_cmd_run(int argc, char **argv)
     fv_scene *scene = NULL;
     fv_renderer *r = NULL;
     uint8_t *img = NULL;
-    double *cpu_ms = NULL, *wall_ms = NULL, *frame_gpu_ms = NULL;
-    pass_series passes[FV_MAX_PASSES];
-    uint32_t pass_count = 0;
-    size_t measured = 0;
-    fv_render_stats last_stats;
-    memset(&last_stats, 0, sizeof last_stats);
-    run_gaze gaze = {0};
-    memset(passes, 0, sizeof passes);
+    double *wall_ms = NULL;
+    run_state st;
+    memset(&st, 0, sizeof st);
+    st.o = &o;
+    st.last_timed = UINT64_MAX;
+    run_gaze gaze;
+    memset(&gaze, 0, sizeof gaze);
+    bool gaze_open = false;
 
     if (o.out_dir && o.save != SAVE_NONE && ensure_dir(o.out_dir) != 0) goto done;
     if (FV_FAILED(fv_scene_load(o.scene, &scene))) {
         fprintf(stderr, "fovea run: cannot load scene '%s' (see the messages above)\n", o.scene);
-        goto done;
-    }
-    if (o.gaze_uri && FV_FAILED(run_gaze_open(&gaze, o.gaze_uri))) {
-        fprintf(stderr, "fovea run: cannot open gaze source '%s'\n", o.gaze_uri);
         goto done;
     }
     fv_renderer_desc desc = {.eye_width = o.eye_w, .eye_height = o.eye_h};
@@ -238,6 +299,7 @@ int fv_cmd_run(int argc, char **argv)
         fprintf(stderr, "fovea run: cannot create the renderer (see the messages above)\n");
         goto done;
     }
+    st.r = r;
     if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
         fprintf(stderr, "fovea run: cannot upload scene '%s'\n", o.scene);
         goto done;
@@ -246,31 +308,36 @@ int fv_cmd_run(int argc, char **argv)
 
     size_t img_size = (size_t)o.eye_w * 2 * o.eye_h * 4;
     img = malloc(img_size);
-    cpu_ms = calloc((size_t)o.frames, sizeof *cpu_ms);
+    st.cpu_ms = calloc((size_t)o.frames, sizeof *st.cpu_ms);
     wall_ms = calloc((size_t)o.frames, sizeof *wall_ms);
-    frame_gpu_ms = calloc((size_t)o.frames, sizeof *frame_gpu_ms);
-    if (!img || !cpu_ms || !wall_ms || !frame_gpu_ms) {
+    st.frame_gpu_ms = calloc((size_t)o.frames, sizeof *st.frame_gpu_ms);
+    if (!img || !st.cpu_ms || !wall_ms || !st.frame_gpu_ms) {
         FV_ERROR("run", "out of memory for %lld frames of %ux%u", (long long)o.frames, o.eye_w, o.eye_h);
         goto done;
+    }
+    if (o.gaze_uri) {
+        fv_frame_input first;
+        if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &first))) goto done;
+        gaze_open = true;
+        if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.hz, (size_t)o.frames, render_cb, &st, first.eye))) {
+            fprintf(stderr, "fovea run: cannot open gaze source '%s' (see the messages above)\n", o.gaze_uri);
+            goto done;
+        }
     }
 
     bool tty = isatty(STDERR_FILENO);
     int64_t t_start = fv_time_monotonic_ns(), t_last_progress = t_start;
-    uint64_t last_timed = UINT64_MAX;
-    const double frame_period_s = 1.0 / 90.0; /* scene time advances at the HMD refresh rate */
     for (int64_t f = 0; f < o.frames; f++) {
-        int64_t t0 = fv_time_monotonic_ns(), c0 = thread_cpu_ns();
-        fv_frame_input in;
-        if (FV_FAILED(fv_renderer_frame_input(r, NULL, (uint64_t)f, (double)f * frame_period_s, &in))) goto done;
-        if (o.gaze_uri) run_gaze_latch(&gaze, t0 + (int64_t)(frame_period_s * 1e9), &in);
-        if (FV_FAILED(fv_renderer_draw(r, &in))) {
-            fprintf(stderr, "fovea run: frame %lld failed (see the messages above)\n", (long long)f);
-            goto done;
+        int64_t t0 = fv_time_monotonic_ns();
+        if (o.gaze_uri) {
+            if (FV_FAILED(run_gaze_step(&gaze))) goto done;
+        } else {
+            fv_frame_input in;
+            memset(&in, 0, sizeof in);
+            in.frame_id = (uint64_t)f;
+            if (FV_FAILED(draw_frame(&st, &in, false, NULL))) goto done;
         }
-        cpu_ms[f] = (double)(thread_cpu_ns() - c0) / 1e6;
         wall_ms[f] = (double)(fv_time_monotonic_ns() - t0) / 1e6;
-        if (!take_stats(r, &last_timed, passes, &pass_count, frame_gpu_ms, &measured, (size_t)o.frames, &last_stats))
-            goto done;
         bool save_now = o.out_dir && (o.save == SAVE_EVERY || (o.save == SAVE_LAST && f == o.frames - 1));
         if (save_now && FV_FAILED(save_frame(r, &o, (uint64_t)f, img, img_size))) goto done;
         if (tty && fv_time_monotonic_ns() - t_start > FV_NS_PER_S &&
@@ -279,14 +346,17 @@ int fv_cmd_run(int argc, char **argv)
             fprintf(stderr, "\rfovea run: frame %lld/%lld", (long long)f + 1, (long long)o.frames);
         }
     }
-    if (FV_FAILED(fv_renderer_finish(r))) goto done;
-    if (!take_stats(r, &last_timed, passes, &pass_count, frame_gpu_ms, &measured, (size_t)o.frames, &last_stats))
-        goto done;
+    if (FV_FAILED(fv_renderer_finish(r)) || !take_stats(&st)) goto done;
     if (tty && fv_time_monotonic_ns() - t_start > FV_NS_PER_S) fprintf(stderr, "\r%*s\r", 40, "");
     double wall_s = (double)(fv_time_monotonic_ns() - t_start) / 1e9;
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     uint32_t vmsg = fv_renderer_validation_messages(r);
+    pass_series *passes = st.passes;
+    uint32_t pass_count = st.pass_count;
+    size_t measured = st.measured;
+    double *frame_gpu_ms = st.frame_gpu_ms, *cpu_ms = st.cpu_ms;
+    fv_render_stats last_stats = st.last_stats;
 
     if (o.json) {
         cJSON *j = cJSON_CreateObject();
@@ -358,12 +428,12 @@ int fv_cmd_run(int argc, char **argv)
     }
     exit_code = FV_EXIT_OK;
 done:
-    run_gaze_close(&gaze);
+    if (gaze_open) run_gaze_close(&gaze);
     free(img);
-    free(cpu_ms);
+    free(st.cpu_ms);
     free(wall_ms);
-    free(frame_gpu_ms);
-    for (uint32_t i = 0; i < FV_MAX_PASSES; i++) free(passes[i].ms);
+    free(st.frame_gpu_ms);
+    for (uint32_t i = 0; i < FV_MAX_PASSES; i++) free(st.passes[i].ms);
     fv_renderer_destroy(&r);
     fv_scene_destroy(&scene);
     return exit_code;

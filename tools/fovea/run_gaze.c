@@ -1,11 +1,12 @@
-/* @brief Gaze for `fovea run` (see run_gaze.h). */
+/* @brief Gaze-driven runs of `fovea run` (see run_gaze.h). */
 #include "run_gaze.h"
 
 #include <cjson/cJSON.h>
-#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "fv_log.h"
+#include "fv_sim_display.h"
 #include "tool_devices.h"
 
 static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc *desc, fv_device **out)
@@ -14,79 +15,104 @@ static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc
     return fv_tool_device_open(uri, desc, out);
 }
 
-fv_result run_gaze_open(run_gaze *g, const char *uri)
+fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t frames, fv_frame_render_fn render,
+                        void *render_user, const fv_eye_view views[2])
 {
     memset(g, 0, sizeof *g);
     snprintf(g->uri, sizeof g->uri, "%s", uri);
+    g->refresh_hz = refresh_hz;
+    g->records = calloc(frames ? frames : 1, sizeof *g->records);
+    if (!g->records) return FV_ERR_NO_MEMORY;
+    g->cap = frames;
+    const fv_clock *clock = fv_clock_monotonic();
+    fv_sim_display_desc dd = {.clock = clock, .refresh_hz = refresh_hz};
+    FV_TRY(fv_sim_display_create(&dd, &g->display));
     fv_gaze_source_desc sd = {
         .uri = uri,
         .open = open_uri,
-        .open_desc = {.clock = fv_clock_monotonic()},
+        .open_desc = {.clock = clock},
         .mode = FV_GAZE_SOURCE_THREAD,
     };
     FV_TRY(fv_gaze_source_create(&sd, &g->source));
     fv_gaze_pipeline_desc pd = {0};
-    fv_result r = fv_gaze_pipeline_create(&pd, &g->pipeline);
-    if (FV_FAILED(r)) fv_gaze_source_destroy(&g->source);
-    return r;
+    FV_TRY(fv_gaze_pipeline_create(&pd, &g->pipeline));
+    fv_frame_loop_desc ld = {
+        .clock = clock,
+        .display = g->display,
+        .render = render,
+        .render_user = render_user,
+        .gaze = g->source,
+        .pipeline = g->pipeline,
+        .eye_views = views,
+    };
+    return fv_frame_loop_create(&ld, &g->loop);
 }
 
-void run_gaze_latch(run_gaze *g, int64_t t_photon_ns, fv_frame_input *in)
+fv_result run_gaze_step(run_gaze *g)
 {
-    g->frames++;
-    /* Drain what the reader thread has queued; the ring is bounded, so this is too. */
-    fv_gaze_sample s;
-    while (fv_gaze_source_pop(g->source, &s) == FV_OK) {
-        if (fv_gaze_pipeline_push(g->pipeline, &s) == FV_OK) g->samples++;
-        else g->rejected++;
-    }
-    fv_gaze_source_get_status(g->source, &g->status);
-    bool lost = g->status.state == FV_GAZE_SOURCE_LOST || g->status.state == FV_GAZE_SOURCE_FAILED;
-    if (lost != g->lost) {
-        if (lost) FV_WARN("run", "%s: gaze device lost; rendering on with widened uncertainty", g->uri);
-        fv_gaze_pipeline_set_device_lost(g->pipeline, lost, fv_time_monotonic_ns());
-        g->lost = lost;
-    }
-    g->ended = g->status.state == FV_GAZE_SOURCE_ENDED;
-    fv_gaze_pipeline_predict(g->pipeline, t_photon_ns, &g->last);
-    bool any = false;
-    for (int e = 0; e < 2; e++) {
-        in->gaze[e].valid = g->last.eye_valid[e];
-        if (g->last.eye_valid[e]) in->gaze[e].dir_eye = g->last.dir_head[e];
-        in->gaze[e].uncertainty_deg = g->last.uncertainty_deg;
-        any |= g->last.eye_valid[e];
-    }
-    in->pupil_mm = g->last.pupil_mm;
-    in->t_photon_ns = t_photon_ns;
-    if (any) g->frames_with_gaze++;
+    if (g->count >= g->cap) return FV_ERR_STATE;
+    FV_TRY(fv_frame_loop_step(g->loop, &g->records[g->count]));
+    g->count++;
+    return FV_OK;
+}
+
+static void summarize(const run_gaze *g, fv_latency_summary *s, fv_gaze_source_status *st)
+{
+    if (FV_FAILED(fv_latency_summarize(g->records, g->count, s))) memset(s, 0, sizeof *s);
+    fv_gaze_source_get_status(g->source, st);
 }
 
 void run_gaze_print(const run_gaze *g, FILE *f)
 {
-    fprintf(f, "  gaze: %s: %llu samples (%llu rejected), gaze on %llu of %llu frames, last event %s, "
-               "uncertainty %.2f deg%s\n",
-            g->uri, (unsigned long long)g->samples, (unsigned long long)g->rejected,
-            (unsigned long long)g->frames_with_gaze, (unsigned long long)g->frames, fv_gaze_event_str(g->last.event),
-            g->last.uncertainty_deg, g->ended ? ", source ended" : (g->lost ? ", device lost" : ""));
+    fv_latency_summary s;
+    fv_gaze_source_status st;
+    summarize(g, &s, &st);
+    fv_gaze_prediction last;
+    fv_frame_loop_last_prediction(g->loop, &last);
+    fprintf(f, "  gaze: %s (%s): %llu samples, %llu overruns, %llu losses; last event %s, uncertainty %.2f deg\n",
+            g->uri, fv_gaze_source_state_str(st.state), (unsigned long long)st.samples,
+            (unsigned long long)st.overruns, (unsigned long long)st.losses, fv_gaze_event_str(last.event),
+            last.uncertainty_deg);
+    fprintf(f, "  gaze-to-photon (%.0f Hz simulated display, %zu of %zu frames with gaze): p50 %.2f ms, p95 %.2f ms, "
+               "p99 %.2f ms; %zu late frames, %zu repeated refreshes\n",
+            g->refresh_hz, s.frames_with_gaze, s.frames, s.g2p_p50_ms, s.g2p_p95_ms, s.g2p_p99_ms, s.late_frames,
+            s.repeated_vsyncs);
+    fprintf(f, "  stages (mean ms):");
+    for (int k = 0; k < FV_LATENCY_STAGE_COUNT; k++)
+        fprintf(f, " %s %.2f", fv_latency_stage_str((fv_latency_stage)k), s.stage_mean_ms[k]);
+    fprintf(f, "\n");
 }
 
 void run_gaze_add_json(const run_gaze *g, cJSON *obj)
 {
+    fv_latency_summary s;
+    fv_gaze_source_status st;
+    summarize(g, &s, &st);
     cJSON *j = cJSON_AddObjectToObject(obj, "gaze");
     cJSON_AddStringToObject(j, "uri", g->uri);
-    cJSON_AddNumberToObject(j, "samples", (double)g->samples);
-    cJSON_AddNumberToObject(j, "rejected", (double)g->rejected);
-    cJSON_AddNumberToObject(j, "frames_with_gaze", (double)g->frames_with_gaze);
-    cJSON_AddStringToObject(j, "last_event", fv_gaze_event_str(g->last.event));
-    cJSON_AddNumberToObject(j, "last_uncertainty_deg", g->last.uncertainty_deg);
-    cJSON_AddBoolToObject(j, "source_ended", g->ended);
-    cJSON_AddBoolToObject(j, "device_lost", g->lost);
-    cJSON_AddNumberToObject(j, "overruns", (double)g->status.overruns);
-    cJSON_AddNumberToObject(j, "losses", (double)g->status.losses);
+    cJSON_AddStringToObject(j, "state", fv_gaze_source_state_str(st.state));
+    cJSON_AddNumberToObject(j, "samples", (double)st.samples);
+    cJSON_AddNumberToObject(j, "overruns", (double)st.overruns);
+    cJSON_AddNumberToObject(j, "losses", (double)st.losses);
+    cJSON *l = cJSON_AddObjectToObject(obj, "latency");
+    cJSON_AddNumberToObject(l, "refresh_hz", g->refresh_hz);
+    cJSON_AddNumberToObject(l, "frames_with_gaze", (double)s.frames_with_gaze);
+    cJSON_AddNumberToObject(l, "gaze_to_photon_ms_p50", s.g2p_p50_ms);
+    cJSON_AddNumberToObject(l, "gaze_to_photon_ms_p95", s.g2p_p95_ms);
+    cJSON_AddNumberToObject(l, "gaze_to_photon_ms_p99", s.g2p_p99_ms);
+    cJSON_AddNumberToObject(l, "late_frames", (double)s.late_frames);
+    cJSON_AddNumberToObject(l, "repeated_refreshes", (double)s.repeated_vsyncs);
+    cJSON *stages = cJSON_AddObjectToObject(l, "stage_mean_ms");
+    for (int k = 0; k < FV_LATENCY_STAGE_COUNT; k++)
+        cJSON_AddNumberToObject(stages, fv_latency_stage_str((fv_latency_stage)k), s.stage_mean_ms[k]);
 }
 
 void run_gaze_close(run_gaze *g)
 {
+    fv_frame_loop_destroy(&g->loop);
     fv_gaze_pipeline_destroy(&g->pipeline);
     fv_gaze_source_destroy(&g->source);
+    fv_display_destroy(&g->display);
+    free(g->records);
+    g->records = NULL;
 }

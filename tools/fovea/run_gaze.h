@@ -1,33 +1,36 @@
-/* @brief Gaze for `fovea run`: a gaze source (reader thread + lock-free ring, re-open with backoff) on the device
- * a URI names; each frame drains the ring into the gaze pipeline and puts the predicted per-eye gaze (for the
- * frame's photon time) into the frame input. */
+/* @brief Gaze-driven runs of `fovea run --gaze URI`: the runtime's frame loop (fv_frame_loop) paced by a display
+ * (a simulated display on the monotonic clock: the headless target has no swapchain), a gaze source (reader
+ * thread + lock-free ring, re-open with backoff) feeding the gaze pipeline, the renderer as the loop's render
+ * callback, and one latency record per frame (gaze sampled → photons due). */
 #ifndef FV_RUN_GAZE_H
 #define FV_RUN_GAZE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
-#include "fovea/fv_device.h"
-#include "fovea/fv_frame_input.h"
-#include "fv_gaze_pipeline.h"
-#include "fv_gaze_source.h"
+#include "fv_frame_loop.h"
 
 typedef struct cJSON cJSON;
 
 typedef struct run_gaze {
+    char uri[256];
+    double refresh_hz;
+    fv_display *display;
     fv_gaze_source *source;
     fv_gaze_pipeline *pipeline;
-    char uri[256];
-    uint64_t samples, rejected, frames_with_gaze, frames;
-    bool ended, lost;
-    fv_gaze_source_status status;
-    fv_gaze_prediction last;
+    fv_frame_loop *loop;
+    fv_latency_record *records; /* one per frame stepped */
+    size_t count, cap;
 } run_gaze;
 
-FV_MUST_CHECK fv_result run_gaze_open(run_gaze *g, const char *uri);
-/** Drain the device without blocking, push into the pipeline, predict to t_photon_ns and fill in->gaze/pupil. */
-void run_gaze_latch(run_gaze *g, int64_t t_photon_ns, fv_frame_input *in);
+/** Open the gaze device by URI and build the loop around `render` (called once per frame with the frame input:
+ *  gaze and photon time filled by the loop, views to be set by the callback). views: the initial eye views. */
+FV_MUST_CHECK fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t frames,
+                                      fv_frame_render_fn render, void *render_user, const fv_eye_view views[2]);
+/** One frame through the loop (waits for its refresh on the real clock). */
+FV_MUST_CHECK fv_result run_gaze_step(run_gaze *g);
 void run_gaze_print(const run_gaze *g, FILE *f);
 void run_gaze_add_json(const run_gaze *g, cJSON *obj);
 void run_gaze_close(run_gaze *g);
