@@ -43,6 +43,7 @@ struct fv_gaze_source {
     pthread_cond_t wake;
     bool sync_inited;
     _Atomic bool stop;
+    _Atomic bool reprobe; /* a hotplug arrival (or the user) asked for a re-open now, skipping the backoff */
 };
 
 const char *fv_gaze_source_state_str(fv_gaze_source_state s)
@@ -164,7 +165,7 @@ static void wait_until(fv_gaze_source *s, int64_t t_ns)
 {
     struct timespec ts = abs_time(t_ns);
     pthread_mutex_lock(&s->lock);
-    while (!atomic_load(&s->stop) && fv_clock_now_ns(s->clock) < t_ns) {
+    while (!atomic_load(&s->stop) && !atomic_load(&s->reprobe) && fv_clock_now_ns(s->clock) < t_ns) {
         if (pthread_cond_timedwait(&s->wake, &s->lock, &ts) == ETIMEDOUT) break;
     }
     pthread_mutex_unlock(&s->lock);
@@ -179,6 +180,7 @@ static void *reader_main(void *arg)
             (void)read_once(s, s->timeout_ms, fv_clock_now_ns(s->clock));
         } else if (st == FV_GAZE_SOURCE_LOST) {
             wait_until(s, s->next_retry_ns);
+            if (atomic_exchange(&s->reprobe, false)) s->backoff_ns = s->retry_min_ns; /* a fresh start */
             if (!atomic_load(&s->stop)) try_reopen(s, fv_clock_now_ns(s->clock));
         } else {
             break; /* ended or failed: nothing more to read */
@@ -322,7 +324,12 @@ void fv_gaze_source_poll(fv_gaze_source *s)
 {
     if (!s || s->mode != FV_GAZE_SOURCE_INLINE) return;
     int64_t now = fv_clock_now_ns(s->clock);
-    if (get_state(s) == FV_GAZE_SOURCE_LOST && now >= s->next_retry_ns) try_reopen(s, now);
+    if (get_state(s) == FV_GAZE_SOURCE_LOST && atomic_exchange(&s->reprobe, false)) {
+        s->backoff_ns = s->retry_min_ns;
+        try_reopen(s, now);
+    } else if (get_state(s) == FV_GAZE_SOURCE_LOST && now >= s->next_retry_ns) {
+        try_reopen(s, now);
+    }
     /* Bounded: at most one ring's worth per poll, so a device that floods cannot keep the frame loop here. */
     size_t budget = fv_ring_capacity(s->ring);
     size_t got = 0;
@@ -331,6 +338,15 @@ void fv_gaze_source_poll(fv_gaze_source *s)
         if (n < 0) break;
         got += (size_t)n;
     }
+}
+
+void fv_gaze_source_reprobe(fv_gaze_source *s)
+{
+    if (!s || get_state(s) != FV_GAZE_SOURCE_LOST) return;
+    atomic_store(&s->reprobe, true);
+    pthread_mutex_lock(&s->lock);
+    pthread_cond_broadcast(&s->wake); /* the reader thread may be sleeping out its backoff */
+    pthread_mutex_unlock(&s->lock);
 }
 
 fv_result fv_gaze_source_pop(fv_gaze_source *s, fv_gaze_sample *out_sample)

@@ -67,6 +67,9 @@ void fv_gaze_source_destroy(fv_gaze_source **source);
 /** Inline mode: read what the device has now, handle loss and re-open on the injected clock. Thread mode: no-op.
  *  Consumer thread only. */
 void fv_gaze_source_poll(fv_gaze_source *source);
+/** Any thread: when the device is LOST, re-open it now instead of waiting out the backoff (and restart the backoff
+ *  from its minimum). Called when USB hotplug reports a tracker arriving. No effect in other states. */
+void fv_gaze_source_reprobe(fv_gaze_source *source);
 /** Consumer thread only: the oldest unread sample (FV_OK) or FV_NO_NEW_DATA. Never blocks. */
 FV_MUST_CHECK fv_result fv_gaze_source_pop(fv_gaze_source *source, fv_gaze_sample *out_sample);
 

@@ -91,6 +91,46 @@ static void lost_device_is_reopened_on_an_exponential_backoff(void **state)
     fake_tracker_fini(&t);
 }
 
+/* A hotplug arrival cuts the backoff short: the device is re-opened at the next poll, not at the next retry. */
+static void reprobe_reopens_a_lost_device_without_waiting_out_the_backoff(void **state)
+{
+    (void)state;
+    fv_clock clk;
+    fv_clock_sim_init(&clk, 0);
+    fake_tracker t;
+    fake_tracker_init(&t, &clk, 250.0, 0);
+    t.lost_at_ns = 50 * FV_NS_PER_MS;
+    t.back_at_ns = 100 * FV_NS_PER_MS;
+    fv_gaze_source *s = make_inline(&t, &clk, 400 * FV_NS_PER_MS, 800 * FV_NS_PER_MS);
+    fv_test_log_capture_begin();
+    fv_gaze_source_status st;
+    clk.sim_now_ns = 50 * FV_NS_PER_MS;
+    fv_gaze_source_poll(s);
+    fv_gaze_source_get_status(s, &st);
+    assert_int_equal(st.state, FV_GAZE_SOURCE_LOST); /* next retry would be at 450 ms */
+    fv_gaze_source_reprobe(s); /* still unplugged: one refused re-open, then the backoff starts over */
+    clk.sim_now_ns = 60 * FV_NS_PER_MS;
+    fv_gaze_source_poll(s);
+    fv_gaze_source_get_status(s, &st);
+    assert_int_equal(st.state, FV_GAZE_SOURCE_LOST);
+    assert_int_equal(st.open_failures, 1);
+    clk.sim_now_ns = 120 * FV_NS_PER_MS; /* plugged back in at 100 ms; the hotplug callback fires */
+    fv_gaze_source_poll(s);
+    fv_gaze_source_get_status(s, &st);
+    assert_int_equal(st.state, FV_GAZE_SOURCE_LOST); /* without a reprobe it waits for its retry */
+    fv_gaze_source_reprobe(s);
+    fv_gaze_source_poll(s);
+    fv_gaze_source_get_status(s, &st);
+    assert_int_equal(st.state, FV_GAZE_SOURCE_CONNECTED);
+    assert_int_equal(st.reopens, 1);
+    fv_gaze_source_reprobe(s); /* connected: no effect */
+    fv_gaze_source_poll(s);
+    assert_int_equal(t.opens, 2);
+    fv_test_log_capture_end();
+    fv_gaze_source_destroy(&s);
+    fake_tracker_fini(&t);
+}
+
 static void end_of_stream_ends_the_source_without_retrying(void **state)
 {
     (void)state;
@@ -312,6 +352,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(inline_source_delivers_every_due_sample_in_order),
         cmocka_unit_test(lost_device_is_reopened_on_an_exponential_backoff),
+        cmocka_unit_test(reprobe_reopens_a_lost_device_without_waiting_out_the_backoff),
         cmocka_unit_test(end_of_stream_ends_the_source_without_retrying),
         cmocka_unit_test(flooding_device_is_bounded_per_poll_and_keeps_the_newest),
         cmocka_unit_test(failed_first_open_fails_create_unless_allowed_to_start_lost),

@@ -21,6 +21,8 @@ typedef struct run_gaze {
     fv_gaze_source *source;
     fv_gaze_pipeline *pipeline;
     fv_frame_loop *loop;
+    struct fv_usb_hotplug *hotplug; /* hid:/usb: sources: libusb hotplug, arrivals re-open a lost tracker at once */
+    uint64_t reprobes;
     fv_latency_record *records; /* one per frame stepped */
     size_t count, cap;
 } run_gaze;
