@@ -125,15 +125,8 @@ static void check_eye(fv_eye_sample *e)
 static fv_result row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample *s)
 {
     (void)len;
-    int n = trace_csv_split(line, ',', r->fields, TRACE_MAX_FIELDS);
-    if (n < 0) {
-        trace_why(r, "unterminated quoted field");
-        return FV_ERR_PARSE;
-    }
-    if (n < r->ncols_needed) {
-        trace_why(r, "%d fields, the header needs at least %d", n, r->ncols_needed);
-        return FV_ERR_PARSE;
-    }
+    int n;
+    FV_TRY(trace_split_row(r, line, ',', &n));
     if (!trace_parse_i64(trace_col(r, n, F_T), &s->t_device_ns)) {
         trace_why(r, "column 't_device_ns' is not an integer");
         return FV_ERR_PARSE;

@@ -40,15 +40,8 @@ static bool parse_bool(const char *s, bool *out)
 static fv_result row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample *s)
 {
     (void)len;
-    int n = trace_csv_split(line, '\t', r->fields, TRACE_MAX_FIELDS);
-    if (n < 0) {
-        trace_why(r, "unterminated quoted field");
-        return FV_ERR_PARSE;
-    }
-    if (n < r->ncols_needed) {
-        trace_why(r, "%d fields, the header needs at least %d", n, r->ncols_needed);
-        return FV_ERR_PARSE;
-    }
+    int n;
+    FV_TRY(trace_split_row(r, line, '\t', &n));
     double t, v[3];
     if (!trace_parse_f64(trace_col(r, n, Q_T), &t) || !trace_seconds_to_ns(t, &s->t_device_ns)) {
         trace_why(r, "column 'Timeline' is not a time in seconds");

@@ -83,15 +83,8 @@ static void invalidate_all(fv_gaze_sample *s, bool blink)
 static fv_result core_row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample *s)
 {
     (void)len;
-    int n = trace_csv_split(line, ',', r->fields, TRACE_MAX_FIELDS);
-    if (n < 0) {
-        trace_why(r, "unterminated quoted field");
-        return FV_ERR_PARSE;
-    }
-    if (n < r->ncols_needed) {
-        trace_why(r, "%d fields, the header needs at least %d", n, r->ncols_needed);
-        return FV_ERR_PARSE;
-    }
+    int n;
+    FV_TRY(trace_split_row(r, line, ',', &n));
     double ts, conf, nx, ny;
     if (!trace_parse_f64(trace_col(r, n, K_TS), &ts) || !trace_seconds_to_ns(ts, &s->t_device_ns)) {
         trace_why(r, "column 'gaze_timestamp' is not a time in seconds");
@@ -180,15 +173,8 @@ static fv_result cloud_begin(fv_trace_reader *r, char *line, size_t len)
 static fv_result cloud_row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample *s)
 {
     (void)len;
-    int n = trace_csv_split(line, ',', r->fields, TRACE_MAX_FIELDS);
-    if (n < 0) {
-        trace_why(r, "unterminated quoted field");
-        return FV_ERR_PARSE;
-    }
-    if (n < r->ncols_needed) {
-        trace_why(r, "%d fields, the header needs at least %d", n, r->ncols_needed);
-        return FV_ERR_PARSE;
-    }
+    int n;
+    FV_TRY(trace_split_row(r, line, ',', &n));
     if (!trace_parse_i64(trace_col(r, n, P_TS), &s->t_device_ns)) {
         trace_why(r, "column 'timestamp [ns]' is not an integer");
         return FV_ERR_PARSE;

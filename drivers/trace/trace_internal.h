@@ -50,6 +50,9 @@ void trace_lines_close(trace_lines *l);
 /** Split a line in place on sep; double-quoted fields ("a,b", "" for a quote) are unquoted. Returns the field count
  *  (at most cap; the rest are dropped). Returns -1 for an unterminated quote. */
 int trace_csv_split(char *line, char sep, char **fields, int cap);
+/** Split a data row into r->fields and check it has the fields the header needs; on failure records why (for the
+ *  file:line warning) and returns FV_ERR_PARSE. */
+fv_result trace_split_row(fv_trace_reader *r, char *line, char sep, int *out_n);
 /** Index of column name (exact match after trimming spaces and a UTF-8 BOM) or -1. */
 int trace_csv_find(char *const *fields, int n, const char *name);
 /** Whole-field parses; false on empty, junk, overflow. Spaces around the number are allowed. */

@@ -42,6 +42,21 @@ int trace_csv_split(char *line, char sep, char **fields, int cap)
     return n;
 }
 
+fv_result trace_split_row(fv_trace_reader *r, char *line, char sep, int *out_n)
+{
+    int n = trace_csv_split(line, sep, r->fields, TRACE_MAX_FIELDS);
+    *out_n = n;
+    if (n < 0) {
+        trace_why(r, "unterminated quoted field");
+        return FV_ERR_PARSE;
+    }
+    if (n < r->ncols_needed) {
+        trace_why(r, "%d fields, the header needs at least %d", n, r->ncols_needed);
+        return FV_ERR_PARSE;
+    }
+    return FV_OK;
+}
+
 static const char *trim_name(const char *s, size_t *out_len)
 {
     if ((unsigned char)s[0] == 0xEF && (unsigned char)s[1] == 0xBB && (unsigned char)s[2] == 0xBF) s += 3;

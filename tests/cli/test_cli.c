@@ -4,7 +4,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 
 #include <stb_image.h>
 
@@ -12,43 +11,17 @@
 
 static const char *g_fovea;
 
-typedef struct run_result {
-    int exit_code;
-    char out[65536];
-    char err[65536];
-} run_result;
+typedef fv_test_cmd run_result;
 
-static void slurp(const char *path, char *buf, size_t cap)
-{
-    FILE *f = fopen(path, "rb");
-    size_t n = 0;
-    if (f) {
-        n = fread(buf, 1, cap - 1, f);
-        fclose(f);
-    }
-    buf[n] = '\0';
-}
-
-/* Run `fovea ARGS` with optional environment prefix; capture stdout and stderr separately. */
+/* Run `fovea ARGS` with an optional environment prefix. */
 static run_result *run(const char *env, const char *args)
 {
     static run_result res;
-    const char *o = fv_test_tmp("stdout.txt"), *e = fv_test_tmp("stderr.txt");
-    char out_path[1024], err_path[1024], cmd[8192];
-    snprintf(out_path, sizeof out_path, "%s", o);
-    snprintf(err_path, sizeof err_path, "%s", e);
-    snprintf(cmd, sizeof cmd, "%s %s %s >%s 2>%s", env ? env : "", g_fovea, args, out_path, err_path);
-    int st = system(cmd);
-    res.exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    slurp(out_path, res.out, sizeof res.out);
-    slurp(err_path, res.err, sizeof res.err);
+    fv_test_run_cmd(&res, env, g_fovea, args);
     return &res;
 }
 
-static void assert_contains(const char *hay, const char *needle)
-{
-    if (!strstr(hay, needle)) fail_msg("expected \"%s\" in:\n%s", needle, hay);
-}
+#define assert_contains fv_assert_contains
 
 static int count_lines(const char *s)
 {

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 
 #include "fovea_config.h"
 
@@ -61,6 +62,31 @@ const char *fv_test_write_file(const char *name, const void *data, size_t size)
     if (size) assert_int_equal(fwrite(data, 1, size, f), size);
     fclose(f);
     return path;
+}
+
+static void slurp(const char *path, char *buf, size_t cap)
+{
+    FILE *f = fopen(path, "rb");
+    size_t n = 0;
+    if (f) {
+        n = fread(buf, 1, cap - 1, f);
+        fclose(f);
+    }
+    buf[n] = '\0';
+}
+
+void fv_test_run_cmd(fv_test_cmd *res, const char *env, const char *program, const char *args)
+{
+    char out_path[1024], err_path[1024], cmd[8192];
+    snprintf(out_path, sizeof out_path, "%s", fv_test_tmp("cmd_stdout.txt"));
+    snprintf(err_path, sizeof err_path, "%s", fv_test_tmp("cmd_stderr.txt"));
+    int n = snprintf(cmd, sizeof cmd, "%s %s %s >%s 2>%s", env ? env : "", program, args ? args : "", out_path,
+                     err_path);
+    if (n < 0 || (size_t)n >= sizeof cmd) fail_msg("command line too long: %s %s", program, args);
+    int st = system(cmd);
+    res->exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    slurp(out_path, res->out, sizeof res->out);
+    slurp(err_path, res->err, sizeof res->err);
 }
 
 static pthread_mutex_t g_mutex = PTHREAD_MUTEX_INITIALIZER;

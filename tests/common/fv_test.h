@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include <string.h>
 
 #include "fv_log.h"
 
@@ -17,6 +18,21 @@ const char *fv_test_data(const char *relative);
 const char *fv_test_tmp(const char *name);
 /** Write bytes to a temp file and return its path. */
 const char *fv_test_write_file(const char *name, const void *data, size_t size);
+
+/** Result of running a command: exit code (128 + signal when killed) and captured stdout / stderr (truncated). */
+typedef struct fv_test_cmd {
+    int exit_code;
+    char out[65536];
+    char err[65536];
+} fv_test_cmd;
+/** Run `ENV PROGRAM ARGS` through the shell (env and args may be NULL), stdout and stderr captured separately
+ *  through temp files. */
+void fv_test_run_cmd(fv_test_cmd *res, const char *env, const char *program, const char *args);
+/** Fail unless `hay` contains `needle`, printing both. */
+#define fv_assert_contains(hay, needle)                                                                                \
+    do {                                                                                                               \
+        if (!strstr((hay), (needle))) fail_msg("expected \"%s\" in:\n%s", (needle), (hay));                         \
+    } while (0)
 
 /** Capture log messages (errors and warnings) into a buffer instead of stderr. */
 void fv_test_log_capture_begin(void);

@@ -7,45 +7,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 
 #include "fv_test.h"
 
 static const char *g_fovea;
 
-typedef struct run_result {
-    int exit_code;
-    char out[65536];
-    char err[16384];
-} run_result;
+typedef fv_test_cmd run_result;
 
-static void slurp(const char *path, char *buf, size_t cap)
-{
-    FILE *f = fopen(path, "rb");
-    size_t n = 0;
-    if (f) {
-        n = fread(buf, 1, cap - 1, f);
-        fclose(f);
-    }
-    buf[n] = '\0';
-}
+static void run(run_result *res, const char *args) { fv_test_run_cmd(res, NULL, g_fovea, args); }
 
-static void run(run_result *res, const char *args)
-{
-    char out_path[1024], err_path[1024], cmd[4096];
-    snprintf(out_path, sizeof out_path, "%s", fv_test_tmp("stdout.txt"));
-    snprintf(err_path, sizeof err_path, "%s", fv_test_tmp("stderr.txt"));
-    snprintf(cmd, sizeof cmd, "%s %s >%s 2>%s", g_fovea, args, out_path, err_path);
-    int st = system(cmd);
-    res->exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    slurp(out_path, res->out, sizeof res->out);
-    slurp(err_path, res->err, sizeof res->err);
-}
-
-#define assert_contains(hay, needle)                                                                                   \
-    do {                                                                                                               \
-        if (!strstr((hay), (needle))) fail_msg("expected \"%s\" in:\n%s", (needle), (hay));                          \
-    } while (0)
+#define assert_contains fv_assert_contains
 
 static double num(const cJSON *o, const char *key)
 {
