@@ -22,6 +22,9 @@
 /** Interpupillary distance used when nothing says otherwise, and the largest accepted (millimetres). */
 #define FV_SCENE_DEFAULT_IPD_MM 63.0f
 #define FV_SCENE_MAX_IPD_MM 100.0f
+/** Luminous efficacy used to turn glTF's photometric light units into fv_light's radiometric ones (lm/W, the
+ *  555 nm peak; 1366 cd -> 2 W/sr, 2049 lux -> 3 W/m^2). */
+#define FV_SCENE_LUMENS_PER_WATT 683.0f
 
 typedef struct fv_mesh {
     char name[FV_SCENE_NAME_MAX];
@@ -70,7 +73,8 @@ typedef struct fv_light {
     fv_vec3 position_m;  /* world; unused for directional */
     fv_vec3 direction;   /* world, unit, the way the light travels; unused for point */
     fv_vec3 color;       /* linear RGB, [0,1]-ish */
-    float intensity;     /* point/spot: radiant intensity (W/sr); directional: irradiance (W/m^2) */
+    float intensity;     /* point/spot: radiant intensity (W/sr); directional: irradiance (W/m^2). glTF
+                          * (KHR_lights_punctual) candela and lux are divided by FV_SCENE_LUMENS_PER_WATT */
     float range_m;       /* 0 = infinite */
     float inner_cone_rad, outer_cone_rad; /* spot: full intensity inside inner, zero outside outer */
 } fv_light;

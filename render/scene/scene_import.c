@@ -456,14 +456,18 @@ static fv_result convert_lights(import_ctx *c)
         fv_mat4 w = world_of_named(c->s, al->mName.data);
         l.position_m = fv_mat4_mul_point(&w, v3_of(al->mPosition));
         l.direction = fv_v3_normalize_or(fv_mat4_mul_dir(&w, v3_of(al->mDirection)), fv_v3(0, 0, -1));
-        /* assimp folds KHR_lights_punctual intensity into the colour: split it into a unit colour and a scale. */
+        /* assimp folds KHR_lights_punctual intensity into the colour: split it into a unit-peak colour and a
+         * scale (only the product survives, so colour [0.5,0.5,0.5] x 10 comes back as [1,1,1] x 5). glTF gives
+         * point/spot intensity in candela (lm/sr) and directional in lux (lm/m^2); fv_light wants W/sr and W/m^2,
+         * so divide by the luminous efficacy FV_SCENE_LUMENS_PER_WATT (683 lm/W at 555 nm, the factor Blender's
+         * glTF exporter applies to its watts). Other formats carry no units: their value is kept. */
         fv_vec3 col = fv_v3(al->mColorDiffuse.r, al->mColorDiffuse.g, al->mColorDiffuse.b);
         if (!fv_v3_isfinite(col)) col = fv_v3(1, 1, 1);
         col = fv_v3_max(col, fv_v3(0, 0, 0));
         float peak = fmaxf(col.x, fmaxf(col.y, col.z));
-        l.intensity = peak > 0 ? peak : 0.0f;
+        l.intensity = peak > 0 ? (c->is_gltf ? peak / FV_SCENE_LUMENS_PER_WATT : peak) : 0.0f;
         l.color = peak > 0 ? fv_v3_scale(col, 1.0f / peak) : fv_v3(1, 1, 1);
-        if (l.type == FV_LIGHT_SPOT) {
+        if (l.type == FV_LIGHT_SPOT) { /* glTF's innerConeAngle/outerConeAngle are half-angles, as fv_light's */
             float half = (float)(FV_PI / 2);
             float outer = isfinite(al->mAngleOuterCone) ? fv_clampf(al->mAngleOuterCone, 0.0f, half) : half;
             float inner = isfinite(al->mAngleInnerCone) ? fv_clampf(al->mAngleInnerCone, 0.0f, outer) : 0.0f;
@@ -484,7 +488,10 @@ static void convert_camera(import_ctx *c)
     if (c->ai->mNumCameras == 0) return;
     const struct aiCamera *ac = c->ai->mCameras[0];
     fv_mat4 w = world_of_named(c->s, ac->mName.data);
-    fv_vec3 pos = fv_mat4_mul_point(&w, v3_of(ac->mPosition));
+    /* assimp 5.2's glTF importer copies the camera node's translation into mPosition although the node transform
+     * (w) already holds it, so adding it again would place the camera twice as far along its translation (and
+     * rotated). For glTF the camera sits at its node's origin. */
+    fv_vec3 pos = fv_mat4_mul_point(&w, c->is_gltf ? fv_v3(0, 0, 0) : v3_of(ac->mPosition));
     fv_vec3 look = fv_v3_normalize_or(fv_mat4_mul_dir(&w, v3_of(ac->mLookAt)), fv_v3(0, 0, -1));
     fv_vec3 up = fv_v3_normalize_or(fv_mat4_mul_dir(&w, v3_of(ac->mUp)), fv_v3(0, 1, 0));
     fv_vec3 right = fv_v3_normalize_or(fv_v3_cross(look, up), fv_v3(1, 0, 0));
