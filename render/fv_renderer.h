@@ -64,6 +64,13 @@ FV_MUST_CHECK fv_result fv_renderer_stats(const fv_renderer *r, fv_render_stats 
 FV_MUST_CHECK fv_result fv_renderer_read_rgba8(fv_renderer *r, bool sbs, int eye, uint8_t *out, size_t out_size);
 /** Read the last frame's linear colour (RGBA float) of one eye, for tests against a CPU reference. */
 FV_MUST_CHECK fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *out_rgba, size_t out_floats);
+/** Read the last frame's G-buffer motion vectors of one eye (eye 0/1 = image layer 0/1), for tests: 2 floats per
+ *  pixel (x, y), rows top to bottom, W x H. Units are uv (the image spans [0,1] in x and y, y down; multiply x by
+ *  the eye width and y by the eye height for pixels); each vector is current uv - previous uv, i.e. where the
+ *  surface at this pixel is now minus where it was in the previously drawn frame (previous view/projection and
+ *  previous object transforms). Zero where nothing was drawn, and everywhere in the first frame after a scene load.
+ *  Stored as half floats (RG16F) and widened here. out_rg must hold W * H * 2 floats. Waits for the GPU. */
+FV_MUST_CHECK fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t out_floats);
 /** Count of validation-layer messages seen so far (warnings and errors). */
 uint32_t fv_renderer_validation_messages(const fv_renderer *r);
 /** Device name, for summaries. */

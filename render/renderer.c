@@ -498,6 +498,51 @@ fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *out_rgba, size
                             out_floats * sizeof(float), 0, (size_t)r->desc.eye_width * 16);
 }
 
+/* IEEE 754 binary16 -> float (exact: every half is a float). */
+static float half_to_float(uint16_t h)
+{
+    uint32_t sign = (uint32_t)(h >> 15) << 31, exp = (h >> 10) & 0x1fu, mant = h & 0x3ffu, bits;
+    if (exp == 0x1fu) {
+        bits = sign | 0x7f800000u | (mant << 13); /* Inf / NaN */
+    } else if (exp != 0) {
+        bits = sign | ((exp + 112u) << 23) | (mant << 13); /* rebias 15 -> 127 */
+    } else {
+        float f = ldexpf((float)mant, -24); /* zero or subnormal */
+        return sign ? -f : f;
+    }
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t out_floats)
+{
+    if (!r || !out_rg || eye < 0 || eye > 1) return FV_ERR_INVALID_ARG;
+    if (!r->have_frame) {
+        FV_ERROR(MOD, "read_motion before any frame was drawn");
+        return FV_ERR_STATE;
+    }
+    size_t n = (size_t)r->desc.eye_width * r->desc.eye_height * 2;
+    if (out_floats < n) {
+        FV_ERROR(MOD, "read_motion needs %zu floats, got %zu", n, out_floats);
+        return FV_ERR_INVALID_ARG;
+    }
+    uint16_t *half = malloc(n * sizeof *half);
+    if (!half) return FV_ERR_NO_MEMORY;
+    fv_result res = fv_renderer_finish(r);
+    /* Written by the G-buffer pass (colour attachment) and read by shading (compute): the copy's layout change
+     * waits for both (read-after-write and write-after-read). */
+    if (res == FV_OK)
+        res = fv_vk_read_image(r->vk, &r->gb.motion, (uint32_t)eye, FV_GBUFFER_COLOR_LAYOUT,
+                               VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                               VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, half, n * sizeof *half, 0,
+                               (size_t)r->desc.eye_width * 2 * sizeof *half);
+    if (res == FV_OK)
+        for (size_t i = 0; i < n; i++) out_rg[i] = half_to_float(half[i]);
+    free(half);
+    return res;
+}
+
 fv_result fv_renderer_shade_pixels(fv_renderer *r, const uint32_t *packed, uint32_t count, const float *clear_rgba)
 {
     if (!r || (!packed && count)) return FV_ERR_INVALID_ARG;
