@@ -57,6 +57,11 @@ const fv_frame_plan *fv_renderer_plan(const fv_renderer *r);
 FV_MUST_CHECK fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in);
 /** Wait for all submitted frames; stats then describe the last one. */
 FV_MUST_CHECK fv_result fv_renderer_finish(fv_renderer *r);
+/** How many recently completed frames keep their timings for fv_renderer_frame_stats. */
+#define FV_RENDERER_STATS_HISTORY 16
+/** Timings of one recently completed frame by id: FV_OK, or FV_NO_NEW_DATA when that frame has not completed yet
+ *  or is older than the last FV_RENDERER_STATS_HISTORY completed frames (frame ids must be distinct and rising). */
+FV_MUST_CHECK fv_result fv_renderer_frame_stats(const fv_renderer *r, uint64_t frame_id, fv_render_stats *out_stats);
 /** Timings of the most recently completed frame (FV_NO_NEW_DATA before the first completes). */
 FV_MUST_CHECK fv_result fv_renderer_stats(const fv_renderer *r, fv_render_stats *out_stats);
 /** Read the last drawn frame's final colour as 8-bit sRGB RGBA. sbs: both eyes side by side (2W x H), else one eye

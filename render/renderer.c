@@ -59,6 +59,8 @@ struct fv_renderer {
     uint32_t last_slot;
     fv_render_stats stats;
     bool have_stats;
+    fv_render_stats history[FV_RENDERER_STATS_HISTORY]; /* the last retired frames, by frame_id % N */
+    bool history_valid[FV_RENDERER_STATS_HISTORY];
     uint64_t stats_seq, submitted;
     bool multiview;
     char multiview_why[96];
@@ -181,6 +183,7 @@ static void release_scene(fv_renderer *r)
     r->scene_loaded = false;
     r->have_prev = false;
     r->have_frame = false;
+    memset(r->history_valid, 0, sizeof r->history_valid); /* frame ids may start over with the next scene */
     for (uint32_t i = 0; i < r->slot_count; i++) fv_vk_buffer_destroy(r->vk, &r->slots[i].upload);
 }
 
@@ -229,6 +232,8 @@ static fv_result retire(fv_renderer *r, uint32_t slot)
     st->frame_id = s->frame_id;
     st->pixels_shaded = s->pixels_shaded;
     r->have_stats = true;
+    r->history[s->frame_id % FV_RENDERER_STATS_HISTORY] = *st;
+    r->history_valid[s->frame_id % FV_RENDERER_STATS_HISTORY] = true;
     return FV_OK;
 }
 
@@ -455,6 +460,17 @@ fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in)
     r->have_frame = true;
     r->last_slot = slot;
     r->next_slot = (slot + 1) % r->slot_count;
+    return FV_OK;
+}
+
+fv_result fv_renderer_frame_stats(const fv_renderer *r, uint64_t frame_id, fv_render_stats *out_stats)
+{
+    if (!r || !out_stats) return FV_ERR_INVALID_ARG;
+    uint32_t k = (uint32_t)(frame_id % FV_RENDERER_STATS_HISTORY);
+    if (!r->history_valid[k] || r->history[k].frame_id != frame_id) return FV_NO_NEW_DATA;
+    *out_stats = r->history[k];
+    out_stats->device_memory_bytes = r->vk->memory_bytes;
+    out_stats->peak_device_memory_bytes = r->vk->memory_peak_bytes;
     return FV_OK;
 }
 

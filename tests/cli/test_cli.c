@@ -113,6 +113,7 @@ static void json_summary_is_the_only_stdout(void **state)
     cJSON *j = cJSON_Parse(r->out);
     assert_non_null(j);
     assert_int_equal((int)cJSON_GetObjectItem(j, "frames")->valuedouble, 3);
+    assert_int_equal((int)cJSON_GetObjectItem(j, "frames_timed")->valuedouble, 3); /* every frame's GPU time */
     assert_int_equal((int)cJSON_GetObjectItem(j, "validation_messages")->valuedouble, 0);
     cJSON *passes = cJSON_GetObjectItem(j, "passes");
     assert_true(cJSON_IsArray(passes) && cJSON_GetArraySize(passes) >= 2);

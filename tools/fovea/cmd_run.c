@@ -205,26 +205,39 @@ typedef struct run_state {
     fv_render_stats last_stats;
 } run_state;
 
-/* GPU timings arrive for the most recently completed frame (frames in flight overlap): take each frame once. */
-static bool take_stats(run_state *st)
+/* Record one frame's GPU timings. */
+static bool record_stats(run_state *st, const fv_render_stats *rs)
 {
-    fv_render_stats rs;
     size_t cap = (size_t)st->o->frames;
-    if (fv_renderer_stats(st->r, &rs) != FV_OK || rs.frame_id == st->last_timed || st->measured >= cap) return true;
-    st->last_timed = rs.frame_id;
-    st->frame_gpu_ms[st->measured] = rs.frame_gpu_ms;
-    for (uint32_t p = 0; p < rs.pass_count && p < FV_MAX_PASSES; p++) {
+    if (st->measured >= cap) return true;
+    st->frame_gpu_ms[st->measured] = rs->frame_gpu_ms;
+    for (uint32_t p = 0; p < rs->pass_count && p < FV_MAX_PASSES; p++) {
         pass_series *ps = &st->passes[p];
         if (!ps->ms) {
             ps->ms = calloc(cap, sizeof *ps->ms);
             if (!ps->ms) return false;
-            snprintf(ps->name, sizeof ps->name, "%s", rs.pass_name[p]);
+            snprintf(ps->name, sizeof ps->name, "%s", rs->pass_name[p]);
             if (p + 1 > st->pass_count) st->pass_count = p + 1;
         }
-        if (ps->n < cap) ps->ms[ps->n++] = rs.pass_gpu_ms[p];
+        if (ps->n < cap) ps->ms[ps->n++] = rs->pass_gpu_ms[p];
     }
-    st->last_stats = rs;
+    st->last_stats = *rs;
     st->measured++;
+    return true;
+}
+
+/* Frames complete in order (frames in flight overlap): take the timings of every frame that completed since the
+ * last call, each once. */
+static bool take_stats(run_state *st)
+{
+    fv_render_stats newest, rs;
+    if (fv_renderer_stats(st->r, &newest) != FV_OK) return true;
+    if (st->last_timed != UINT64_MAX && newest.frame_id <= st->last_timed) return true;
+    uint64_t first = st->last_timed == UINT64_MAX ? 0 : st->last_timed + 1;
+    if (newest.frame_id - first >= FV_RENDERER_STATS_HISTORY) first = newest.frame_id - FV_RENDERER_STATS_HISTORY + 1;
+    for (uint64_t id = first; id <= newest.frame_id; id++)
+        if (fv_renderer_frame_stats(st->r, id, &rs) == FV_OK && !record_stats(st, &rs)) return false;
+    st->last_timed = newest.frame_id;
     return true;
 }
 
