@@ -763,6 +763,22 @@ static void extreme_values_stay_finite_or_invalid(void **state)
     assert_int_equal(fv_trace_reader_next(r, &s), FV_END_OF_STREAM);
     fv_trace_reader_destroy(&r);
 
+    /* intervals of ~4.5e18 ns (a fuzzer found these): gaps and durations saturate instead of overflowing */
+    fv_trace_stats big;
+    assert_int_equal(fv_trace_stats_init(&big), FV_OK);
+    const int64_t ts[] = {INT64_MIN / 2 - 12345, 0, INT64_MAX / 2 + 12345, INT64_MAX};
+    for (size_t i = 0; i < sizeof ts / sizeof ts[0]; i++) {
+        fv_gaze_sample g;
+        fv_gaze_sample_init_invalid(&g, ts[i], 0);
+        g.eye[0].flags = FV_EYE_BLINK; /* one long blink across all of it */
+        fv_trace_stats_push(&big, &g);
+    }
+    fv_trace_stats_finish(&big, 0);
+    assert_true(big.median_dt_ns > 0);
+    assert_true(big.gap_total_ns > 0 && big.blink_total_ns > 0); /* saturated, not wrapped negative */
+    assert_true(isfinite(big.rate_hz) && big.rate_hz >= 0);
+    fv_trace_stats_fini(&big);
+
     /* statistics of nothing are zeros, not NaN or a division by zero */
     fv_trace_stats st;
     assert_int_equal(fv_trace_stats_init(&st), FV_OK);

@@ -149,7 +149,7 @@ static int cmd_info(int argc, char **argv)
         if (f) fclose(f);
     }
 
-    double dur_s = (double)(s.t_last_ns - s.t_first_ns) / 1e9;
+    double dur_s = ((double)s.t_last_ns - (double)s.t_first_ns) / 1e9; /* no int64 overflow on hostile files */
     if (json) {
         cJSON *j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "file", file);
