@@ -124,7 +124,7 @@ void fv_trace_stats_finish(fv_trace_stats *s, uint64_t blink_events)
     s->median_dt_ns = lo_ns + (hi_ns - lo_ns) / 2;
     if (s->median_dt_ns > s->max_dt_ns) s->median_dt_ns = s->max_dt_ns; /* a bin centre past the longest interval */
     /* the rate is the mean over the whole trace: trackers that stamp in whole ms alternate 8 and 9 ms at 120 Hz */
-    if (s->t_last_ns > s->t_first_ns) s->rate_hz = (double)n * 1e9 / ((double)s->t_last_ns - (double)s->t_first_ns);
+    if (s->t_last_ns > s->t_first_ns) s->rate_hz = (double)n * 1e9 / (double)sat_sub(s->t_last_ns, s->t_first_ns);
     int64_t gap_ns = sat_mul(3, s->median_dt_ns);
     for (int64_t b = gap_ns / HIST_BIN_NS + 1; b < HIST_BINS; b++) {
         if (!s->hist_[b]) continue;

@@ -779,6 +779,18 @@ static void extreme_values_stay_finite_or_invalid(void **state)
     assert_true(isfinite(big.rate_hz) && big.rate_hz >= 0);
     fv_trace_stats_fini(&big);
 
+    /* two samples 1 ns apart at a Unix-epoch time: as doubles they are equal, yet the rate must stay finite */
+    fv_trace_stats near1;
+    assert_int_equal(fv_trace_stats_init(&near1), FV_OK);
+    for (int64_t k = 0; k < 2; k++) {
+        fv_gaze_sample g;
+        fv_gaze_sample_init_invalid(&g, INT64_C(1698682607842919999) + k, 0);
+        fv_trace_stats_push(&near1, &g);
+    }
+    fv_trace_stats_finish(&near1, 0);
+    assert_true(isfinite(near1.rate_hz) && near1.rate_hz > 0);
+    fv_trace_stats_fini(&near1);
+
     /* statistics of nothing are zeros, not NaN or a division by zero */
     fv_trace_stats st;
     assert_int_equal(fv_trace_stats_init(&st), FV_OK);
