@@ -64,6 +64,22 @@ const char *fv_test_write_file(const char *name, const void *data, size_t size)
     return path;
 }
 
+char *fv_test_read_file(const char *path, size_t *out_len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) fail_msg("cannot open %s: %s", path, strerror(errno));
+    if (fseek(f, 0, SEEK_END) != 0) fail_msg("cannot seek %s", path);
+    long n = ftell(f);
+    if (n < 0 || fseek(f, 0, SEEK_SET) != 0) fail_msg("cannot size %s", path);
+    char *buf = malloc((size_t)n + 1);
+    assert_non_null(buf);
+    if (fread(buf, 1, (size_t)n, f) != (size_t)n) fail_msg("short read of %s", path);
+    buf[n] = '\0';
+    fclose(f);
+    if (out_len) *out_len = (size_t)n;
+    return buf;
+}
+
 static void slurp(const char *path, char *buf, size_t cap)
 {
     FILE *f = fopen(path, "rb");

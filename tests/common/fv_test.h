@@ -19,6 +19,10 @@ const char *fv_test_tmp(const char *name);
 /** Write bytes to a temp file and return its path. */
 const char *fv_test_write_file(const char *name, const void *data, size_t size);
 
+/** Read a whole file, NUL-terminated (caller frees); *out_len (may be NULL) gets its size. Fails the test when the
+ *  file cannot be read. */
+char *fv_test_read_file(const char *path, size_t *out_len);
+
 /** Result of running a command: exit code (128 + signal when killed) and captured stdout / stderr (truncated). */
 typedef struct fv_test_cmd {
     int exit_code;

@@ -10,21 +10,7 @@
 #include "fv_test.h"
 
 /** Read a whole text file (NUL-terminated, caller frees). Fails the test when missing. */
-static inline char *hid_test_read_text(const char *path, size_t *out_len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) fail_msg("cannot open %s", path);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    assert_non_null(buf);
-    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-    buf[n] = '\0';
-    fclose(f);
-    if (out_len) *out_len = (size_t)n;
-    return buf;
-}
+static inline char *hid_test_read_text(const char *path, size_t *out_len) { return fv_test_read_file(path, out_len); }
 
 /** Load "hid/<name>" (hex text) into bytes. */
 static inline size_t hid_test_load_hex(const char *name, uint8_t *out, size_t cap)

@@ -11,6 +11,7 @@
 #include "fv_renderer.h"
 #include "fv_scene.h"
 #include "fv_test.h"
+#include "gpu_test.h"
 
 #define W 96
 #define H 96
@@ -20,34 +21,16 @@ static fv_renderer *g_r;
 static int setup(void **state)
 {
     (void)state;
-    fv_renderer_desc d = {.eye_width = W, .eye_height = H, .validation = 1, .frames_in_flight = 2};
-    fv_result res = fv_renderer_create(&d, &g_r);
-    if (res != FV_OK) {
-        const char *ci = getenv("CI");
-        if (ci && strcmp(ci, "true") == 0) {
-            fprintf(stderr, "no usable Vulkan device (%s) and CI=true: failing\n", fv_result_str(res));
-            return -1;
-        }
-        fprintf(stderr, "SKIP: no usable Vulkan device (%s); set CI=true to make this a failure\n",
-                fv_result_str(res));
-        g_r = NULL;
-    }
-    return 0;
+    return fv_gpu_test_setup(W, H, &g_r);
 }
 
 static int teardown(void **state)
 {
     (void)state;
-    uint32_t n = fv_renderer_validation_messages(g_r);
-    fv_renderer_destroy(&g_r);
-    if (n) fprintf(stderr, "%u validation messages\n", n);
-    return n ? -1 : 0;
+    return fv_gpu_test_teardown(&g_r);
 }
 
-#define NEED_GPU()                                                                                                     \
-    do {                                                                                                               \
-        if (!g_r) skip();                                                                                              \
-    } while (0)
+#define NEED_GPU() FV_NEED_GPU(g_r)
 
 /* Project a world point into an eye: pixel coordinates (x right, y down). */
 static bool project(const fv_frame_input *in, int eye, fv_vec3 p, double *out_x, double *out_y)

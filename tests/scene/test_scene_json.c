@@ -12,20 +12,7 @@
 #define SEED_DIR "."
 #endif
 
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) fail_msg("cannot open %s", path);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    assert_non_null(buf);
-    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-    buf[n] = '\0';
-    fclose(f);
-    return buf;
-}
+static char *read_text(const char *path) { return fv_test_read_file(path, NULL); }
 
 static const fv_mesh *mesh_named(const fv_scene *s, const char *name)
 {

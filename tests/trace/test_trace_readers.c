@@ -658,19 +658,7 @@ static void every_format_round_trips_through_fovea_format(void **state)
     convert_round_trip(fv_test_data("gaze/pico_neo3_pro/boxing_VR.tsv"), "rt_pico.fvt", 0, UINT64_MAX);
 }
 
-static void *slurp(const char *path, size_t *out_size)
-{
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    void *p = malloc((size_t)n);
-    assert_int_equal(fread(p, 1, (size_t)n, f), (size_t)n);
-    fclose(f);
-    *out_size = (size_t)n;
-    return p;
-}
+static void *slurp(const char *path, size_t *out_size) { return fv_test_read_file(path, out_size); }
 
 static void memory_input_reads_the_same_as_the_file(void **state)
 {

@@ -1,0 +1,22 @@
+/* @brief Shared setup of the GPU tests: a renderer with the validation layer forced on, a skip (or, under
+ * CI=true, a failure) when no Vulkan device is usable, and a teardown that fails on any validation message. */
+#ifndef FV_GPU_TEST_H
+#define FV_GPU_TEST_H
+
+#include <stdint.h>
+
+#include "fv_renderer.h"
+
+/** cmocka group setup: create *r at w x h per eye with validation on. 0 on success or skip (*r NULL), -1 on
+ *  failure (no device under CI=true). */
+int fv_gpu_test_setup(uint32_t w, uint32_t h, fv_renderer **r);
+/** cmocka group teardown: destroy *r; -1 if the validation layer said anything. */
+int fv_gpu_test_teardown(fv_renderer **r);
+
+/** Skip the test when no device was available. */
+#define FV_NEED_GPU(r)                                                                                                 \
+    do {                                                                                                               \
+        if (!(r)) skip();                                                                                              \
+    } while (0)
+
+#endif
