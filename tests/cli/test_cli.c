@@ -1,6 +1,7 @@
 /* @brief The `fovea` command as a user runs it: exit codes, one-line usage errors, clear messages for malformed
  * input, the JSON summary on stdout, PNG output of real model files, and zero validation messages. */
 #include <cjson/cJSON.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -243,6 +244,77 @@ static void unknown_gaze_scheme_fails_naming_known_ones(void **state)
     assert_contains(r->err, "trace");
 }
 
+static double jnum(const cJSON *o, const char *key)
+{
+    const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!cJSON_IsNumber(x)) fail_msg("JSON has no number \"%s\"", key);
+    return x->valuedouble;
+}
+
+/* Issue 3's target, end to end: saccade F1 >= 0.9 on the simulated eye, and prediction lowers the p95 error at a
+ * 20 ms horizon compared with the latest sample. */
+static void gaze_eval_meets_f1_and_prediction_targets(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "gaze eval --gaze sim:seed=1 --json");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    cJSON *j = cJSON_Parse(r->out);
+    assert_non_null(j);
+    double f1 = jnum(cJSON_GetObjectItem(j, "saccades"), "f1");
+    if (!(f1 >= 0.9)) fail_msg("saccade F1 %.3f < 0.9", f1);
+    bool seen = false;
+    const cJSON *h;
+    cJSON_ArrayForEach(h, cJSON_GetObjectItem(j, "horizons"))
+    {
+        if (jnum(h, "horizon_ms") != 20) continue;
+        double pred = jnum(cJSON_GetObjectItem(h, "predicted"), "p95_deg");
+        double latest = jnum(cJSON_GetObjectItem(h, "latest_sample"), "p95_deg");
+        if (!(pred < latest)) fail_msg("p95 at 20 ms: predicted %.3f deg, latest sample %.3f deg", pred, latest);
+        seen = true;
+    }
+    assert_true(seen);
+    cJSON_Delete(j);
+    r = run(NULL, "gaze eval --gaze sim:seed=1,rate_hz=99999");
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "rate_hz");
+}
+
+/* The Microsoft reference descriptor parses to the layout Windows reports (input report 0x10: 65 bytes), and a
+ * report decodes into a sample. */
+static void hid_parse_and_decode_the_reference_tracker(void **state)
+{
+    (void)state;
+    char args[2048];
+    snprintf(args, sizeof args, "hid parse %s --json", fv_test_data("hid/ms-gazehid-vhidmini-eye-tracker.rdesc.hex"));
+    run_result *r = run(NULL, args);
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    cJSON *j = cJSON_Parse(r->out);
+    assert_non_null(j);
+    assert_true(cJSON_IsTrue(cJSON_GetObjectItem(j, "eye_tracker")));
+    bool found = false;
+    const cJSON *rep;
+    cJSON_ArrayForEach(rep, cJSON_GetObjectItem(j, "reports"))
+    {
+        const cJSON *type = cJSON_GetObjectItem(rep, "type");
+        if (jnum(rep, "id") == 0x10 && cJSON_IsString(type) && strcmp(type->valuestring, "input") == 0) {
+            assert_int_equal((int)jnum(rep, "byte_length"), 65);
+            found = true;
+        }
+    }
+    assert_true(found);
+    cJSON_Delete(j);
+    snprintf(args, sizeof args, "hid decode %s %s", fv_test_data("hid/ms-gazehid-vhidmini-eye-tracker.rdesc.hex"),
+             fv_test_data("hid/SYNTHETIC-eye-tracker-reports.txt"));
+    r = run(NULL, args);
+    if (r->exit_code != 0) fail_msg("decode exit %d; stderr:\n%s", r->exit_code, r->err);
+    const char *garbage = "05 12 09 01 a1 01 c0 c0 c0\n"; /* collection underflow */
+    const char *path = fv_test_write_file("bad.rdesc.hex", garbage, strlen(garbage));
+    snprintf(args, sizeof args, "hid parse %s", path);
+    r = run(NULL, args);
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "byte");
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -262,6 +334,8 @@ int main(int argc, char **argv)
         cmocka_unit_test(eyes_layout_writes_one_png_per_eye),
         cmocka_unit_test(gaze_runs_replay_every_recording_with_latency),
         cmocka_unit_test(unknown_gaze_scheme_fails_naming_known_ones),
+        cmocka_unit_test(gaze_eval_meets_f1_and_prediction_targets),
+        cmocka_unit_test(hid_parse_and_decode_the_reference_tracker),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
