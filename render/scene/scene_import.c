@@ -8,6 +8,7 @@
 #include <assimp/scene.h>
 #include <cjson/cJSON.h>
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <stb_image.h>
 #include <stdio.h>
@@ -437,6 +438,73 @@ static fv_mat4 world_of_named(const fv_scene *s, const char *name)
     return n >= 0 ? fv_scene_node_world(s, (uint32_t)n, 0.0) : fv_mat4_identity();
 }
 
+/* An aiMetadata entry by key (the C API has no lookup), or NULL. */
+static const struct aiMetadataEntry *meta_get(const struct aiMetadata *m, const char *key)
+{
+    if (!m || !m->mKeys || !m->mValues) return NULL;
+    for (unsigned i = 0; i < m->mNumProperties; i++)
+        if (!strcmp(m->mKeys[i].data, key)) return &m->mValues[i];
+    return NULL;
+}
+
+/* The KHR_lights_punctual light index a glTF node refers to, as assimp 5.2 keeps it in the node's metadata
+ * (extensions -> KHR_lights_punctual -> light), or -1. */
+static int64_t gltf_node_light_index(const struct aiNode *n)
+{
+    const struct aiMetadataEntry *e = meta_get(n->mMetaData, "extensions");
+    if (!e || e->mType != AI_AIMETADATA || !e->mData) return -1;
+    e = meta_get(e->mData, "KHR_lights_punctual");
+    if (!e || e->mType != AI_AIMETADATA || !e->mData) return -1;
+    e = meta_get(e->mData, "light");
+    if (!e || !e->mData) return -1;
+    if (e->mType == AI_UINT64) {
+        uint64_t v = *(const uint64_t *)e->mData;
+        return v <= INT32_MAX ? (int64_t)v : -1;
+    }
+    if (e->mType == AI_INT32) {
+        int32_t v = *(const int32_t *)e->mData;
+        return v >= 0 ? v : -1;
+    }
+    return -1;
+}
+
+/* The first node named `name` that carries a glTF light (assimp names a glTF light after the last node that
+ * refers to it). */
+static const struct aiNode *gltf_light_node(const struct aiNode *n, const char *name, int depth)
+{
+    if (!n || depth > MAX_NODE_DEPTH) return NULL;
+    if (!strcmp(n->mName.data, name) &&
+        (gltf_node_light_index(n) >= 0 || meta_get(n->mMetaData, "PBR_LightRange")))
+        return n;
+    for (unsigned k = 0; k < n->mNumChildren; k++) {
+        const struct aiNode *hit = gltf_light_node(n->mChildren[k], name, depth + 1);
+        if (hit) return hit;
+    }
+    return NULL;
+}
+
+/* KHR_lights_punctual `range` (point and spot only): assimp 5.2 leaves it out of aiLight (whose attenuation is
+ * always the plain inverse square) and puts it in the light node's metadata as "PBR_LightRange". In file units;
+ * apply_unit_scale turns it into metres. A range that is not a finite number > 0 is ignored with a warning. */
+static float gltf_light_range(const import_ctx *c, unsigned ai_index, const char *name)
+{
+    const struct aiNode *n = gltf_light_node(c->ai->mRootNode, name, 0);
+    const struct aiMetadataEntry *e = n ? meta_get(n->mMetaData, "PBR_LightRange") : NULL;
+    if (!e || !e->mData) return 0.0f;
+    double range = NAN;
+    if (e->mType == AI_FLOAT) range = *(const float *)e->mData;
+    else if (e->mType == AI_DOUBLE) range = *(const double *)e->mData;
+    if (isfinite(range) && range > 0 && range <= FLT_MAX) return (float)range;
+    int64_t gi = gltf_node_light_index(n);
+    if (gi >= 0)
+        FV_WARN("scene", "%s: light '%s' (KHR_lights_punctual light %lld): range %g is not a finite number > 0; "
+                "ignored (the light reaches infinitely)", c->path, name, (long long)gi, range);
+    else
+        FV_WARN("scene", "%s: light '%s' (light %u): range %g is not a finite number > 0; ignored (the light "
+                "reaches infinitely)", c->path, name, ai_index, range);
+    return 0.0f;
+}
+
 static fv_result convert_lights(import_ctx *c)
 {
     for (unsigned i = 0; i < c->ai->mNumLights; i++) {
@@ -474,6 +542,7 @@ static fv_result convert_lights(import_ctx *c)
             l.inner_cone_rad = inner;
             l.outer_cone_rad = outer;
         }
+        if (c->is_gltf && l.type != FV_LIGHT_DIRECTIONAL) l.range_m = gltf_light_range(c, i, al->mName.data);
         if (!fv_v3_isfinite(l.position_m)) {
             FV_WARN("scene", "%s: light '%s': non-finite position; skipped", c->path, l.name);
             continue;

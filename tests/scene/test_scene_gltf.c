@@ -1,7 +1,8 @@
 /* @brief glTF 2.0 import on files written at run time into the test's temp dir: KHR_lights_punctual lights
- * (point, spot cone half-angles, directional, candela -> W/sr), a camera becoming the head (yfov), a .glb against
- * its equivalent .gltf, textures embedded as a data: URI, in a bufferView and in a .glb's BIN chunk, an external
- * PNG next to the .gltf, and a missing PNG that falls back to the base colour with a warning naming it. */
+ * (point, spot cone half-angles, directional, candela -> W/sr, range and its validation), a camera becoming the
+ * head (yfov), a .glb against its equivalent .gltf, textures embedded as a data: URI, in a bufferView and in a
+ * .glb's BIN chunk, an external PNG next to the .gltf, and a missing PNG that falls back to the base colour with a
+ * warning naming it. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -296,10 +297,10 @@ static void khr_lights_punctual_keep_type_pose_cone_half_angles_and_intensity_in
     char *json = fmt(
         "{" ASSET ",\"extensionsUsed\":[\"KHR_lights_punctual\"],"
         "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":["
-        "{\"name\":\"bulb\",\"type\":\"point\",\"color\":[1,0.5,0.25],\"intensity\":1366},"
-        "{\"name\":\"torch\",\"type\":\"spot\",\"color\":[0.2,1,0.6],\"intensity\":3415,"
+        "{\"name\":\"bulb\",\"type\":\"point\",\"color\":[1,0.5,0.25],\"intensity\":1366,\"range\":4.5},"
+        "{\"name\":\"torch\",\"type\":\"spot\",\"color\":[0.2,1,0.6],\"intensity\":3415,\"range\":12,"
         "\"spot\":{\"innerConeAngle\":0.3,\"outerConeAngle\":0.6}},"
-        "{\"name\":\"sun\",\"type\":\"directional\",\"color\":[1,1,1],\"intensity\":2049},"
+        "{\"name\":\"sun\",\"type\":\"directional\",\"color\":[1,1,1],\"intensity\":2049,\"range\":7},"
         "{\"name\":\"grey\",\"type\":\"point\",\"color\":[0.5,0.5,0.5],\"intensity\":683},"
         "{\"name\":\"plain\",\"type\":\"spot\",\"intensity\":683,\"spot\":{}}]}},"
         "\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2,3,5,6]}],\"nodes\":["
@@ -324,6 +325,7 @@ static void khr_lights_punctual_keep_type_pose_cone_half_angles_and_intensity_in
     assert_v3_near(l->position_m, fv_v3(1, 2, 3), 1e-5f, "bulb position");
     assert_v3_near(l->color, fv_v3(1, 0.5f, 0.25f), 1e-6f, "bulb colour");
     assert_float_equal(l->intensity, 1366.0f / LM_PER_W, 1e-5f); /* 1366 cd = 2 W/sr */
+    assert_float_equal(l->range_m, 4.5f, 1e-6f);                  /* glTF range, metres */
 
     l = light_named(s, "TorchNode");
     assert_int_equal(l->type, FV_LIGHT_SPOT);
@@ -334,12 +336,14 @@ static void khr_lights_punctual_keep_type_pose_cone_half_angles_and_intensity_in
     assert_float_equal(l->outer_cone_rad, 0.6f, 1e-6f);
     assert_v3_near(l->color, fv_v3(0.2f, 1, 0.6f), 1e-6f, "torch colour");
     assert_float_equal(l->intensity, 5.0f, 1e-5f);
+    assert_float_equal(l->range_m, 12.0f, 1e-6f);
 
     l = light_named(s, "SunNode");
     assert_int_equal(l->type, FV_LIGHT_DIRECTIONAL);
     assert_v3_near(l->direction, fv_v3(0, -0.6f, -0.8f), 1e-5f, "sun direction");
     assert_v3_near(l->color, fv_v3(1, 1, 1), 1e-6f, "sun colour");
     assert_float_equal(l->intensity, 3.0f, 1e-5f); /* 2049 lux = 3 W/m^2 */
+    assert_float_equal(l->range_m, 0.0f, 0.0f);    /* glTF range is for point and spot lights only */
 
     /* Under a translated parent; assimp folds intensity into the colour, so only colour x intensity survives:
      * it comes back as a unit-peak colour and the scale. */
@@ -348,6 +352,7 @@ static void khr_lights_punctual_keep_type_pose_cone_half_angles_and_intensity_in
     assert_v3_near(l->position_m, fv_v3(-2, 1, -5), 1e-5f, "grey position");
     assert_v3_near(fv_v3_scale(l->color, l->intensity), fv_v3(0.5f, 0.5f, 0.5f), 1e-6f, "grey colour x intensity");
     assert_float_equal(fmaxf(l->color.x, fmaxf(l->color.y, l->color.z)), 1.0f, 1e-6f);
+    assert_float_equal(l->range_m, 0.0f, 0.0f); /* no range: infinite */
 
     /* An empty "spot" block: the glTF defaults, inner 0 and outer pi/4; no colour: white. */
     l = light_named(s, "PlainNode");
@@ -358,6 +363,62 @@ static void khr_lights_punctual_keep_type_pose_cone_half_angles_and_intensity_in
     assert_float_equal(l->outer_cone_rad, (float)(FV_PI / 4), 1e-6f);
     assert_v3_near(l->color, fv_v3(1, 1, 1), 1e-6f, "plain colour");
     assert_float_equal(l->intensity, 1.0f, 1e-5f);
+    fv_scene_destroy(&s);
+}
+
+/* A glTF light range that is not > 0 is ignored (infinite) with a warning naming the file and the light index; a
+ * valid one is scaled by the unit scale with everything else. */
+static void gltf_light_range_not_above_zero_warns_and_a_valid_one_follows_the_unit_scale(void **state)
+{
+    (void)state;
+    bytes geom = {0};
+    put_geometry(&geom);
+    char *buf = data_uri("application/octet-stream", geom.p, geom.n);
+    char *json = fmt(
+        "{" ASSET ",\"extensionsUsed\":[\"KHR_lights_punctual\"],"
+        "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":["
+        "{\"name\":\"neg\",\"type\":\"point\",\"intensity\":683,\"range\":-2},"
+        "{\"name\":\"zero\",\"type\":\"spot\",\"intensity\":683,\"range\":0,\"spot\":{}},"
+        "{\"name\":\"good\",\"type\":\"point\",\"intensity\":683,\"range\":250}]}},"
+        "\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2,3]}],\"nodes\":["
+        "{\"name\":\"quad\",\"mesh\":0},"
+        "{\"name\":\"NegNode\",\"translation\":[0,1,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}},"
+        "{\"name\":\"ZeroNode\",\"translation\":[0,2,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":1}}},"
+        "{\"name\":\"GoodNode\",\"translation\":[0,3,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":2}}}],"
+        QUAD_MESH ",\"materials\":[{\"name\":\"grey\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,0.5,0.5,1]}}],"
+        "\"bufferViews\":[" GEOM_VIEWS "],\"buffers\":[{\"byteLength\":%u,\"uri\":\"%s\"}]," GEOM_ACCESSORS "}",
+        GEOM_BYTES, buf);
+    free(buf);
+    bytes_free(&geom);
+    const char *path = write_text("light_range.gltf", json);
+
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    fv_result r = fv_scene_load(path, &s);
+    if (r != FV_OK) fail_msg("%s: %s; log:\n%s", path, fv_result_str(r), fv_test_log_text());
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 2);
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_ERROR), 0);
+    fv_assert_log_contains("light_range.gltf");
+    fv_assert_log_contains("KHR_lights_punctual light 0");
+    fv_assert_log_contains("KHR_lights_punctual light 1");
+    if (strstr(fv_test_log_text(), "light 2")) fail_msg("valid range warned about:\n%s", fv_test_log_text());
+    fv_test_log_capture_end();
+    assert_int_equal(s->light_count, 3);
+    assert_float_equal(light_named(s, "NegNode")->range_m, 0.0f, 0.0f);
+    assert_float_equal(light_named(s, "ZeroNode")->range_m, 0.0f, 0.0f);
+    assert_float_equal(light_named(s, "GoodNode")->range_m, 250.0f, 1e-4f);
+    assert_int_equal(fv_scene_validate(s), FV_OK);
+    fv_scene_destroy(&s);
+
+    /* File in centimetres: 250 units of range are 2.5 m, as the light's position is scaled. */
+    fv_test_log_capture_begin();
+    r = fv_scene_import(path, 0.01f, &s);
+    if (r != FV_OK) fail_msg("%s: %s; log:\n%s", path, fv_result_str(r), fv_test_log_text());
+    fv_test_log_capture_end();
+    const fv_light *l = light_named(s, "GoodNode");
+    assert_float_equal(l->range_m, 2.5f, 1e-5f);
+    assert_v3_near(l->position_m, fv_v3(0, 0.03f, 0), 1e-6f, "scaled light position");
+    assert_int_equal(fv_scene_validate(s), FV_OK);
     fv_scene_destroy(&s);
 }
 
@@ -534,6 +595,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(khr_lights_punctual_keep_type_pose_cone_half_angles_and_intensity_in_w_per_sr),
+        cmocka_unit_test(gltf_light_range_not_above_zero_warns_and_a_valid_one_follows_the_unit_scale),
         cmocka_unit_test(gltf_camera_becomes_the_head_with_its_pose_and_yfov),
         cmocka_unit_test(png_embedded_as_a_data_uri_decodes_to_the_pixels_written),
         cmocka_unit_test(glb_with_an_embedded_png_loads_as_its_equivalent_gltf),
