@@ -1,12 +1,18 @@
 /* @brief Pico Neo 3 Pro Eye Unity log: tab-separated, `Timeline` in s. One combined gaze vector,
  * `Combine Eye Gaze Vector.*`, in Unity's left-handed head frame (+x right, +y up, +z forward): fovea's head frame is
  * (x, y, -z). Per eye only openness (0 or 1), a blink flag and a pose status (0 = invalid) are given. A row whose
- * eyes both blink or both have an invalid pose, or whose vector is (0,0,0), has an invalid combined ray. */
+ * eyes both blink or both have an invalid pose, or whose vector is (0,0,0), has an invalid combined ray.
+ * Optional `Head Position.*` (m) and `Head Rotation.*` (Unity Euler angles, deg) are the head pose in Unity's
+ * left-handed world; they map through trace_set_head_unity. A bad value there leaves only the head invalid. */
 #include <strings.h>
 
 #include "trace_internal.h"
 
-enum { Q_T, Q_VX, Q_VY, Q_VZ, Q_STAT_L, Q_STAT_R, Q_BLINK_L, Q_BLINK_R, Q_OPEN_L, Q_OPEN_R, Q_COUNT_ };
+enum {
+    Q_T, Q_VX, Q_VY, Q_VZ, Q_STAT_L, Q_STAT_R, Q_BLINK_L, Q_BLINK_R,
+    Q_OPEN_L, Q_OPEN_R, Q_HP_X, Q_HP_Y, Q_HP_Z, Q_HR_X, Q_HR_Y, Q_HR_Z, /* optional */
+    Q_COUNT_
+};
 
 static const char *const g_cols[Q_COUNT_] = {
     "Timeline",
@@ -14,6 +20,8 @@ static const char *const g_cols[Q_COUNT_] = {
     "Left Eye Pose Status", "Right Eye Pose Status",
     "Eye Left Blinking", "Eye Right Blinking",
     "Left Eye Gaze Openness", "Right Eye Gaze Openness",
+    "Head Position. x", "Head Position. y", "Head Position. z",
+    "Head Rotation. x", "Head Rotation. y", "Head Rotation. z",
 };
 
 static fv_result begin(fv_trace_reader *r, char *line, size_t len)
@@ -82,6 +90,12 @@ static fv_result row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample 
     if ((pose_ok[0] || pose_ok[1]) && !(blink[0] && blink[1]))
         trace_eye_set_direction(&s->combined, v[0], v[1], -v[2]); /* (0,0,0) stays invalid */
     if (blink[0] && blink[1]) s->combined.flags |= FV_EYE_BLINK;
+    const char *pos[3], *rot[3];
+    for (int k = 0; k < 3; k++) {
+        pos[k] = trace_col(r, n, Q_HP_X + k);
+        rot[k] = trace_col(r, n, Q_HR_X + k);
+    }
+    trace_set_head_unity(s, pos, rot);
     return FV_OK;
 }
 

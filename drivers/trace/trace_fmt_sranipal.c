@@ -2,7 +2,9 @@
  * DateTime ticks (100 ns since 0001-01-01), converted to Unix-epoch ns. Per-eye validity bitmask `eye_valid_L/R`
  * (bit0 origin, bit1 direction, bit2 pupil, bit3 openness). SRanipal axes are +x to the wearer's left, +y up,
  * +z forward; fovea's head frame is +x right, +y up, -z forward, so (x, y, z) -> (-x, y, -z), a 180 degree turn
- * about y (a proper rotation: handedness is kept). No combined ray in the log: it is built from the eyes. */
+ * about y (a proper rotation: handedness is kept). No combined ray in the log: it is built from the eyes.
+ * Optional `helmet_pos_{x,y,z}` (m) and `helmet_rot_{x,y,z}` (Unity Euler angles, deg) are the head pose in Unity's
+ * left-handed world; they map through trace_set_head_unity. A bad value there leaves only the head invalid. */
 #include <stdio.h>
 
 #include "trace_internal.h"
@@ -16,6 +18,10 @@ enum {
     C_OR_X, C_OR_Y, C_OR_Z,
     C_DL_X, C_DL_Y, C_DL_Z,
     C_DR_X, C_DR_Y, C_DR_Z,
+    C_REQUIRED_,
+    C_HP_X = C_REQUIRED_, C_HP_Y, C_HP_Z, /* optional head pose */
+    C_HR_X, C_HR_Y, C_HR_Z,
+    C_COUNT_,
 };
 
 static const char *const g_cols[] = {
@@ -27,7 +33,10 @@ static const char *const g_cols[] = {
     "gaze_origin_R.x(mm)", "gaze_origin_R.y(mm)", "gaze_origin_R.z(mm)",
     "gaze_direct_L.x", "gaze_direct_L.y", "gaze_direct_L.z",
     "gaze_direct_R.x", "gaze_direct_R.y", "gaze_direct_R.z",
+    "helmet_pos_x", "helmet_pos_y", "helmet_pos_z",
+    "helmet_rot_x", "helmet_rot_y", "helmet_rot_z",
 };
+_Static_assert(sizeof g_cols / sizeof g_cols[0] == C_COUNT_, "one name per column slot");
 
 #define NET_TICKS_AT_UNIX_EPOCH INT64_C(621355968000000000) /* 1970-01-01T00:00:00Z in .NET ticks */
 
@@ -35,8 +44,8 @@ static fv_result begin(fv_trace_reader *r, char *line, size_t len)
 {
     (void)len;
     int n = trace_csv_split(line, ';', r->fields, TRACE_MAX_FIELDS);
-    for (int i = 0; i < (int)(sizeof g_cols / sizeof g_cols[0]); i++)
-        FV_TRY(trace_require_col(r, r->fields, n < 0 ? 0 : n, i, g_cols[i]));
+    for (int i = 0; i < C_REQUIRED_; i++) FV_TRY(trace_require_col(r, r->fields, n < 0 ? 0 : n, i, g_cols[i]));
+    for (int i = C_REQUIRED_; i < C_COUNT_; i++) trace_optional_col(r, r->fields, n < 0 ? 0 : n, i, g_cols[i]);
     return FV_OK;
 }
 
@@ -105,6 +114,12 @@ static fv_result row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample 
         }
     }
     trace_combine_eyes(s);
+    const char *pos[3], *rot[3];
+    for (int k = 0; k < 3; k++) {
+        pos[k] = trace_col(r, n, C_HP_X + k);
+        rot[k] = trace_col(r, n, C_HR_X + k);
+    }
+    trace_set_head_unity(s, pos, rot);
     return FV_OK;
 }
 

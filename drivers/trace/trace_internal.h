@@ -141,6 +141,13 @@ void trace_eye_invalidate(fv_eye_sample *e);
 /** Combined ray from the eyes when the source gives none: both valid → mean origin and normalised sum of directions;
  *  one → that eye's direction, origin unknown. */
 void trace_combine_eyes(fv_gaze_sample *s);
+/** Head pose from a Unity log (Pico, SRanipal): pos_m is the position in metres and euler_deg the Euler angles in
+ *  degrees (x, y, z; Unity applies Z, then X, then Y: R = Ry·Rx·Rz), both in Unity's left-handed world (+x right,
+ *  +y up, +z forward). Sets head_pos_mm = (x, y, −z)·1000, head_dir = R·(0,0,1) mapped the same way (x, y, −z), and
+ *  FV_GAZE_HEAD_VALID. A value that is NULL (column absent or row short), not a number, non-finite, a position beyond
+ *  1 km or an angle beyond ±720°, or an all-zero pose (position and angles all exactly 0: the head was not logged),
+ *  leaves the head invalid (NaN, flag clear); the sample itself is kept. */
+void trace_set_head_unity(fv_gaze_sample *s, const char *const pos_m[3], const char *const euler_deg[3]);
 /** A float from a double; non-finite or beyond FLT_MAX → NaN. */
 float trace_f32(double v);
 

@@ -205,3 +205,46 @@ void trace_combine_eyes(fv_gaze_sample *s)
         trace_eye_set_direction(c, e->direction.x, e->direction.y, e->direction.z);
     }
 }
+
+/* sin and cos of an angle in degrees, exact (0, ±1) at multiples of 90°: the angle is reduced to [−45°, 45°] around
+ * its nearest quadrant first, so 90° gives a forward of exactly (1, 0, 0) rather than cos(π/2) ≈ 6e−17. */
+static void sincos_deg(double deg, double *out_s, double *out_c)
+{
+    double q = nearbyint(deg / 90.0);
+    double rad = (deg - q * 90.0) * (3.14159265358979323846 / 180.0);
+    double sn = sin(rad), cs = cos(rad);
+    switch (((long)fmod(q, 4.0) + 4) % 4) {
+    case 0: *out_s = sn, *out_c = cs; break;
+    case 1: *out_s = cs, *out_c = -sn; break;
+    case 2: *out_s = -sn, *out_c = -cs; break;
+    default: *out_s = -cs, *out_c = sn; break;
+    }
+}
+
+#define HEAD_POS_LIMIT_M 1.0e3 /* a world position beyond 1 km is a broken value */
+#define HEAD_ANGLE_LIMIT_DEG 720.0
+
+void trace_set_head_unity(fv_gaze_sample *s, const char *const pos_m[3], const char *const euler_deg[3])
+{
+    s->head_pos_mm = fv_v3(NAN, NAN, NAN);
+    s->head_dir = fv_v3(NAN, NAN, NAN);
+    s->flags &= ~(uint32_t)FV_GAZE_HEAD_VALID;
+    double p[3], a[3];
+    bool all_zero = true;
+    for (int k = 0; k < 3; k++) {
+        if (!trace_parse_f64(pos_m[k], &p[k]) || !isfinite(p[k]) || fabs(p[k]) > HEAD_POS_LIMIT_M) return;
+        if (!trace_parse_f64(euler_deg[k], &a[k]) || !isfinite(a[k]) || fabs(a[k]) > HEAD_ANGLE_LIMIT_DEG) return;
+        all_zero = all_zero && p[k] == 0.0 && a[k] == 0.0;
+    }
+    if (all_zero) return; /* a logger that has no head pose writes zeros */
+    /* Unity forward (0,0,1) through R = Ry(a1)·Rx(a0)·Rz(a2): Rz keeps the z axis, Rx(a0) gives (0, −sin a0, cos a0)
+     * (a positive pitch looks down), Ry(a1) then gives (cos a0·sin a1, −sin a0, cos a0·cos a1). Roll has no effect. */
+    double sx, cx, sy, cy;
+    sincos_deg(a[0], &sx, &cx);
+    sincos_deg(a[1], &sy, &cy);
+    double fx = cx * sy, fy = -sx, fz = cx * cy;
+    double n = sqrt(fx * fx + fy * fy + fz * fz); /* 1 up to rounding */
+    s->head_pos_mm = fv_v3((float)(p[0] * 1000.0), (float)(p[1] * 1000.0), (float)(-p[2] * 1000.0));
+    s->head_dir = fv_v3((float)(fx / n), (float)(fy / n), (float)(-fz / n));
+    s->flags |= FV_GAZE_HEAD_VALID;
+}

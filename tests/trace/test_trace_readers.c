@@ -612,6 +612,12 @@ static void assert_sample_equal(const fv_gaze_sample *a, const fv_gaze_sample *b
     assert_true(float_same(a->confidence, b->confidence));
     for (int e = 0; e < 2; e++) assert_eye_equal(&a->eye[e], &b->eye[e]);
     assert_eye_equal(&a->combined, &b->combined);
+    if (a->flags & FV_GAZE_HEAD_VALID) {
+        assert_true(float_same(a->head_pos_mm.x, b->head_pos_mm.x) && float_same(a->head_pos_mm.y, b->head_pos_mm.y) &&
+                    float_same(a->head_pos_mm.z, b->head_pos_mm.z));
+        assert_true(float_same(a->head_dir.x, b->head_dir.x) && float_same(a->head_dir.y, b->head_dir.y) &&
+                    float_same(a->head_dir.z, b->head_dir.z));
+    }
 }
 
 /* Convert the first max samples of in to fovea's format and read them back. */
@@ -789,6 +795,210 @@ static void extreme_values_stay_finite_or_invalid(void **state)
     fv_trace_stats_fini(&st);
 }
 
+/* ------------------------------------------------------------------ head pose (SRanipal and Pico, Unity world) */
+
+/* Independent reference: Unity's rotation from Euler angles (deg) is R = Ry·Rx·Rz, built here as full 3×3 matrices
+ * (roll included) and applied to Unity's forward (0,0,1); then (x, y, z) -> (x, y, -z). */
+static void unity_forward_ref(double ax, double ay, double az, double out[3])
+{
+    const double d = 3.14159265358979323846 / 180.0;
+    double cx = cos(ax * d), sx = sin(ax * d), cy = cos(ay * d), sy = sin(ay * d), cz = cos(az * d), sz = sin(az * d);
+    double rx[3][3] = {{1, 0, 0}, {0, cx, -sx}, {0, sx, cx}};
+    double ry[3][3] = {{cy, 0, sy}, {0, 1, 0}, {-sy, 0, cy}};
+    double rz[3][3] = {{cz, -sz, 0}, {sz, cz, 0}, {0, 0, 1}};
+    double t[3][3] = {{0}}, m[3][3] = {{0}};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) t[i][j] += rx[i][k] * rz[k][j];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) m[i][j] += ry[i][k] * t[k][j];
+    out[0] = m[0][2];
+    out[1] = m[1][2];
+    out[2] = -m[2][2];
+}
+
+typedef struct head_raw {
+    int c[6];           /* pos x y z, rot x y z */
+    const char *names[6];
+    int rows;
+    double v[2048][6];
+} head_raw;
+
+static void head_row(void *u, char **f, int n)
+{
+    head_raw *r = u;
+    if (n < 0) {
+        for (int k = 0; k < 6; k++) r->c[k] = col(f, -n, r->names[k]);
+        return;
+    }
+    assert_true(r->rows < 2048);
+    for (int k = 0; k < 6; k++) r->v[r->rows][k] = atof(f[r->c[k]]);
+    r->rows++;
+}
+
+typedef struct box {
+    double lo[3], hi[3];
+} box;
+
+/* Read path, compare every head pose with the raw columns (independent reference) and check it lies in b. Returns
+ * the number of samples with a valid head; *min_dir_y gets the lowest head_dir.y. */
+static uint64_t check_head_file(const char *path, char sep, const char *const names[6], const box *b,
+                                double *min_dir_y, double *max_dir_y)
+{
+    static head_raw raw;
+    memset(&raw, 0, sizeof raw);
+    memcpy(raw.names, names, sizeof raw.names);
+    raw_rows(path, sep, 1, head_row, &raw);
+    fv_trace_reader *r = NULL;
+    assert_int_equal(fv_trace_reader_create(path, NULL, &r), FV_OK);
+    fv_gaze_sample s;
+    uint64_t n = 0, valid = 0;
+    *min_dir_y = INFINITY;
+    *max_dir_y = -INFINITY;
+    while (fv_trace_reader_next(r, &s) == FV_OK) {
+        assert_true(n < (uint64_t)raw.rows);
+        const double *v = raw.v[n++];
+        if (!(s.flags & FV_GAZE_HEAD_VALID)) {
+            assert_true(isnan(s.head_pos_mm.x) && isnan(s.head_dir.x));
+            continue;
+        }
+        valid++;
+        assert_true(fv_v3_isfinite(s.head_pos_mm) && fv_v3_isfinite(s.head_dir));
+        assert_true(fabsf(fv_v3_len(s.head_dir) - 1.0f) < 1e-6f);
+        near(s.head_pos_mm.x, v[0] * 1000.0, 1e-3, "head x");
+        near(s.head_pos_mm.y, v[1] * 1000.0, 1e-3, "head y");
+        near(s.head_pos_mm.z, -v[2] * 1000.0, 1e-3, "head z");
+        double ref[3];
+        unity_forward_ref(v[3], v[4], v[5], ref);
+        near(s.head_dir.x, ref[0], 1e-6, "head_dir x");
+        near(s.head_dir.y, ref[1], 1e-6, "head_dir y");
+        near(s.head_dir.z, ref[2], 1e-6, "head_dir z");
+        const float p[3] = {s.head_pos_mm.x, s.head_pos_mm.y, s.head_pos_mm.z};
+        for (int k = 0; k < 3; k++)
+            if (!(p[k] >= b->lo[k] && p[k] <= b->hi[k]))
+                fail_msg("%s row %llu: head[%d] = %.1f mm outside [%.0f, %.0f]", path, (unsigned long long)n, k,
+                         (double)p[k], b->lo[k], b->hi[k]);
+        if (s.head_dir.y < *min_dir_y) *min_dir_y = s.head_dir.y;
+        if (s.head_dir.y > *max_dir_y) *max_dir_y = s.head_dir.y;
+    }
+    assert_int_equal(n, raw.rows);
+    fv_trace_reader_destroy(&r);
+    return valid;
+}
+
+static void real_files_map_the_unity_head_pose(void **state)
+{
+    (void)state;
+    static const char *const sr_names[6] = {"helmet_pos_x", "helmet_pos_y", "helmet_pos_z",
+                                            "helmet_rot_x", "helmet_rot_y", "helmet_rot_z"};
+    static const char *const pico_names[6] = {"Head Position. x", "Head Position. y", "Head Position. z",
+                                              "Head Rotation. x", "Head Rotation. y", "Head Rotation. z"};
+    double lo, hi;
+    /* TESTNA01, seated: Unity x 0.93..1.03 m, y 1.167..1.190 m (head height seated), z 0.49..0.57 m; boxes are the
+     * observed ranges plus ~10 cm, with z negated (Unity +z forward -> fovea -z). */
+    const box sr = {{800, 1050, -700}, {1150, 1300, -380}};
+    uint64_t v = check_head_file(fv_test_data("gaze/htc_vive_pro_eye_sranipal/TESTNA01_2D_Fist3.csv"), ';', sr_names,
+                                 &sr, &lo, &hi);
+    assert_int_equal(v, 1518); /* every row has a numeric, non-zero pose */
+    /* TESTNA10 (360° video): the helmet columns are present but 0 on every row, i.e. not logged: head stays invalid */
+    const box any = {{-1e6, -1e6, -1e6}, {1e6, 1e6, 1e6}};
+    v = check_head_file(fv_test_data("gaze/htc_vive_pro_eye_sranipal/TESTNA10_360VR_Fist3.csv"), ';', sr_names, &any,
+                        &lo, &hi);
+    assert_int_equal(v, 0);
+    /* Pico, standing boxer: Unity x -0.02..0.21 m, y 1.19..1.61 m, z -0.41..-0.27 m -> fovea z +265..+406 mm.
+     * Pitch (Rotation.x) is 6.3..20.2° on every row: the head looks down, so head_dir.y is -0.11..-0.35. */
+    const box pico = {{-150, 1050, 150}, {350, 1750, 550}};
+    v = check_head_file(fv_test_data("gaze/pico_neo3_pro/boxing_VR.tsv"), '\t', pico_names, &pico, &lo, &hi);
+    assert_int_equal(v, 492);
+    assert_true(hi < -0.10 && lo > -0.36);
+}
+
+static void read_mem(const char *text, const char *name, fv_gaze_sample *out, int n_expected)
+{
+    fv_trace_reader_desc d = {.data = text, .size = strlen(text), .name = name};
+    fv_trace_reader *r = NULL;
+    assert_int_equal(fv_trace_reader_create(NULL, &d, &r), FV_OK);
+    for (int i = 0; i < n_expected; i++) assert_int_equal(fv_trace_reader_next(r, &out[i]), FV_OK);
+    assert_int_equal(fv_trace_reader_next(r, &out[n_expected]), FV_END_OF_STREAM);
+    assert_int_equal(fv_trace_reader_get_stats(r)->rows_skipped, 0);
+    fv_trace_reader_destroy(&r);
+}
+
+static void v3_is(fv_vec3 got, double x, double y, double z, double tol, const char *what)
+{
+    near(got.x, x, tol, what);
+    near(got.y, y, tol, what);
+    near(got.z, z, tol, what);
+}
+
+static void unity_euler_angles_give_the_expected_head_vectors(void **state)
+{
+    (void)state;
+    const double c30 = 0.86602540378443865;
+    fv_gaze_sample s[8];
+    /* SRanipal: yaw 90° (Unity forward -> +x -> fovea +x), then pitch +30° with roll 45° (looks down; roll does not
+     * move the forward), then junk: a word, a NaN, a short row, a row of zeros. Eyes are read on every row. */
+#define SR_HDR "time(100ns);eye_valid_L;eye_valid_R;openness_L;openness_R;pupil_diameter_L(mm);pupil_diameter_R(mm);" \
+               "gaze_origin_L.x(mm);gaze_origin_L.y(mm);gaze_origin_L.z(mm);gaze_origin_R.x(mm);gaze_origin_R.y(mm);" \
+               "gaze_origin_R.z(mm);gaze_direct_L.x;gaze_direct_L.y;gaze_direct_L.z;gaze_direct_R.x;gaze_direct_R.y;" \
+               "gaze_direct_R.z;helmet_pos_x;helmet_pos_y;helmet_pos_z;helmet_rot_x;helmet_rot_y;helmet_rot_z\n"
+#define SR_EYES "31;31;0.9;0.9;3.5;3.7;39;2;-38;-30;1;-35;0.1;-0.1;0.98;0.1;-0.1;0.98"
+    const char *sr = SR_HDR "638342794000000000;" SR_EYES ";1;1.5;2;0;90;0\n"
+                            "638342794000100000;" SR_EYES ";-0.25;1.2;-0.5;30;0;45\n"
+                            "638342794000200000;" SR_EYES ";1;1.5;2;0;abc;0\n"
+                            "638342794000300000;" SR_EYES ";nan;1.5;2;0;0;0\n"
+                            "638342794000400000;" SR_EYES ";1;1.5\n"
+                            "638342794000500000;" SR_EYES ";0;0;0;0;0;0\n";
+    read_mem(sr, "head.csv", s, 6);
+    assert_true(s[0].flags & FV_GAZE_HEAD_VALID);
+    assert_true(s[0].head_pos_mm.x == 1000.0f && s[0].head_pos_mm.y == 1500.0f && s[0].head_pos_mm.z == -2000.0f);
+    assert_true(s[0].head_dir.x == 1.0f && s[0].head_dir.y == 0.0f && s[0].head_dir.z == 0.0f); /* exact */
+    assert_true(s[1].flags & FV_GAZE_HEAD_VALID);
+    v3_is(s[1].head_pos_mm, -250.0, 1200.0, 500.0, 1e-4, "pos row 2");
+    v3_is(s[1].head_dir, 0.0, -0.5, -c30, 1e-7, "dir row 2"); /* pitch +30: down and forward (-z) */
+    for (int i = 2; i < 6; i++) {
+        assert_false(s[i].flags & FV_GAZE_HEAD_VALID); /* the sample is kept, only the head is invalid */
+        assert_true(isnan(s[i].head_pos_mm.x) && isnan(s[i].head_dir.z));
+        assert_true(s[i].combined.flags & FV_EYE_DIRECTION_VALID);
+    }
+
+    /* Pico: yaw -90° (-> fovea -x), yaw 180° with pitch -30° (looks up and backwards: fovea +z), yaw 450° = 90°,
+     * then an empty field and an infinity. */
+#define PICO_HDR "Timeline\tHead Position. x\tHead Position. y\tHead Position. z\t" \
+                 "Head Rotation. x\tHead Rotation. y\tHead Rotation. z\t" \
+                 "Combine Eye Gaze Vector. x\tCombine Eye Gaze Vector. y\tCombine Eye Gaze Vector. z\t" \
+                 "Left Eye Pose Status\tRight Eye Pose Status\tEye Left Blinking\tEye Right Blinking\n"
+#define PICO_EYES "0\t0\t1\t52\t52\tFalse\tFalse"
+    const char *pico = PICO_HDR "0.011\t0.0067\t1.6033\t-0.366\t0\t-90\t0\t" PICO_EYES "\n"
+                                "0.022\t0\t1.6\t0.3\t-30\t180\t10\t" PICO_EYES "\n"
+                                "0.033\t0\t1.6\t0.3\t0\t450\t0\t" PICO_EYES "\n"
+                                "0.044\t0\t\t0.3\t0\t0\t0\t" PICO_EYES "\n"
+                                "0.055\t0\t1.6\t0.3\tinf\t0\t0\t" PICO_EYES "\n";
+    read_mem(pico, "head.tsv", s, 5);
+    assert_true(s[0].flags & FV_GAZE_HEAD_VALID);
+    v3_is(s[0].head_pos_mm, 6.7, 1603.3, 366.0, 1e-4, "pico pos row 1");
+    assert_true(s[0].head_dir.x == -1.0f && s[0].head_dir.y == 0.0f && s[0].head_dir.z == 0.0f);
+    v3_is(s[1].head_dir, 0.0, 0.5, c30, 1e-7, "pico dir row 2");
+    assert_true(s[2].head_dir.x == 1.0f && s[2].head_dir.y == 0.0f && s[2].head_dir.z == 0.0f);
+    for (int i = 3; i < 5; i++) {
+        assert_false(s[i].flags & FV_GAZE_HEAD_VALID);
+        assert_true(s[i].combined.flags & FV_EYE_DIRECTION_VALID);
+    }
+
+    /* no head columns at all: the file reads, the head is invalid */
+    const char *bare = "Timeline\tCombine Eye Gaze Vector. x\tCombine Eye Gaze Vector. y\tCombine Eye Gaze Vector. z\t"
+                       "Left Eye Pose Status\tRight Eye Pose Status\tEye Left Blinking\tEye Right Blinking\n"
+                       "0.011\t" PICO_EYES "\n";
+    read_mem(bare, "bare.tsv", s, 1);
+    assert_false(s[0].flags & FV_GAZE_HEAD_VALID);
+    assert_true(s[0].combined.flags & FV_EYE_DIRECTION_VALID);
+#undef SR_HDR
+#undef SR_EYES
+#undef PICO_HDR
+#undef PICO_EYES
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -808,6 +1018,8 @@ int main(void)
         cmocka_unit_test(memory_input_reads_the_same_as_the_file),
         cmocka_unit_test(truncated_gzip_gives_what_is_there),
         cmocka_unit_test(extreme_values_stay_finite_or_invalid),
+        cmocka_unit_test(real_files_map_the_unity_head_pose),
+        cmocka_unit_test(unity_euler_angles_give_the_expected_head_vectors),
     };
     if (getenv("FV_TEST_FILTER")) cmocka_set_test_filter(getenv("FV_TEST_FILTER")); /* run one test by name */
     return cmocka_run_group_tests(tests, NULL, NULL);
