@@ -164,6 +164,13 @@ static fv_result row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample 
     if (!(isfinite(s->screen_point_mm.x) && isfinite(s->screen_point_mm.y)))
         s->flags &= ~(uint32_t)FV_GAZE_SCREEN_POINT_VALID;
     if (!fv_v3_isfinite(s->head_pos_mm) || !fv_v3_isfinite(s->head_dir)) s->flags &= ~(uint32_t)FV_GAZE_HEAD_VALID;
+    if ((s->flags & FV_GAZE_HEAD_VALID) && !(fabsf(fv_v3_len(s->head_dir) - 1.0f) <= 1e-3f)) {
+        /* as for eye directions: exact unit vectors stay bit for bit, others are renormalised or invalid */
+        fv_eye_sample tmp = {.flags = 0};
+        trace_eye_set_direction(&tmp, s->head_dir.x, s->head_dir.y, s->head_dir.z);
+        if (tmp.flags & FV_EYE_DIRECTION_VALID) s->head_dir = tmp.direction;
+        else s->flags &= ~(uint32_t)FV_GAZE_HEAD_VALID;
+    }
     if (!(s->confidence >= 0.0f && s->confidence <= 1.0f)) s->confidence = NAN;
     return FV_OK;
 }

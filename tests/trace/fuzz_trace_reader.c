@@ -31,6 +31,14 @@ static void check_eye(const fv_eye_sample *e)
     if ((e->flags & FV_EYE_OPENNESS_VALID) && !(e->openness >= 0.0f && e->openness <= 1.0f)) __builtin_trap();
 }
 
+/* A head pose marked valid is finite with a unit forward direction. */
+static void check_head(const fv_gaze_sample *g)
+{
+    if (!(g->flags & FV_GAZE_HEAD_VALID)) return;
+    if (!fv_v3_isfinite(g->head_pos_mm) || !fv_v3_isfinite(g->head_dir)) __builtin_trap();
+    if (fabsf(fv_v3_len(g->head_dir) - 1.0f) > 1e-3f) __builtin_trap();
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -57,6 +65,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             check_eye(&s.eye[0]);
             check_eye(&s.eye[1]);
             check_eye(&s.combined);
+            check_head(&s);
             fv_trace_stats_push(&st, &s);
         }
         if (fv_trace_reader_rewind(r) != FV_OK) break;

@@ -757,6 +757,24 @@ static void extreme_values_stay_finite_or_invalid(void **state)
     assert_int_equal(fv_trace_reader_next(r, &s), FV_END_OF_STREAM);
     fv_trace_reader_destroy(&r);
 
+    /* fovea format: a head pose flagged valid keeps a unit direction; a zero or infinite one makes it invalid */
+    const char *head =
+        "fovea-trace 1\n"
+        "t_device_ns,flags,head_x_mm,head_y_mm,head_z_mm,head_dir_x,head_dir_y,head_dir_z\n"
+        "0,2,1,2,3,0,3,4\n"
+        "1,2,1,2,3,0,0,0\n"
+        "2,2,1,2,3,1e39,0,0\n";
+    fv_trace_reader_desc hd = {.data = head, .size = strlen(head), .name = "head.fvt"};
+    assert_int_equal(fv_trace_reader_create(NULL, &hd, &r), FV_OK);
+    assert_int_equal(fv_trace_reader_next(r, &s), FV_OK);
+    assert_true(s.flags & FV_GAZE_HEAD_VALID);
+    assert_true(fabsf(s.head_dir.y - 0.6f) < 1e-6f && fabsf(s.head_dir.z - 0.8f) < 1e-6f);
+    assert_int_equal(fv_trace_reader_next(r, &s), FV_OK);
+    assert_false(s.flags & FV_GAZE_HEAD_VALID);
+    assert_int_equal(fv_trace_reader_next(r, &s), FV_OK);
+    assert_false(s.flags & FV_GAZE_HEAD_VALID);
+    fv_trace_reader_destroy(&r);
+
     /* intervals of ~4.5e18 ns (a fuzzer found these): gaps and durations saturate instead of overflowing */
     fv_trace_stats big;
     assert_int_equal(fv_trace_stats_init(&big), FV_OK);
