@@ -27,3 +27,29 @@ int fv_gpu_test_teardown(fv_renderer **r)
     if (n) fprintf(stderr, "%u validation messages\n", n);
     return n ? -1 : 0;
 }
+
+fv_mesh fv_gpu_test_square_mesh(const char *name, double half, uint32_t material)
+{
+    fv_mesh m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "%s", name);
+    m.vertex_count = 4;
+    m.index_count = 6;
+    m.positions = malloc(4 * sizeof *m.positions);
+    m.normals = malloc(4 * sizeof *m.normals);
+    m.indices = malloc(6 * sizeof *m.indices);
+    float h = (float)half;
+    fv_vec3 p[4] = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
+    uint32_t idx[6] = {0, 2, 1, 0, 3, 2};
+    if (m.positions && m.normals && m.indices) {
+        for (int i = 0; i < 4; i++) {
+            m.positions[i] = p[i];
+            m.normals[i] = fv_v3(0, 1, 0);
+        }
+        memcpy(m.indices, idx, sizeof idx);
+    }
+    m.material = material;
+    m.bounds_min = fv_v3(-h, 0, -h);
+    m.bounds_max = fv_v3(h, 0, h);
+    return m;
+}

@@ -6,12 +6,17 @@
 #include <stdint.h>
 
 #include "fv_renderer.h"
+#include "fv_scene.h"
 
 /** cmocka group setup: create *r at w x h per eye with validation on. 0 on success or skip (*r NULL), -1 on
  *  failure (no device under CI=true). */
 int fv_gpu_test_setup(uint32_t w, uint32_t h, fv_renderer **r);
 /** cmocka group teardown: destroy *r; -1 if the validation layer said anything. */
 int fv_gpu_test_teardown(fv_renderer **r);
+
+/** A square of half-size `half` m in the local y = 0 plane, normal +y, two triangles (arrays from malloc, as
+ *  fv_scene_add_mesh takes them). */
+fv_mesh fv_gpu_test_square_mesh(const char *name, double half, uint32_t material);
 
 /** Skip the test when no device was available. */
 #define FV_NEED_GPU(r)                                                                                                 \

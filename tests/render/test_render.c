@@ -102,29 +102,7 @@ static void cornell_left_wall_red_right_wall_green(void **state)
 
 /* ---- (2) a plane lit by one spot light vs a CPU double-precision reference ------------------------------------ */
 
-static fv_mesh quad_mesh(double half, uint32_t material)
-{
-    fv_mesh m;
-    memset(&m, 0, sizeof m);
-    snprintf(m.name, sizeof m.name, "plane");
-    m.vertex_count = 4;
-    m.index_count = 6;
-    m.positions = malloc(4 * sizeof *m.positions);
-    m.normals = malloc(4 * sizeof *m.normals);
-    m.indices = malloc(6 * sizeof *m.indices);
-    float h = (float)half;
-    fv_vec3 p[4] = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-    uint32_t idx[6] = {0, 2, 1, 0, 3, 2};
-    for (int i = 0; i < 4; i++) {
-        m.positions[i] = p[i];
-        m.normals[i] = fv_v3(0, 1, 0);
-    }
-    memcpy(m.indices, idx, sizeof idx);
-    m.material = material;
-    m.bounds_min = fv_v3(-h, 0, -h);
-    m.bounds_max = fv_v3(h, 0, h);
-    return m;
-}
+static fv_mesh quad_mesh(double half, uint32_t material) { return fv_gpu_test_square_mesh("plane", half, material); }
 
 /* The same formulas as render/include/fv_shade_common.glsl, in double. */
 static double ref_spot(const fv_light *l, const double pos[3], const double n[3])

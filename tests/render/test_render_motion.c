@@ -127,30 +127,7 @@ static void quad_centre_at(const quad *q, double t_s, double out[3])
     for (int i = 0; i < 3; i++) out[i] = q->centre_m[i] + q->amp_m[i] * k;
 }
 
-/* A square in the local y = 0 plane (normal +y); the node turns it to face +z. */
-static fv_mesh square_mesh(double half, uint32_t material)
-{
-    fv_mesh m;
-    memset(&m, 0, sizeof m);
-    snprintf(m.name, sizeof m.name, "square");
-    m.vertex_count = 4;
-    m.index_count = 6;
-    m.positions = malloc(4 * sizeof *m.positions);
-    m.normals = malloc(4 * sizeof *m.normals);
-    m.indices = malloc(6 * sizeof *m.indices);
-    float h = (float)half;
-    fv_vec3 p[4] = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-    uint32_t idx[6] = {0, 2, 1, 0, 3, 2};
-    for (int i = 0; i < 4; i++) {
-        m.positions[i] = p[i];
-        m.normals[i] = fv_v3(0, 1, 0);
-    }
-    memcpy(m.indices, idx, sizeof idx);
-    m.material = material;
-    m.bounds_min = fv_v3(-h, 0, -h);
-    m.bounds_max = fv_v3(h, 0, h);
-    return m;
-}
+static fv_mesh square_mesh(double half, uint32_t material) { return fv_gpu_test_square_mesh("square", half, material); }
 
 static fv_scene *build_scene(const quad *qs, int n)
 {
