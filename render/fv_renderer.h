@@ -8,8 +8,11 @@
 #include <stdint.h>
 
 #include "fovea/fv_frame_input.h"
+#include "fv_plan.h"
 #include "fv_result.h"
 #include "fv_scene.h"
+
+typedef struct fv_target fv_target;
 
 typedef struct fv_renderer fv_renderer;
 
@@ -17,32 +20,21 @@ typedef struct fv_renderer_desc {
     uint32_t eye_width, eye_height; /* per-eye render size; 0 = 720x800 */
     const char *device;             /* index or name substring; NULL = $FOVEA_DEVICE, else prefer a discrete GPU */
     int validation;                 /* 1 on, 0 = from $FOVEA_VALIDATION */
-    uint32_t frames_in_flight;      /* 0 = 2, at most 8 */
+    uint32_t frames_in_flight;      /* 0 = 2, at most FV_MAX_FRAMES_IN_FLIGHT (8) */
     uint64_t memory_budget_bytes;   /* 0 = 80% of the largest device-local heap */
+    fv_target *target;              /* where frames are shown (fv_target.h; borrowed, outlives the renderer);
+                                     * NULL = headless */
 } fv_renderer_desc;
 
-#define FV_MAX_PASSES 16
-
-/** One entry of the frame plan: a pass, whether it runs, and why. */
-typedef struct fv_plan_entry {
-    char pass[24];
-    bool enabled;
-    char reason[160];
-} fv_plan_entry;
-
-typedef struct fv_frame_plan {
-    fv_plan_entry entries[FV_MAX_PASSES];
-    uint32_t count;
-} fv_frame_plan;
-
-/** Per-pass GPU time of the most recently completed frame. */
+/** Per-pass GPU time and counters of one completed frame (the passes that ran, in order). */
 typedef struct fv_render_stats {
     uint64_t frame_id;               /* frame these timings belong to */
     uint32_t pass_count;
-    char pass_name[FV_MAX_PASSES][24];
+    char pass_name[FV_MAX_PASSES][FV_PASS_ID_MAX];
     double pass_gpu_ms[FV_MAX_PASSES];
+    fv_pass_counters pass_counters[FV_MAX_PASSES]; /* what each pass did (draws, triangles, pixels, dispatches) */
     double frame_gpu_ms;             /* first timestamp to last */
-    uint64_t pixels_shaded;
+    uint64_t pixels_shaded;          /* sum over the passes */
     uint64_t device_memory_bytes;    /* currently allocated device memory */
     uint64_t peak_device_memory_bytes;
 } fv_render_stats;
@@ -82,7 +74,7 @@ uint32_t fv_renderer_validation_messages(const fv_renderer *r);
 const char *fv_renderer_device_name(const fv_renderer *r);
 
 /** Re-shade only the listed pixels of the last frame's G-buffer (each packed with FV_GPU_PIXEL_PACK(x, y, eye) from
- *  fv_gpu.h) through the same shading function, then re-encode the output. When clear_rgba is not NULL the linear
+ *  fv_gpu.h) through the same shading function, then run the passes after shading again (debug view, present). When clear_rgba is not NULL the linear
  *  colour image is first cleared to that value (to see which pixels were written). Waits for the GPU. Errors:
  *  FV_ERR_STATE before the first frame, FV_ERR_RANGE for a pixel outside the image (nothing is shaded then). */
 FV_MUST_CHECK fv_result fv_renderer_shade_pixels(fv_renderer *r, const uint32_t *packed, uint32_t count,
@@ -94,9 +86,11 @@ void fv_renderer_size(const fv_renderer *r, uint32_t *out_width, uint32_t *out_h
 FV_MUST_CHECK fv_result fv_renderer_frame_input(const fv_renderer *r, const fv_head *head, uint64_t frame_id,
                                                 double time_s, fv_frame_input *out);
 
-/** Build the frame plan for a scene (no GPU needed): every pass, whether it runs, and why. */
+/** Build the frame plan for a scene (no GPU needed; multiview assumed, default quality): every pass, whether it
+ *  runs, and why. */
 void fv_frame_plan_build(const fv_scene *scene, fv_frame_plan *out);
-/** The entry of a pass by name ("gbuffer", "motion", "shadow", "gi", "sss", "fovea", "shade", "present"), or NULL. */
+/** The entry of a pass by name ("gbuffer", "motion", "shadow", "gi", "sss", "fovea", "shade", "debug",
+ *  "present"), or NULL. */
 const fv_plan_entry *fv_frame_plan_find(const fv_frame_plan *plan, const char *pass);
 
 /** Near/far planes that hold the bounding sphere of [bounds_min, bounds_max] seen from the head (both eyes), with a
@@ -104,11 +98,10 @@ const fv_plan_entry *fv_frame_plan_find(const fv_frame_plan *plan, const char *p
 void fv_frame_near_far_from_bounds(const fv_head *head, fv_vec3 bounds_min, fv_vec3 bounds_max, float *out_near_m,
                                    float *out_far_m);
 
-/** Build per-eye views from a head pose, IPD (clamped to [0, FV_SCENE_MAX_IPD_MM]; NaN = 63 mm) and the HMD
- *  default asymmetric field of view: vertical extent FV_HMD_FOV_UP/DOWN, horizontal extent from the image aspect
- *  (square pixels) split outer:inner as FV_HMD_FOV_OUTER:INNER, mirrored per eye (eye 0 = left, outer = left).
- *  near/far <= 0 or non-finite: 0.05 m / 100 m (fv_renderer_frame_input uses the scene bounds instead); clamped
- *  so the projection stays finite. Gaze set to straight ahead, valid. */
+/** Frame input for a scene head: the eye views from fv_eye_views_build (fv_frame_input.h: IPD clamped to
+ *  [0, FV_SCENE_MAX_IPD_MM], NaN = 63 mm; the HMD default asymmetric field of view with square pixels for this image
+ *  size; near/far <= 0 or non-finite: 0.05 m / 100 m — fv_renderer_frame_input uses the scene bounds instead),
+ *  the head pose, gaze straight ahead and valid, pupil unknown, default quality. */
 void fv_frame_input_from_head(const fv_head *head, float near_m, float far_m, uint32_t eye_width,
                               uint32_t eye_height, uint64_t frame_id, double time_s, fv_frame_input *out);
 

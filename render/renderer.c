@@ -1,55 +1,57 @@
-/* @brief The renderer object: Vulkan core + G-buffer + shading + present, frames in flight, per-pass timings. */
+/* @brief The renderer object: the device, frames in flight, the plan loop over the pass table, and readback. Every
+ * pass is reached through the table (fv_passes.h); the scene lives in fv_scene_gpu, the images in fv_images. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fv_gpu.h"
+#include "fv_images.h"
+#include "fv_passes.h"
 #include "fv_renderer.h"
+#include "fv_scene_gpu.h"
+#include "fv_target.h"
 #include "fv_vk.h"
-#include "gbuffer.h"
-#include "present.h"
-#include "shade.h"
 
 #define MOD "render"
-#define MAX_SLOTS 8
 
 /* Per frame in flight: what the CPU writes or the GPU may still be using while the next frame is recorded. */
 typedef struct frame_slot {
     VkCommandPool pool;
     VkCommandBuffer cmd;
     VkFence fence;
-    fv_vk_buffer upload; /* frame block | lights | draw records, host-written each frame */
-    bool pending;        /* submitted, fence not yet waited for */
-    uint64_t seq;        /* submission number (caller frame ids need not increase) */
+    VkSemaphore image_ready, frame_done; /* binary semaphores for the target's hand-overs */
+    bool pending;                        /* submitted, fence not yet waited for */
+    uint64_t seq;                        /* submission number (caller frame ids need not increase) */
     uint64_t frame_id;
-    uint64_t pixels_shaded;
+    fv_pass_counters counters[FV_MAX_PASSES]; /* per timed pass, in timer order */
+    uint32_t counter_count;
 } frame_slot;
 
 struct fv_renderer {
     fv_renderer_desc desc;
     fv_vk *vk;
-    fv_gbuffer gb;
-    fv_shade shade;
-    fv_present present;
+    fv_images images;
+    fv_scene_gpu scene;
     fv_vk_timer timer;
-    frame_slot slots[MAX_SLOTS];
+    fv_target *target;
+    frame_slot slots[FV_MAX_FRAMES_IN_FLIGHT];
     uint32_t slot_count, next_slot;
-    /* the loaded scene: only what per-frame work needs (the renderer keeps no pointer to the caller's scene) */
+    /* the pass table, its plan and each enabled pass's state */
+    const fv_pass *const *table;
+    uint32_t pass_count;
+    void *pass_state[FV_MAX_PASSES];
+    uint32_t pass_variant[FV_MAX_PASSES]; /* the variant each live state was made for */
+    fv_frame_plan plan;
+    fv_quality plan_quality;
+    bool multiview;
+    char multiview_why[96];
+    /* the loaded scene, as planning needs it (no vertex data, no textures) */
     bool scene_loaded;
-    fv_scene anim;            /* nodes only, for fv_scene_node_world */
-    fv_gbuffer_draw *draws;   /* one per drawn node */
-    uint32_t *draw_nodes;
-    uint32_t *draw_materials;
-    uint32_t draw_count;
-    fv_gpu_light *lights;
-    uint32_t light_count;
-    fv_vec3 ambient;
+    fv_scene plan_scene;
     fv_head head;
     fv_vec3 bounds_min, bounds_max;
     bool has_bounds;
-    VkDeviceSize lights_offset, draws_offset, upload_size;
-    fv_frame_plan plan;
     /* previous frame, for motion vectors */
     bool have_prev;
     double prev_time_s;
@@ -57,38 +59,87 @@ struct fv_renderer {
     /* results */
     bool have_frame;
     uint32_t last_slot;
+    fv_frame_input last_input;
     fv_render_stats stats;
     bool have_stats;
     fv_render_stats history[FV_RENDERER_STATS_HISTORY]; /* the last retired frames, by frame_id % N */
     bool history_valid[FV_RENDERER_STATS_HISTORY];
     uint64_t stats_seq, submitted;
-    bool multiview;
-    char multiview_why[96];
 };
-
-/* The plan's G-buffer entry also says how the eyes are drawn on this device. */
-static void plan_build(fv_renderer *r, const fv_scene *scene)
-{
-    fv_frame_plan_build(scene, &r->plan);
-    if (r->multiview) return;
-    for (uint32_t i = 0; i < r->plan.count; i++) {
-        fv_plan_entry *e = &r->plan.entries[i];
-        if (strcmp(e->pass, "gbuffer") != 0) continue;
-        char *m = strstr(e->reason, "both eyes in one multiview pass");
-        if (!m) continue;
-        char tail[160];
-        snprintf(tail, sizeof tail, "%s", m + strlen("both eyes in one multiview pass"));
-        snprintf(m, sizeof e->reason - (size_t)(m - e->reason), "%s%s", r->multiview_why, tail);
-    }
-}
-
-static VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
 static fv_gpu_mat4 to_gpu(const fv_mat4 *m)
 {
     fv_gpu_mat4 g;
     memcpy(g.m, m->m, sizeof g.m);
     return g;
+}
+
+/* ---- the plan ----------------------------------------------------------------------------------------------- */
+
+static fv_quality quality_sanitized(const fv_quality *q)
+{
+    fv_quality d = fv_quality_default(), o = q ? *q : d;
+    if (!(isfinite(o.exposure) && o.exposure > 0.0f)) o.exposure = d.exposure;
+    if ((unsigned)o.debug_view > FV_DEBUG_VIEW_GAZE) o.debug_view = d.debug_view;
+    return o;
+}
+
+static bool plan_differs(const fv_quality *a, const fv_quality *b)
+{
+    return a->exposure != b->exposure || a->debug_view != b->debug_view;
+}
+
+static void pass_env(fv_renderer *r, uint32_t i, fv_pass_env *env)
+{
+    *env = (fv_pass_env){.vk = r->vk, .scene = &r->scene, .images = &r->images, .width = r->desc.eye_width,
+                         .height = r->desc.eye_height, .slots = r->slot_count, .multiview = r->multiview,
+                         .plan = &r->plan.entries[i]};
+}
+
+static void fini_pass(fv_renderer *r, uint32_t i)
+{
+    if (!r->pass_state[i]) return;
+    r->table[i]->fini(r->pass_state[i]);
+    r->pass_state[i] = NULL;
+}
+
+/* Decide the plan from the scene, the device and the quality, then bring the passes in line with it: init what
+ * is newly on (or asks for another variant), fini what is off. Waits for the GPU before anything is freed. */
+static fv_result plan_apply(fv_renderer *r, const fv_quality *quality)
+{
+    fv_plan_context ctx = {.scene = r->scene_loaded ? &r->plan_scene : NULL, .device = &r->vk->info,
+                           .multiview = r->multiview, .multiview_why = r->multiview ? NULL : r->multiview_why,
+                           .quality = quality,
+                           .target = r->target && r->target->ops ? r->target->ops->name : "headless"};
+    fv_frame_plan plan;
+    fv_frame_plan_build_ctx(&ctx, &plan);
+    bool idle = false;
+    for (uint32_t i = 0; i < r->pass_count; i++) {
+        bool keep = plan.entries[i].enabled && r->table[i]->init && r->pass_variant[i] == plan.entries[i].variant;
+        if (!r->pass_state[i] || keep) continue;
+        if (!idle) {
+            FV_TRY(fv_renderer_finish(r));
+            VkResult vr = vkDeviceWaitIdle(r->vk->device);
+            if (vr < 0) return fv_vk_fail(vr, "vkDeviceWaitIdle", __FILE__, __LINE__);
+            idle = true;
+        }
+        fini_pass(r, i);
+    }
+    r->plan = plan;
+    r->plan_quality = *quality;
+    for (uint32_t i = 0; i < r->pass_count; i++) {
+        if (!plan.entries[i].enabled || !r->table[i]->init || r->pass_state[i]) continue;
+        fv_pass_env env;
+        pass_env(r, i, &env);
+        fv_result res = r->table[i]->init(&env, &r->pass_state[i]);
+        if (res != FV_OK) {
+            FV_ERROR(MOD, "pass %s could not start: %s", r->table[i]->id, fv_result_str(res));
+            r->pass_state[i] = NULL;
+            return res;
+        }
+        r->pass_variant[i] = plan.entries[i].variant;
+    }
+    return FV_OK;
 }
 
 /* ---- create / destroy ----------------------------------------------------------------------------------------- */
@@ -112,6 +163,11 @@ static fv_result create_slots(fv_renderer *r)
         VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
         FV_VK_CHECK(vkCreateFence(vk->device, &fci, NULL, &s->fence));
         FV_VK_NAME(vk, VK_OBJECT_TYPE_FENCE, s->fence, "frame slot %u fence", i);
+        VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+        FV_VK_CHECK(vkCreateSemaphore(vk->device, &sci, NULL, &s->image_ready));
+        FV_VK_NAME(vk, VK_OBJECT_TYPE_SEMAPHORE, s->image_ready, "frame slot %u image ready", i);
+        FV_VK_CHECK(vkCreateSemaphore(vk->device, &sci, NULL, &s->frame_done));
+        FV_VK_NAME(vk, VK_OBJECT_TYPE_SEMAPHORE, s->frame_done, "frame slot %u frame done", i);
     }
     return FV_OK;
 }
@@ -134,14 +190,16 @@ fv_result fv_renderer_create(const fv_renderer_desc *desc_in, fv_renderer **out_
         return FV_ERR_RANGE;
     }
     if (!desc.frames_in_flight) desc.frames_in_flight = 2;
-    if (desc.frames_in_flight > MAX_SLOTS) {
-        FV_ERROR(MOD, "frames_in_flight %u exceeds %u", desc.frames_in_flight, MAX_SLOTS);
+    if (desc.frames_in_flight > FV_MAX_FRAMES_IN_FLIGHT) {
+        FV_ERROR(MOD, "frames_in_flight %u exceeds %u", desc.frames_in_flight, FV_MAX_FRAMES_IN_FLIGHT);
         return FV_ERR_RANGE;
     }
     fv_renderer *r = calloc(1, sizeof *r);
     if (!r) return FV_ERR_NO_MEMORY;
     r->desc = desc;
     r->slot_count = desc.frames_in_flight;
+    r->target = desc.target ? desc.target : fv_target_headless();
+    r->table = fv_pass_table(&r->pass_count);
     fv_vk_desc vd = {.device = desc.device,
                      .validation = desc.validation > 0 ? 1 : (desc.validation < 0 ? -1 : 0),
                      .memory_budget_bytes = desc.memory_budget_bytes,
@@ -149,15 +207,13 @@ fv_result fv_renderer_create(const fv_renderer_desc *desc_in, fv_renderer **out_
     fv_result res = fv_vk_create(&vd, &r->vk);
     if (res != FV_OK) goto fail;
     r->multiview = fv_vk_multiview_trusted(&r->vk->info, r->multiview_why, sizeof r->multiview_why);
-    fv_gbuffer_desc gd = {.width = desc.eye_width, .height = desc.eye_height, .frames_in_flight = r->slot_count,
-                          .multiview = r->multiview};
-    res = fv_gbuffer_init(&r->gb, r->vk, &gd);
-    if (res == FV_OK) res = fv_shade_init(&r->shade, r->vk, &r->gb, r->slot_count);
-    if (res == FV_OK) res = fv_present_init(&r->present, r->vk, &r->shade.color, FV_TONEMAP_CLAMP);
+    res = fv_images_init(&r->images, r->vk, desc.eye_width, desc.eye_height);
+    if (res == FV_OK) res = fv_scene_gpu_init(&r->scene, r->vk, r->slot_count);
     if (res == FV_OK) res = fv_vk_timer_init(&r->timer, r->vk, r->slot_count);
     if (res == FV_OK) res = create_slots(r);
+    fv_quality q = fv_quality_default();
+    if (res == FV_OK) res = plan_apply(r, &q);
     if (res != FV_OK) goto fail;
-    plan_build(r, NULL);
     *out_renderer = r;
     return FV_OK;
 fail:
@@ -167,24 +223,23 @@ fail:
     return res;
 }
 
+static void free_plan_scene(fv_renderer *r)
+{
+    free(r->plan_scene.nodes);
+    free(r->plan_scene.meshes);
+    free(r->plan_scene.materials);
+    free(r->plan_scene.lights);
+    memset(&r->plan_scene, 0, sizeof r->plan_scene);
+}
+
 static void release_scene(fv_renderer *r)
 {
-    free(r->anim.nodes);
-    memset(&r->anim, 0, sizeof r->anim);
-    free(r->draws);
-    free(r->draw_nodes);
-    free(r->draw_materials);
-    free(r->lights);
-    r->draws = NULL;
-    r->draw_nodes = NULL;
-    r->draw_materials = NULL;
-    r->lights = NULL;
-    r->draw_count = r->light_count = 0;
+    fv_scene_gpu_unload(&r->scene);
+    free_plan_scene(r);
     r->scene_loaded = false;
     r->have_prev = false;
     r->have_frame = false;
     memset(r->history_valid, 0, sizeof r->history_valid); /* frame ids may start over with the next scene */
-    for (uint32_t i = 0; i < r->slot_count; i++) fv_vk_buffer_destroy(r->vk, &r->slots[i].upload);
 }
 
 void fv_renderer_destroy(fv_renderer **pr)
@@ -193,16 +248,18 @@ void fv_renderer_destroy(fv_renderer **pr)
     fv_renderer *r = *pr;
     if (r->vk) {
         vkDeviceWaitIdle(r->vk->device);
+        for (uint32_t i = 0; i < r->pass_count; i++) fini_pass(r, i);
         release_scene(r);
         for (uint32_t i = 0; i < r->slot_count; i++) {
             frame_slot *s = &r->slots[i];
             if (s->fence) vkDestroyFence(r->vk->device, s->fence, NULL);
+            if (s->image_ready) vkDestroySemaphore(r->vk->device, s->image_ready, NULL);
+            if (s->frame_done) vkDestroySemaphore(r->vk->device, s->frame_done, NULL);
             if (s->pool) vkDestroyCommandPool(r->vk->device, s->pool, NULL);
         }
         fv_vk_timer_fini(&r->timer, r->vk);
-        fv_present_fini(&r->present);
-        fv_shade_fini(&r->shade);
-        fv_gbuffer_fini(&r->gb);
+        fv_scene_gpu_fini(&r->scene);
+        fv_images_fini(&r->images);
         fv_vk_destroy(&r->vk);
     }
     free(r);
@@ -211,7 +268,7 @@ void fv_renderer_destroy(fv_renderer **pr)
 
 /* ---- frames in flight ---------------------------------------------------------------------------------------- */
 
-/* Wait for a slot's frame and take its timings. */
+/* Wait for a slot's frame and take its timings and counters. */
 static fv_result retire(fv_renderer *r, uint32_t slot)
 {
     frame_slot *s = &r->slots[slot];
@@ -224,13 +281,15 @@ static fv_result retire(fv_renderer *r, uint32_t slot)
     char names[FV_MAX_PASSES][FV_VK_TIMER_NAME_MAX];
     double ms[FV_MAX_PASSES];
     st->pass_count = fv_vk_timer_collect(&r->timer, r->vk, slot, ms, names, FV_MAX_PASSES, &st->frame_gpu_ms);
+    st->pixels_shaded = 0;
     for (uint32_t i = 0; i < st->pass_count; i++) {
-        memcpy(st->pass_name[i], names[i], sizeof st->pass_name[i]); /* both FV_VK_TIMER_NAME_MAX, terminated */
+        memcpy(st->pass_name[i], names[i], sizeof st->pass_name[i]); /* both 24 bytes, terminated */
         st->pass_name[i][sizeof st->pass_name[i] - 1] = '\0';
         st->pass_gpu_ms[i] = ms[i];
+        st->pass_counters[i] = i < s->counter_count ? s->counters[i] : (fv_pass_counters){0};
+        st->pixels_shaded += st->pass_counters[i].pixels_shaded;
     }
     st->frame_id = s->frame_id;
-    st->pixels_shaded = s->pixels_shaded;
     r->have_stats = true;
     r->history[s->frame_id % FV_RENDERER_STATS_HISTORY] = *st;
     r->history_valid[s->frame_id % FV_RENDERER_STATS_HISTORY] = true;
@@ -247,24 +306,35 @@ fv_result fv_renderer_finish(fv_renderer *r)
 
 /* ---- scene --------------------------------------------------------------------------------------------------- */
 
-static fv_gpu_light to_gpu_light(const fv_light *l)
+/* What planning looks at: the scene's structure without vertex data or textures. */
+static fv_result copy_plan_scene(fv_renderer *r, const fv_scene *s)
 {
-    fv_gpu_light g;
-    memset(&g, 0, sizeof g);
-    fv_vec3 p = fv_v3_isfinite(l->position_m) ? l->position_m : fv_v3(0, 0, 0);
-    fv_vec3 d = fv_v3_normalize_or(l->direction, fv_v3(0, -1, 0));
-    float range = isfinite(l->range_m) && l->range_m > 0 ? l->range_m : 0.0f;
-    float intensity = isfinite(l->intensity) && l->intensity > 0 ? l->intensity : 0.0f;
-    fv_vec3 c = l->color;
-    c = fv_v3(isfinite(c.x) && c.x > 0 ? c.x : 0, isfinite(c.y) && c.y > 0 ? c.y : 0, isfinite(c.z) && c.z > 0 ? c.z : 0);
-    uint32_t type = (unsigned)l->type <= FV_LIGHT_DIRECTIONAL ? (uint32_t)l->type : FV_GPU_LIGHT_POINT;
-    float outer = isfinite(l->outer_cone_rad) ? fv_clampf(l->outer_cone_rad, 0.0f, (float)FV_PI / 2) : (float)FV_PI / 4;
-    float inner = isfinite(l->inner_cone_rad) ? fv_clampf(l->inner_cone_rad, 0.0f, outer) : 0.0f;
-    g.position_range = (fv_gpu_vec4){p.x, p.y, p.z, range};
-    g.direction_type = (fv_gpu_vec4){d.x, d.y, d.z, (float)type};
-    g.intensity = (fv_gpu_vec4){c.x * intensity, c.y * intensity, c.z * intensity, 0.0f};
-    g.cone = (fv_gpu_vec4){cosf(inner), cosf(outer), 0.0f, 0.0f};
-    return g;
+    fv_scene *p = &r->plan_scene;
+    memset(p, 0, sizeof *p);
+    snprintf(p->name, sizeof p->name, "%s", s->name);
+    snprintf(p->source, sizeof p->source, "%s", s->source);
+    p->unit_scale_m = s->unit_scale_m;
+    p->head = s->head;
+    p->ambient = s->ambient;
+    p->nodes = malloc((s->node_count ? s->node_count : 1) * sizeof *p->nodes);
+    p->meshes = malloc((s->mesh_count ? s->mesh_count : 1) * sizeof *p->meshes);
+    p->materials = malloc((s->material_count ? s->material_count : 1) * sizeof *p->materials);
+    p->lights = malloc((s->light_count ? s->light_count : 1) * sizeof *p->lights);
+    if (!p->nodes || !p->meshes || !p->materials || !p->lights) return FV_ERR_NO_MEMORY;
+    memcpy(p->nodes, s->nodes, s->node_count * sizeof *p->nodes);
+    p->node_count = s->node_count;
+    for (uint32_t m = 0; m < s->mesh_count; m++) {
+        p->meshes[m] = s->meshes[m];
+        p->meshes[m].positions = p->meshes[m].normals = NULL;
+        p->meshes[m].texcoords = NULL;
+        p->meshes[m].indices = NULL;
+    }
+    p->mesh_count = s->mesh_count;
+    memcpy(p->materials, s->materials, s->material_count * sizeof *p->materials);
+    p->material_count = s->material_count;
+    memcpy(p->lights, s->lights, s->light_count * sizeof *p->lights);
+    p->light_count = s->light_count;
+    return FV_OK;
 }
 
 fv_result fv_renderer_load_scene(fv_renderer *r, const fv_scene *scene)
@@ -275,64 +345,16 @@ fv_result fv_renderer_load_scene(fv_renderer *r, const fv_scene *scene)
     VkResult vr = vkDeviceWaitIdle(r->vk->device);
     if (vr < 0) return fv_vk_fail(vr, "vkDeviceWaitIdle", __FILE__, __LINE__);
     release_scene(r);
-    res = fv_gbuffer_load_scene(&r->gb, scene);
+    res = fv_scene_gpu_load(&r->scene, scene);
+    if (res == FV_OK) res = copy_plan_scene(r, scene);
     if (res != FV_OK) goto fail;
-
-    uint32_t draws = 0;
-    for (uint32_t i = 0; i < scene->node_count; i++)
-        if (scene->nodes[i].mesh >= 0 && (uint32_t)scene->nodes[i].mesh < scene->mesh_count) draws++;
-    r->anim.nodes = malloc((scene->node_count ? scene->node_count : 1) * sizeof *r->anim.nodes);
-    r->draws = calloc(draws ? draws : 1, sizeof *r->draws);
-    r->draw_nodes = calloc(draws ? draws : 1, sizeof *r->draw_nodes);
-    r->draw_materials = calloc(draws ? draws : 1, sizeof *r->draw_materials);
-    r->lights = calloc(scene->light_count ? scene->light_count : 1, sizeof *r->lights);
-    if (!r->anim.nodes || !r->draws || !r->draw_nodes || !r->draw_materials || !r->lights) {
-        res = FV_ERR_NO_MEMORY;
-        goto fail;
-    }
-    memcpy(r->anim.nodes, scene->nodes, scene->node_count * sizeof *scene->nodes);
-    r->anim.node_count = scene->node_count;
-    for (uint32_t i = 0; i < scene->node_count; i++) {
-        const fv_node *n = &scene->nodes[i];
-        if (n->mesh < 0 || (uint32_t)n->mesh >= scene->mesh_count) continue;
-        uint32_t mat = scene->meshes[n->mesh].material;
-        if (mat >= r->gb.material_count) mat = 0;
-        int32_t tex = mat < scene->material_count ? scene->materials[mat].base_color_texture : -1;
-        r->draws[r->draw_count] = (fv_gbuffer_draw){.mesh = (uint32_t)n->mesh, .texture = tex};
-        r->draw_nodes[r->draw_count] = i;
-        r->draw_materials[r->draw_count] = mat;
-        r->draw_count++;
-    }
-    for (uint32_t l = 0; l < scene->light_count; l++) r->lights[l] = to_gpu_light(&scene->lights[l]);
-    r->light_count = scene->light_count;
-    r->ambient = fv_v3_isfinite(scene->ambient) ? fv_v3_max(scene->ambient, fv_v3(0, 0, 0)) : fv_v3(0, 0, 0);
     r->head = scene->head;
     r->has_bounds = fv_scene_world_bounds(scene, 0.0, &r->bounds_min, &r->bounds_max);
-
-    /* Per-frame upload buffers: frame block | lights | draw records, each at the device's offset alignment. */
-    VkDeviceSize a = r->vk->props.limits.minUniformBufferOffsetAlignment;
-    if (r->vk->props.limits.minStorageBufferOffsetAlignment > a) a = r->vk->props.limits.minStorageBufferOffsetAlignment;
-    if (a < 16) a = 16;
-    r->lights_offset = align_up(sizeof(fv_gpu_frame), a);
-    r->draws_offset = align_up(r->lights_offset + (scene->light_count ? scene->light_count : 1) * sizeof(fv_gpu_light), a);
-    r->upload_size = r->draws_offset + (draws ? draws : 1) * sizeof(fv_gpu_draw);
-    for (uint32_t i = 0; i < r->slot_count; i++) {
-        char name[48];
-        snprintf(name, sizeof name, "frame slot %u data", i);
-        res = fv_vk_buffer_create(r->vk, r->upload_size,
-                                  VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                  FV_VK_MEM_UPLOAD, name, &r->slots[i].upload);
-        if (res != FV_OK) goto fail;
-        memset(r->slots[i].upload.mapped, 0, r->upload_size);
-        VkBuffer b = r->slots[i].upload.buffer;
-        fv_gbuffer_bind_frame(&r->gb, i, b, 0, r->draws_offset, (draws ? draws : 1) * sizeof(fv_gpu_draw));
-        fv_shade_bind_frame(&r->shade, i, b, 0, r->lights_offset,
-                            (scene->light_count ? scene->light_count : 1) * sizeof(fv_gpu_light), r->gb.materials.buffer);
-    }
-    plan_build(r, scene);
     r->scene_loaded = true;
-    FV_INFO(MOD, "%s: %u draws, %u lights, %llu triangles uploaded", scene->source, r->draw_count, r->light_count,
-            (unsigned long long)fv_scene_triangle_count(scene));
+    res = plan_apply(r, &r->plan_quality);
+    if (res != FV_OK) goto fail;
+    FV_INFO(MOD, "%s: %u draws, %u lights, %llu triangles uploaded", scene->source, r->scene.draw_count,
+            r->scene.light_count, (unsigned long long)fv_scene_triangle_count(scene));
     return FV_OK;
 fail:
     FV_ERROR(MOD, "%s: loading the scene into the renderer failed: %s", scene->source, fv_result_str(res));
@@ -356,50 +378,40 @@ fv_result fv_renderer_frame_input(const fv_renderer *r, const fv_head *head, uin
 
 /* ---- drawing ------------------------------------------------------------------------------------------------- */
 
-static fv_mat4 normal_matrix(const fv_mat4 *model)
+/* The frame constants the runtime's input gives: views, eyes, gaze, pupil, times, quality. */
+static void frame_constants(fv_renderer *r, const fv_frame_input *in, fv_gpu_frame *fr, fv_mat4 vp[2])
 {
-    fv_mat4 inv;
-    if (!fv_mat4_invert(model, &inv)) return *model;
-    return fv_mat4_transpose(&inv);
-}
-
-static void write_frame_data(fv_renderer *r, frame_slot *s, const fv_frame_input *in)
-{
-    uint8_t *base = s->upload.mapped;
-    fv_gpu_frame fr;
-    memset(&fr, 0, sizeof fr);
-    fv_mat4 vp[2];
+    memset(fr, 0, sizeof *fr);
     for (int e = 0; e < 2; e++) {
         vp[e] = fv_mat4_mul(&in->eye[e].proj, &in->eye[e].view);
         fv_mat4 inv;
         (void)fv_mat4_invert(&vp[e], &inv); /* identity when singular: positions then stay finite */
-        fr.view_proj[e] = to_gpu(&vp[e]);
-        fr.prev_view_proj[e] = to_gpu(r->have_prev ? &r->prev_view_proj[e] : &vp[e]);
-        fr.inv_view_proj[e] = to_gpu(&inv);
+        fr->view_proj[e] = to_gpu(&vp[e]);
+        fr->prev_view_proj[e] = to_gpu(r->have_prev ? &r->prev_view_proj[e] : &vp[e]);
+        fr->inv_view_proj[e] = to_gpu(&inv);
         fv_vec3 p = in->eye[e].pos_world;
-        fr.eye_pos[e] = (fv_gpu_vec4){p.x, p.y, p.z, 1.0f};
+        fr->eye_pos[e] = (fv_gpu_vec4){p.x, p.y, p.z, 1.0f};
+        const fv_eye_view *v = &in->eye[e];
+        fr->eye_tan[e] = (fv_gpu_vec4){v->tan_left, v->tan_right, v->tan_up, v->tan_down};
+        /* Gaze: a valid, finite, non-zero direction is normalised; anything else is "no gaze" (straight ahead). */
+        const fv_eye_gaze *g = &in->gaze[e];
+        fv_vec3 d = g->valid && fv_v3_isfinite(g->dir_eye) ? fv_v3_normalize_or(g->dir_eye, fv_v3(0, 0, 0))
+                                                            : fv_v3(0, 0, 0);
+        bool valid = fv_v3_len(d) > 0.5f;
+        if (!valid) d = fv_v3(0, 0, -1);
+        fr->gaze_dir[e] = (fv_gpu_vec4){d.x, d.y, d.z, valid ? 1.0f : 0.0f};
+        float u = isfinite(g->uncertainty_deg) ? fv_clampf((float)fv_deg_to_rad(g->uncertainty_deg), 0.0f, (float)FV_PI)
+                                               : (float)FV_PI;
+        float pupil = isfinite(in->pupil_mm) && in->pupil_mm > 0.0f ? fminf(in->pupil_mm, 1e3f) : 0.0f;
+        fr->gaze_info[e] = (fv_gpu_vec4){valid ? u : (float)FV_PI, pupil, 0.0f, 0.0f};
     }
-    fr.ambient = (fv_gpu_vec4){r->ambient.x, r->ambient.y, r->ambient.z, 0.0f};
-    fr.counts = (fv_gpu_uvec4){r->light_count, r->desc.eye_width, r->desc.eye_height, (uint32_t)in->frame_id};
-    memcpy(base, &fr, sizeof fr);
-    if (r->light_count) memcpy(base + r->lights_offset, r->lights, r->light_count * sizeof(fv_gpu_light));
-    double t = isfinite(in->time_s) ? in->time_s : 0.0;
-    double t_prev = r->have_prev ? r->prev_time_s : t;
-    fv_gpu_draw *d = (fv_gpu_draw *)(base + r->draws_offset);
-    for (uint32_t i = 0; i < r->draw_count; i++) {
-        fv_mat4 m = fv_scene_node_world(&r->anim, r->draw_nodes[i], t);
-        fv_mat4 pm = fv_scene_node_world(&r->anim, r->draw_nodes[i], t_prev);
-        fv_mat4 nm = normal_matrix(&m);
-        d[i].model = to_gpu(&m);
-        d[i].prev_model = to_gpu(&pm);
-        d[i].normal_matrix = to_gpu(&nm);
-        d[i].info = (fv_gpu_uvec4){r->draw_materials[i], r->draws[i].texture >= 0 ? (uint32_t)r->draws[i].texture
-                                                                                   : 0xffffffffu, 0, 0};
-    }
-    r->have_prev = true;
-    r->prev_time_s = t;
-    r->prev_view_proj[0] = vp[0];
-    r->prev_view_proj[1] = vp[1];
+    fr->counts = (fv_gpu_uvec4){0, r->desc.eye_width, r->desc.eye_height, (uint32_t)in->frame_id};
+    double lead_s = in->t_photon_ns && in->t_frame_ns ? (double)(in->t_photon_ns - in->t_frame_ns) * 1e-9 : 0.0;
+    if (!isfinite(lead_s) || fabs(lead_s) > 3600.0) lead_s = 0.0;
+    fr->time = (fv_gpu_vec4){(float)(isfinite(in->time_s) ? in->time_s : 0.0), (float)lead_s, 0.0f, 0.0f};
+    uint64_t photon = in->t_photon_ns > 0 ? (uint64_t)in->t_photon_ns : 0u;
+    fr->photon = (fv_gpu_uvec4){(uint32_t)photon, (uint32_t)(photon >> 32), (uint32_t)in->quality.debug_view, 0};
+    fr->quality = (fv_gpu_vec4){in->quality.exposure, 0.0f, 0.0f, 0.0f};
 }
 
 static bool frame_input_ok(const fv_frame_input *in)
@@ -411,55 +423,94 @@ static bool frame_input_ok(const fv_frame_input *in)
     return fv_v3_isfinite(in->eye[0].pos_world) && fv_v3_isfinite(in->eye[1].pos_world);
 }
 
-fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in)
+/* Record the enabled passes (only those that replay on a pixel list when `pixels` is set), each in its own
+ * timestamp range when `timed`. */
+static void record_passes(fv_renderer *r, VkCommandBuffer cmd, uint32_t slot, const fv_frame_input *in,
+                          const fv_pixel_list *pixels, bool timed, frame_slot *s)
 {
-    if (!r || !in) return FV_ERR_INVALID_ARG;
+    if (s) s->counter_count = 0;
+    for (uint32_t i = 0; i < r->pass_count; i++) {
+        const fv_pass *p = r->table[i];
+        if (!r->plan.entries[i].enabled || !r->pass_state[i] || !p->record) continue;
+        if (pixels && !(p->flags & FV_PASS_REPLAYS_ON_PIXELS)) continue;
+        fv_pass_counters scratch = {0};
+        int t = timed ? fv_vk_timer_begin(&r->timer, cmd, slot, p->id) : -1;
+        fv_pass_counters *counters = s && t >= 0 && (uint32_t)t < FV_MAX_PASSES ? &s->counters[t] : &scratch;
+        *counters = (fv_pass_counters){0};
+        fv_pass_frame f = {.cmd = cmd, .slot = slot, .input = in, .images = &r->images, .scene = &r->scene,
+                           .scene_set = fv_scene_gpu_set(&r->scene, slot), .pixels = pixels, .counters = counters};
+        p->record(r->pass_state[i], &f);
+        if (t >= 0) {
+            fv_vk_timer_end(&r->timer, cmd, slot, t);
+            if (s && (uint32_t)t + 1 > s->counter_count) s->counter_count = (uint32_t)t + 1;
+        }
+    }
+}
+
+fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in_raw)
+{
+    if (!r || !in_raw) return FV_ERR_INVALID_ARG;
     if (!r->scene_loaded) {
         FV_ERROR(MOD, "draw before a scene was loaded");
         return FV_ERR_STATE;
     }
-    if (!frame_input_ok(in)) {
-        FV_ERROR(MOD, "frame %llu: non-finite view or projection matrix", (unsigned long long)in->frame_id);
+    if (!frame_input_ok(in_raw)) {
+        FV_ERROR(MOD, "frame %llu: non-finite view or projection matrix", (unsigned long long)in_raw->frame_id);
         return FV_ERR_RANGE;
     }
+    fv_frame_input in = *in_raw;
+    in.quality = quality_sanitized(&in_raw->quality);
+    if (plan_differs(&in.quality, &r->plan_quality)) FV_TRY(plan_apply(r, &in.quality));
+
     uint32_t slot = r->next_slot;
     frame_slot *s = &r->slots[slot];
     FV_TRY(retire(r, slot)); /* the GPU is done with this slot's command buffer, upload data and queries */
     FV_VK_CHECK(vkResetFences(r->vk->device, 1, &s->fence));
     FV_VK_CHECK(vkResetCommandPool(r->vk->device, s->pool, 0));
-    write_frame_data(r, s, in);
-    FV_TRY(fv_vk_buffer_flush(r->vk, &s->upload));
+    fv_gpu_frame fr;
+    fv_mat4 vp[2];
+    frame_constants(r, &in, &fr, vp);
+    double t = isfinite(in.time_s) ? in.time_s : 0.0;
+    FV_TRY(fv_scene_gpu_write_frame(&r->scene, slot, &fr, t, r->have_prev ? r->prev_time_s : t));
+    r->have_prev = true;
+    r->prev_time_s = t;
+    r->prev_view_proj[0] = vp[0];
+    r->prev_view_proj[1] = vp[1];
+
+    fv_target_frame tf = {.vk = r->vk, .images = &r->images, .width = r->desc.eye_width,
+                          .height = r->desc.eye_height, .slot = slot, .frame_id = in.frame_id, .cmd = s->cmd,
+                          .image_ready = s->image_ready, .frame_done = s->frame_done};
+    bool wait_ready = false, signal_done = false;
+    const fv_target_ops *ops = r->target->ops;
+    if (ops->begin) FV_TRY(ops->begin(r->target, &tf, &wait_ready, &signal_done));
 
     VkCommandBuffer cmd = s->cmd;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     FV_VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
     fv_vk_timer_reset(&r->timer, cmd, slot);
-
-    int t = fv_vk_timer_begin(&r->timer, cmd, slot, "gbuffer");
-    fv_gbuffer_inputs gi = {.slot = slot, .draws = r->draws, .draw_count = r->draw_count};
-    fv_gbuffer_record(&r->gb, cmd, &gi);
-    fv_vk_timer_end(&r->timer, cmd, slot, t);
-
-    t = fv_vk_timer_begin(&r->timer, cmd, slot, "shade");
-    fv_shade_inputs si = {.slot = slot, .mode = FV_SHADE_MODE_ALL};
-    fv_shade_record(&r->shade, cmd, &si);
-    fv_vk_timer_end(&r->timer, cmd, slot, t);
-
-    t = fv_vk_timer_begin(&r->timer, cmd, slot, "present");
-    fv_present_record(&r->present, cmd);
-    fv_vk_timer_end(&r->timer, cmd, slot, t);
-
+    record_passes(r, cmd, slot, &in, NULL, true, s);
+    if (ops->record) ops->record(r->target, &tf);
     FV_VK_CHECK(vkEndCommandBuffer(cmd));
-    VkSubmitInfo sub = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    VkSubmitInfo sub = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                        .waitSemaphoreCount = wait_ready ? 1u : 0u,
+                        .pWaitSemaphores = &s->image_ready,
+                        .pWaitDstStageMask = &wait_stage,
+                        .commandBufferCount = 1,
+                        .pCommandBuffers = &cmd,
+                        .signalSemaphoreCount = signal_done ? 1u : 0u,
+                        .pSignalSemaphores = &s->frame_done};
     FV_VK_CHECK(vkQueueSubmit(r->vk->queue, 1, &sub, s->fence));
     s->pending = true;
-    s->frame_id = in->frame_id;
+    s->frame_id = in.frame_id;
     s->seq = ++r->submitted;
-    s->pixels_shaded = fv_shade_pixels_all(&r->shade);
     r->have_frame = true;
     r->last_slot = slot;
+    r->last_input = in;
     r->next_slot = (slot + 1) % r->slot_count;
+    fv_images_next_frame(&r->images);
+    if (ops->end) FV_TRY(ops->end(r->target, &tf));
     return FV_OK;
 }
 
@@ -483,35 +534,35 @@ fv_result fv_renderer_stats(const fv_renderer *r, fv_render_stats *out_stats)
     return r->have_stats ? FV_OK : FV_NO_NEW_DATA;
 }
 
-/* ---- readback and sparse shading ----------------------------------------------------------------------------- */
+/* ---- readback and re-shading --------------------------------------------------------------------------------- */
+
+static fv_result need_frame(const fv_renderer *r, const char *what)
+{
+    if (r->have_frame) return FV_OK;
+    FV_ERROR(MOD, "%s before any frame was drawn", what);
+    return FV_ERR_STATE;
+}
 
 fv_result fv_renderer_read_rgba8(fv_renderer *r, bool sbs, int eye, uint8_t *out, size_t out_size)
 {
     if (!r || !out) return FV_ERR_INVALID_ARG;
-    if (!r->have_frame) {
-        FV_ERROR(MOD, "read_rgba8 before any frame was drawn");
-        return FV_ERR_STATE;
-    }
+    FV_TRY(need_frame(r, "read_rgba8"));
     FV_TRY(fv_renderer_finish(r));
-    return fv_present_read_rgba8(&r->present, sbs, eye, out, out_size);
+    return fv_target_read_display(&r->images, r->desc.eye_width, r->desc.eye_height, sbs, eye, out, out_size);
 }
 
 fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *out_rgba, size_t out_floats)
 {
     if (!r || !out_rgba || eye < 0 || eye > 1) return FV_ERR_INVALID_ARG;
-    if (!r->have_frame) {
-        FV_ERROR(MOD, "read_linear before any frame was drawn");
-        return FV_ERR_STATE;
-    }
+    FV_TRY(need_frame(r, "read_linear"));
     size_t n = (size_t)r->desc.eye_width * r->desc.eye_height * 4;
     if (out_floats < n) {
         FV_ERROR(MOD, "read_linear needs %zu floats, got %zu", n, out_floats);
         return FV_ERR_INVALID_ARG;
     }
     FV_TRY(fv_renderer_finish(r));
-    return fv_vk_read_image(r->vk, &r->shade.color, (uint32_t)eye, VK_IMAGE_LAYOUT_GENERAL,
-                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, out_rgba,
-                            out_floats * sizeof(float), 0, (size_t)r->desc.eye_width * 16);
+    return fv_images_read(&r->images, FV_IMAGE_COLOR, (uint32_t)eye, out_rgba, out_floats * sizeof(float), 0,
+                          (size_t)r->desc.eye_width * 16);
 }
 
 /* IEEE 754 binary16 -> float (exact: every half is a float). */
@@ -534,10 +585,7 @@ static float half_to_float(uint16_t h)
 fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t out_floats)
 {
     if (!r || !out_rg || eye < 0 || eye > 1) return FV_ERR_INVALID_ARG;
-    if (!r->have_frame) {
-        FV_ERROR(MOD, "read_motion before any frame was drawn");
-        return FV_ERR_STATE;
-    }
+    FV_TRY(need_frame(r, "read_motion"));
     size_t n = (size_t)r->desc.eye_width * r->desc.eye_height * 2;
     if (out_floats < n) {
         FV_ERROR(MOD, "read_motion needs %zu floats, got %zu", n, out_floats);
@@ -546,26 +594,29 @@ fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t
     uint16_t *half = malloc(n * sizeof *half);
     if (!half) return FV_ERR_NO_MEMORY;
     fv_result res = fv_renderer_finish(r);
-    /* Written by the G-buffer pass (colour attachment) and read by shading (compute): the copy's layout change
-     * waits for both (read-after-write and write-after-read). */
     if (res == FV_OK)
-        res = fv_vk_read_image(r->vk, &r->gb.motion, (uint32_t)eye, FV_GBUFFER_COLOR_LAYOUT,
-                               VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                               VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, half, n * sizeof *half, 0,
-                               (size_t)r->desc.eye_width * 2 * sizeof *half);
+        res = fv_images_read(&r->images, FV_IMAGE_MOTION, (uint32_t)eye, half, n * sizeof *half, 0,
+                             (size_t)r->desc.eye_width * 2 * sizeof *half);
     if (res == FV_OK)
         for (size_t i = 0; i < n; i++) out_rg[i] = half_to_float(half[i]);
     free(half);
     return res;
 }
 
+/* Indirect dispatch arguments for a list of `count` pixels (fv_gpu.h FV_GPU_LIST_*). */
+static VkDispatchIndirectCommand list_dispatch(uint32_t count)
+{
+    uint32_t groups = (uint32_t)(((uint64_t)count + FV_GPU_LIST_GROUP_SIZE - 1) / FV_GPU_LIST_GROUP_SIZE);
+    VkDispatchIndirectCommand c = {groups < FV_GPU_LIST_GROUPS_X ? groups : FV_GPU_LIST_GROUPS_X,
+                                   (groups + FV_GPU_LIST_GROUPS_X - 1) / FV_GPU_LIST_GROUPS_X, 1};
+    if (groups == 0) c.x = c.y = 0;
+    return c;
+}
+
 fv_result fv_renderer_shade_pixels(fv_renderer *r, const uint32_t *packed, uint32_t count, const float *clear_rgba)
 {
     if (!r || (!packed && count)) return FV_ERR_INVALID_ARG;
-    if (!r->have_frame) {
-        FV_ERROR(MOD, "shade_pixels before any frame was drawn");
-        return FV_ERR_STATE;
-    }
+    FV_TRY(need_frame(r, "shade_pixels"));
     for (uint32_t i = 0; i < count; i++) {
         uint32_t x = packed[i] & 0x7fffu, y = (packed[i] >> 15) & 0x7fffu, layer = packed[i] >> 30;
         if (x >= r->desc.eye_width || y >= r->desc.eye_height || layer > 1) {
@@ -577,7 +628,7 @@ fv_result fv_renderer_shade_pixels(fv_renderer *r, const uint32_t *packed, uint3
     FV_TRY(fv_renderer_finish(r));
     fv_vk *vk = r->vk;
     fv_vk_buffer list = {0}, indirect = {0};
-    VkDeviceSize list_size = FV_SHADE_LIST_HEADER_BYTES + (VkDeviceSize)(count ? count : 1) * 4;
+    VkDeviceSize list_size = FV_GPU_LIST_HEADER_BYTES + (VkDeviceSize)(count ? count : 1) * 4;
     fv_result res = fv_vk_buffer_create(vk, list_size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_UPLOAD,
                                         "shade pixel list", &list);
     if (res == FV_OK)
@@ -586,41 +637,28 @@ fv_result fv_renderer_shade_pixels(fv_renderer *r, const uint32_t *packed, uint3
     if (res != FV_OK) goto done;
     uint32_t header[4] = {count, 0, 0, 0};
     memcpy(list.mapped, header, sizeof header);
-    if (count) memcpy((uint8_t *)list.mapped + FV_SHADE_LIST_HEADER_BYTES, packed, (size_t)count * 4);
-    VkDispatchIndirectCommand args = fv_shade_list_dispatch(count);
+    if (count) memcpy((uint8_t *)list.mapped + FV_GPU_LIST_HEADER_BYTES, packed, (size_t)count * 4);
+    VkDispatchIndirectCommand args = list_dispatch(count);
     memcpy(indirect.mapped, &args, sizeof args);
     if ((res = fv_vk_buffer_flush(vk, &list)) != FV_OK || (res = fv_vk_buffer_flush(vk, &indirect)) != FV_OK) goto done;
 
-    uint32_t slot = r->last_slot; /* its frame block and lights describe the frame being re-shaded */
-    fv_shade_bind_list(&r->shade, slot, list.buffer, 0, VK_WHOLE_SIZE);
     VkCommandBuffer cmd;
     res = fv_vk_oneshot_begin(vk, "shade pixel list", &cmd);
-    if (res != FV_OK) goto unbind;
+    if (res != FV_OK) goto done;
     if (clear_rgba) {
-        /* The previous present pass read the colour image: wait for it before clearing (write-after-read). */
-        VkImageMemoryBarrier b = {
-            .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-            .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
-            .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-            .oldLayout = VK_IMAGE_LAYOUT_GENERAL,
-            .newLayout = VK_IMAGE_LAYOUT_GENERAL,
-            .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-            .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-            .image = r->shade.color.image,
-            .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 2},
-        };
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+        fv_images_use(&r->images, cmd, FV_IMAGE_COLOR,
+                      (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                        VK_ACCESS_TRANSFER_WRITE_BIT});
         VkClearColorValue cv = {.float32 = {clear_rgba[0], clear_rgba[1], clear_rgba[2], clear_rgba[3]}};
         VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 2};
-        vkCmdClearColorImage(cmd, r->shade.color.image, VK_IMAGE_LAYOUT_GENERAL, &cv, 1, &range);
+        vkCmdClearColorImage(cmd, fv_images_image(&r->images, FV_IMAGE_COLOR)->image, VK_IMAGE_LAYOUT_GENERAL, &cv, 1,
+                             &range);
     }
-    fv_shade_inputs si = {.slot = slot, .mode = FV_SHADE_MODE_LIST, .indirect = indirect.buffer};
-    fv_shade_record(&r->shade, cmd, &si);
-    fv_present_record(&r->present, cmd);
+    /* The last frame's slot: its frame block and lights describe the frame being re-shaded. */
+    fv_pixel_list pl = {.buffer = list.buffer, .offset = 0, .range = VK_WHOLE_SIZE, .indirect = indirect.buffer,
+                        .host_count = count};
+    record_passes(r, cmd, r->last_slot, &r->last_input, &pl, false, NULL);
     res = fv_vk_oneshot_end(vk, cmd);
-unbind:
-    fv_shade_bind_list(&r->shade, slot, VK_NULL_HANDLE, 0, 0);
 done:
     fv_vk_buffer_destroy(vk, &indirect);
     fv_vk_buffer_destroy(vk, &list);

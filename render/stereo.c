@@ -1,27 +1,9 @@
-/* @brief Per-eye views from a head pose: eyes at +-IPD/2 along the head's x axis, the HMD default asymmetric field
- * of view (outer side wider, mirrored per eye), near/far from the scene bounds when not given. Finite for any
- * input: NaN poses fall back to identity, IPD is clamped, near/far are clamped to a usable range. */
+/* @brief The renderer's frame input for a scene head: near/far from the scene bounds, the eye views from the one
+ * builder (fv_eye_views_build), gaze straight ahead, default quality. */
 #include <math.h>
 #include <string.h>
 
 #include "fv_renderer.h"
-
-#define DEFAULT_NEAR_M 0.05f
-#define DEFAULT_FAR_M 100.0f
-#define MIN_NEAR_M 1e-5f
-#define MAX_FAR_M 1e9f
-
-static void sanitize_near_far(float *near_m, float *far_m)
-{
-    float n = *near_m, f = *far_m;
-    if (!(n > 0.0f) || !isfinite(n)) n = DEFAULT_NEAR_M;
-    n = fv_clampf(n, MIN_NEAR_M, MAX_FAR_M / 2.0f);
-    if (!(f > 0.0f) || !isfinite(f)) f = fmaxf(DEFAULT_FAR_M, n * 1000.0f);
-    if (f > MAX_FAR_M) f = MAX_FAR_M;
-    if (f < n * 1.001f) f = n * 1.001f; /* a non-empty depth range keeps the projection finite */
-    *near_m = n;
-    *far_m = f;
-}
 
 void fv_frame_near_far_from_bounds(const fv_head *head, fv_vec3 bounds_min, fv_vec3 bounds_max, float *out_near_m,
                                    float *out_far_m)
@@ -41,7 +23,7 @@ void fv_frame_near_far_from_bounds(const fv_head *head, fv_vec3 bounds_min, fv_v
             f = (float)fd;
         }
     }
-    sanitize_near_far(&n, &f);
+    fv_near_far_sanitize(&n, &f);
     if (out_near_m) *out_near_m = n;
     if (out_far_m) *out_far_m = f;
 }
@@ -53,41 +35,12 @@ void fv_frame_input_from_head(const fv_head *head, float near_m, float far_m, ui
     out->frame_id = frame_id;
     out->time_s = isfinite(time_s) ? time_s : 0.0;
     out->pupil_mm = NAN;
-    fv_vec3 pos = head && fv_v3_isfinite(head->position_m) ? head->position_m : fv_v3(0, 0, 0);
-    fv_quat q = head ? fv_quat_normalize(head->orientation) : fv_quat_identity();
-    if (!(isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w))) q = fv_quat_identity();
-    float ipd_mm = head && isfinite(head->ipd_mm) ? head->ipd_mm : FV_SCENE_DEFAULT_IPD_MM;
-    ipd_mm = fv_clampf(ipd_mm, 0.0f, FV_SCENE_MAX_IPD_MM);
-    sanitize_near_far(&near_m, &far_m);
-
-    /* Field of view: the vertical extent of the HMD default; the horizontal extent follows the image aspect so that
-     * pixels stay square, split between the outer and inner side in the HMD's proportion (outer wider). */
-    double w = eye_width ? eye_width : 1, h = eye_height ? eye_height : 1;
-    double t_up = tan(fv_deg_to_rad(FV_HMD_FOV_UP_DEG)), t_down = tan(fv_deg_to_rad(FV_HMD_FOV_DOWN_DEG));
-    double t_outer = tan(fv_deg_to_rad(FV_HMD_FOV_OUTER_DEG)), t_inner = tan(fv_deg_to_rad(FV_HMD_FOV_INNER_DEG));
-    double span_x = (t_up + t_down) * w / h;
-    double outer = span_x * t_outer / (t_outer + t_inner), inner = span_x - outer;
-
-    fv_mat4 rot = fv_mat4_from_quat(q);
-    fv_mat4 rot_t = fv_mat4_transpose(&rot);
+    out->quality = fv_quality_default();
+    out->head = (fv_head_pose){.position_m = head ? head->position_m : fv_v3(0, 0, 0),
+                               .orientation = head ? head->orientation : fv_quat_identity(),
+                               .ipd_mm = head ? head->ipd_mm : FV_DEFAULT_IPD_MM};
+    fv_eye_views_build(&out->head, near_m, far_m, eye_width ? eye_width : 1, eye_height ? eye_height : 1, out->eye);
     for (int e = 0; e < 2; e++) {
-        fv_eye_view *v = &out->eye[e];
-        float side = e == 0 ? -1.0f : 1.0f; /* left eye at -x of the head */
-        fv_vec3 offset = fv_quat_rotate(q, fv_v3(side * ipd_mm * 0.5e-3f, 0.0f, 0.0f));
-        v->pos_world = fv_v3_add(pos, offset);
-        /* view = R^T * T(-eye) */
-        v->view = rot_t;
-        fv_vec3 t = fv_mat4_mul_dir(&rot_t, v->pos_world);
-        v->view.m[3][0] = -t.x;
-        v->view.m[3][1] = -t.y;
-        v->view.m[3][2] = -t.z;
-        v->tan_left = (float)(e == 0 ? -outer : -inner);
-        v->tan_right = (float)(e == 0 ? inner : outer);
-        v->tan_up = (float)t_up;
-        v->tan_down = (float)-t_down;
-        v->near_m = near_m;
-        v->far_m = far_m;
-        v->proj = fv_mat4_perspective_tan(v->tan_left, v->tan_right, v->tan_up, v->tan_down, near_m, far_m);
         out->gaze[e].valid = true;
         out->gaze[e].dir_eye = fv_v3(0, 0, -1);
         out->gaze[e].uncertainty_deg = 0.0f;

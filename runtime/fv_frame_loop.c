@@ -34,25 +34,9 @@ struct fv_frame_loop {
 
 void fv_frame_loop_default_views(float ipd_mm, fv_eye_view out[2])
 {
-    float ipd_m = (ipd_mm > 0.0f && isfinite(ipd_mm) ? ipd_mm : 63.0f) / 1000.0f;
-    float t_outer = tanf((float)fv_deg_to_rad(FV_HMD_FOV_OUTER_DEG));
-    float t_inner = tanf((float)fv_deg_to_rad(FV_HMD_FOV_INNER_DEG));
-    float t_up = tanf((float)fv_deg_to_rad(FV_HMD_FOV_UP_DEG));
-    float t_down = tanf((float)fv_deg_to_rad(FV_HMD_FOV_DOWN_DEG));
-    for (int e = 0; e < 2; e++) {
-        fv_eye_view *v = &out[e];
-        memset(v, 0, sizeof *v);
-        v->pos_world = fv_v3(e == 0 ? -ipd_m / 2 : ipd_m / 2, 0.0f, 0.0f);
-        v->view = fv_mat4_translate(fv_v3_scale(v->pos_world, -1.0f));
-        /* the outer side (left of the left eye, right of the right eye) is the wider one */
-        v->tan_left = -(e == 0 ? t_outer : t_inner);
-        v->tan_right = e == 0 ? t_inner : t_outer;
-        v->tan_up = t_up;
-        v->tan_down = -t_down;
-        v->near_m = 0.05f;
-        v->far_m = 100.0f;
-        v->proj = fv_mat4_perspective_tan(v->tan_left, v->tan_right, v->tan_up, v->tan_down, v->near_m, v->far_m);
-    }
+    /* An identity head (head frame = world), the HMD's own field of view, 0.05 .. 100 m. */
+    fv_head_pose head = {.orientation = fv_quat_identity(), .ipd_mm = ipd_mm > 0.0f ? ipd_mm : FV_DEFAULT_IPD_MM};
+    fv_eye_views_build(&head, 0.05f, 100.0f, 0, 0, out);
 }
 
 fv_result fv_frame_loop_create(const fv_frame_loop_desc *desc, fv_frame_loop **out)

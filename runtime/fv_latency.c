@@ -1,11 +1,11 @@
 /* @brief Latency records: stage durations and summaries (see fv_latency.h). */
 #include "fv_latency.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fv_log.h"
+#include "fv_stats.h"
 
 const char *fv_latency_stage_str(fv_latency_stage s)
 {
@@ -35,24 +35,6 @@ int64_t fv_latency_stage_ns(const fv_latency_record *r, fv_latency_stage s)
     case FV_LATENCY_STAGE_COUNT: break;
     }
     return 0;
-}
-
-static int cmp_i64(const void *a, const void *b)
-{
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
-
-int64_t fv_latency_percentile_ns(int64_t *values, size_t n, double p)
-{
-    if (n == 0) return 0;
-    qsort(values, n, sizeof *values, cmp_i64);
-    if (!(p > 0.0)) return values[0]; /* also NaN */
-    if (p >= 100.0) return values[n - 1];
-    size_t rank = (size_t)ceil(p / 100.0 * (double)n); /* nearest rank, 1-based */
-    if (rank < 1) rank = 1;
-    if (rank > n) rank = n;
-    return values[rank - 1];
 }
 
 static double ms(double ns) { return ns / 1e6; }
@@ -91,9 +73,9 @@ fv_result fv_latency_summarize(const fv_latency_record *records, size_t n, fv_la
     }
     if (m) {
         out->g2p_mean_ms = ms(sum / (double)m);
-        out->g2p_p50_ms = ms((double)fv_latency_percentile_ns(g2p, m, 50.0));
-        out->g2p_p95_ms = ms((double)fv_latency_percentile_ns(g2p, m, 95.0));
-        out->g2p_p99_ms = ms((double)fv_latency_percentile_ns(g2p, m, 99.0));
+        out->g2p_p50_ms = ms((double)fv_percentile_i64(g2p, m, 50.0));
+        out->g2p_p95_ms = ms((double)fv_percentile_i64(g2p, m, 95.0));
+        out->g2p_p99_ms = ms((double)fv_percentile_i64(g2p, m, 99.0));
         out->g2p_min_ms = ms((double)g2p[0]); /* sorted by the percentile calls */
         out->g2p_max_ms = ms((double)g2p[m - 1]);
         for (int s = 0; s < FV_LATENCY_STAGE_COUNT; s++) {

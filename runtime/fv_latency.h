@@ -73,12 +73,9 @@ typedef struct fv_latency_summary {
     double frame_interval_mean_ms; /* mean time between consecutive shown refreshes */
 } fv_latency_summary;
 
-/** Summarize n records (n may be 0: all zero). Percentiles are nearest-rank. Finite for any input;
+/** Summarize n records (n may be 0: all zero). Percentiles are nearest-rank (fv_percentile_i64). Finite for any input;
  *  FV_ERR_NO_MEMORY only if the sort buffer cannot be allocated. */
 FV_MUST_CHECK fv_result fv_latency_summarize(const fv_latency_record *records, size_t n,
                                              fv_latency_summary *out_summary);
-
-/** Nearest-rank percentile (p in 0..100) of n values, sorting `values` in place; 0 for n == 0. */
-int64_t fv_latency_percentile_ns(int64_t *values, size_t n, double p);
 
 #endif

@@ -1,5 +1,6 @@
-/* @brief Internals of drivers/trace: the line source (file through zlib, or memory, plain or gzip), CSV field
- * splitting, number parsing, and the reader object the per-format parsers fill in. Not a public header. */
+/* @brief Internals of drivers/trace: the line source (file through zlib, or memory, plain or gzip) and the reader
+ * object the per-format parsers fill in. The pure helpers they use (CSV fields, numbers, validated sample setters)
+ * are in trace_util.h, which knows nothing of the reader. Not a public header. */
 #ifndef FV_TRACE_INTERNAL_H
 #define FV_TRACE_INTERNAL_H
 
@@ -9,6 +10,7 @@
 #include <zlib.h>
 
 #include "fv_trace.h"
+#include "trace_util.h"
 
 #define TRACE_MOD "trace"
 #define TRACE_CHUNK (64u * 1024u)       /* bytes read (or inflated) at a time */
@@ -44,23 +46,6 @@ fv_result trace_lines_open_mem(trace_lines *l, const void *data, size_t size, co
 int trace_lines_next(trace_lines *l, char **out_line, size_t *out_len, bool *out_too_long);
 fv_result trace_lines_rewind(trace_lines *l);
 void trace_lines_close(trace_lines *l);
-
-/* ---- CSV ---- */
-
-/** Split a line in place on sep; double-quoted fields ("a,b", "" for a quote) are unquoted. Returns the field count
- *  (at most cap; the rest are dropped). Returns -1 for an unterminated quote. */
-int trace_csv_split(char *line, char sep, char **fields, int cap);
-/** Split a data row into r->fields and check it has the fields the header needs; on failure records why (for the
- *  file:line warning) and returns FV_ERR_PARSE. */
-fv_result trace_split_row(fv_trace_reader *r, char *line, char sep, int *out_n);
-/** Index of column name (exact match after trimming spaces and a UTF-8 BOM) or -1. */
-int trace_csv_find(char *const *fields, int n, const char *name);
-/** Whole-field parses; false on empty, junk, overflow. Spaces around the number are allowed. */
-bool trace_parse_f64(const char *s, double *out);
-bool trace_parse_i64(const char *s, int64_t *out);
-bool trace_field_empty(const char *s);
-/** Seconds (finite, |s| < 9.2e9) to ns. */
-bool trace_seconds_to_ns(double s, int64_t *out_ns);
 
 /* ---- reader ---- */
 
@@ -110,6 +95,9 @@ struct fv_trace_reader {
     double meta_rate_hz;       /* fovea format: "# rate_hz:" from the header (0 unknown) */
 };
 
+/** Split a data row into r->fields and check it has the fields the header needs; on failure records why (for the
+ *  file:line warning) and returns FV_ERR_PARSE. */
+fv_result trace_split_row(fv_trace_reader *r, char *line, char sep, int *out_n);
 /** Report a bad row (rate-limited) and count it. */
 void trace_reader_bad_row(fv_trace_reader *r, uint64_t line_no, const char *why);
 /** Set r->why. */
@@ -127,29 +115,6 @@ uint64_t trace_blinks_at(fv_trace_reader *r, int64_t t_ns);
 void trace_blinks_rewind(fv_trace_reader *r);
 /** Count a blink event id for the reader stats (first pass): a new id != previous and != 0 counts once. */
 void trace_count_blink_event(fv_trace_reader *r, uint64_t id);
-
-/* ---- sample helpers (trace_sample.c) ---- */
-
-/** Validated setters: a value outside its plausible range leaves the field invalid (NaN, flag clear). */
-void trace_eye_set_origin(fv_eye_sample *e, double x, double y, double z);
-/** Normalises; a zero, tiny or non-finite vector leaves the direction invalid. */
-void trace_eye_set_direction(fv_eye_sample *e, double x, double y, double z);
-void trace_eye_set_pupil(fv_eye_sample *e, double mm);
-void trace_eye_set_openness(fv_eye_sample *e, double v);
-/** Clear every value of an eye (NaN) and its validity flags; FV_EYE_BLINK is kept. */
-void trace_eye_invalidate(fv_eye_sample *e);
-/** Combined ray from the eyes when the source gives none: both valid → mean origin and normalised sum of directions;
- *  one → that eye's direction, origin unknown. */
-void trace_combine_eyes(fv_gaze_sample *s);
-/** Head pose from a Unity log (Pico, SRanipal): pos_m is the position in metres and euler_deg the Euler angles in
- *  degrees (x, y, z; Unity applies Z, then X, then Y: R = Ry·Rx·Rz), both in Unity's left-handed world (+x right,
- *  +y up, +z forward). Sets head_pos_mm = (x, y, −z)·1000, head_dir = R·(0,0,1) mapped the same way (x, y, −z), and
- *  FV_GAZE_HEAD_VALID. A value that is NULL (column absent or row short), not a number, non-finite, a position beyond
- *  1 km or an angle beyond ±720°, or an all-zero pose (position and angles all exactly 0: the head was not logged),
- *  leaves the head invalid (NaN, flag clear); the sample itself is kept. */
-void trace_set_head_unity(fv_gaze_sample *s, const char *const pos_m[3], const char *const euler_deg[3]);
-/** A float from a double; non-finite or beyond FLT_MAX → NaN. */
-float trace_f32(double v);
 
 #define TRACE_FOVEA_NCOLS 40
 /** Column names of fovea's format, in the order the writer writes them. */

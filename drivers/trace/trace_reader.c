@@ -110,6 +110,21 @@ void trace_why(fv_trace_reader *r, const char *fmt, ...)
     va_end(ap);
 }
 
+fv_result trace_split_row(fv_trace_reader *r, char *line, char sep, int *out_n)
+{
+    int n = trace_csv_split(line, sep, r->fields, TRACE_MAX_FIELDS);
+    *out_n = n;
+    if (n < 0) {
+        trace_why(r, "unterminated quoted field");
+        return FV_ERR_PARSE;
+    }
+    if (n < r->ncols_needed) {
+        trace_why(r, "%d fields, the header needs at least %d", n, r->ncols_needed);
+        return FV_ERR_PARSE;
+    }
+    return FV_OK;
+}
+
 static void bad_row_in(fv_trace_reader *r, const char *name, uint64_t line_no, const char *why)
 {
     if (r->pass != 0) return; /* reported on the first pass already */

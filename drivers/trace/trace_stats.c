@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fv_stats.h" /* saturating time arithmetic: a hostile file can put its timestamps anywhere */
 #include "fv_trace.h"
 
 #define HIST_BIN_NS INT64_C(10000)
@@ -17,28 +18,6 @@ fv_result fv_trace_stats_init(fv_trace_stats *s)
     return s->hist_ ? FV_OK : FV_ERR_NO_MEMORY;
 }
 
-/* Saturating int64 arithmetic: timestamps come from files, and a hostile file can put them anywhere. */
-static int64_t sat_add(int64_t a, int64_t b)
-{
-    int64_t r;
-    if (__builtin_add_overflow(a, b, &r)) return b > 0 ? INT64_MAX : INT64_MIN;
-    return r;
-}
-
-static int64_t sat_sub(int64_t a, int64_t b)
-{
-    int64_t r;
-    if (__builtin_sub_overflow(a, b, &r)) return b < 0 ? INT64_MAX : INT64_MIN;
-    return r;
-}
-
-static int64_t sat_mul(int64_t a, int64_t b)
-{
-    int64_t r;
-    if (__builtin_mul_overflow(a, b, &r)) return (a < 0) != (b < 0) ? INT64_MIN : INT64_MAX;
-    return r;
-}
-
 static bool any_direction(const fv_gaze_sample *g)
 {
     return ((g->eye[0].flags | g->eye[1].flags | g->combined.flags) & FV_EYE_DIRECTION_VALID) != 0;
@@ -50,7 +29,7 @@ void fv_trace_stats_push(fv_trace_stats *s, const fv_gaze_sample *g)
     if (s->samples == 0) {
         s->t_first_ns = t;
     } else {
-        int64_t dt = sat_sub(t, s->prev_t_ns_);
+        int64_t dt = fv_i64_sub_sat(t, s->prev_t_ns_);
         if (dt < 0) dt = 0;
         if (dt > s->max_dt_ns) s->max_dt_ns = dt;
         int64_t bin = dt / HIST_BIN_NS;
@@ -58,7 +37,7 @@ void fv_trace_stats_push(fv_trace_stats *s, const fv_gaze_sample *g)
             if (s->hist_) s->hist_[bin]++;
         } else {
             s->over_count_++;
-            s->over_sum_ = sat_add(s->over_sum_, dt);
+            s->over_sum_ = fv_i64_add_sat(s->over_sum_, dt);
         }
     }
     s->samples++;
@@ -91,7 +70,7 @@ void fv_trace_stats_push(fv_trace_stats *s, const fv_gaze_sample *g)
             s->blink_start_ns_ = t;
         }
     } else if (s->in_blink_) {
-        s->blink_total_ns = sat_add(s->blink_total_ns, sat_sub(t, s->blink_start_ns_)); /* until the next sample */
+        s->blink_total_ns = fv_i64_add_sat(s->blink_total_ns, fv_i64_sub_sat(t, s->blink_start_ns_)); /* until the next sample */
     }
     s->in_blink_ = blink;
     s->prev_t_ns_ = t;
@@ -100,7 +79,7 @@ void fv_trace_stats_push(fv_trace_stats *s, const fv_gaze_sample *g)
 void fv_trace_stats_finish(fv_trace_stats *s, uint64_t blink_events)
 {
     if (s->in_blink_) {
-        s->blink_total_ns = sat_add(s->blink_total_ns, sat_sub(s->t_last_ns, s->blink_start_ns_));
+        s->blink_total_ns = fv_i64_add_sat(s->blink_total_ns, fv_i64_sub_sat(s->t_last_ns, s->blink_start_ns_));
         s->in_blink_ = 0;
     }
     if (blink_events > 0) s->blinks = blink_events;
@@ -124,15 +103,15 @@ void fv_trace_stats_finish(fv_trace_stats *s, uint64_t blink_events)
     s->median_dt_ns = lo_ns + (hi_ns - lo_ns) / 2;
     if (s->median_dt_ns > s->max_dt_ns) s->median_dt_ns = s->max_dt_ns; /* a bin centre past the longest interval */
     /* the rate is the mean over the whole trace: trackers that stamp in whole ms alternate 8 and 9 ms at 120 Hz */
-    if (s->t_last_ns > s->t_first_ns) s->rate_hz = (double)n * 1e9 / (double)sat_sub(s->t_last_ns, s->t_first_ns);
-    int64_t gap_ns = sat_mul(3, s->median_dt_ns);
+    if (s->t_last_ns > s->t_first_ns) s->rate_hz = (double)n * 1e9 / (double)fv_i64_sub_sat(s->t_last_ns, s->t_first_ns);
+    int64_t gap_ns = fv_i64_mul_sat(3, s->median_dt_ns);
     for (int64_t b = gap_ns / HIST_BIN_NS + 1; b < HIST_BINS; b++) {
         if (!s->hist_[b]) continue;
         s->gaps += s->hist_[b];
-        s->gap_total_ns = sat_add(s->gap_total_ns, sat_mul((int64_t)s->hist_[b], b * HIST_BIN_NS + HIST_BIN_NS / 2));
+        s->gap_total_ns = fv_i64_add_sat(s->gap_total_ns, fv_i64_mul_sat((int64_t)s->hist_[b], b * HIST_BIN_NS + HIST_BIN_NS / 2));
     }
     s->gaps += s->over_count_;
-    s->gap_total_ns = sat_add(s->gap_total_ns, s->over_sum_);
+    s->gap_total_ns = fv_i64_add_sat(s->gap_total_ns, s->over_sum_);
 }
 
 void fv_trace_stats_fini(fv_trace_stats *s)

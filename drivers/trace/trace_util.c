@@ -1,11 +1,12 @@
-/* @brief CSV splitting, whole-field number parsing and validated sample setters shared by the trace readers. */
+/* @brief CSV splitting, whole-field number parsing and validated sample setters shared by the trace readers
+ * (see trace_util.h: pure, no reader). */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "trace_internal.h"
+#include "trace_util.h"
 
 int trace_csv_split(char *line, char sep, char **fields, int cap)
 {
@@ -40,21 +41,6 @@ int trace_csv_split(char *line, char sep, char **fields, int cap)
         p++;
     }
     return n;
-}
-
-fv_result trace_split_row(fv_trace_reader *r, char *line, char sep, int *out_n)
-{
-    int n = trace_csv_split(line, sep, r->fields, TRACE_MAX_FIELDS);
-    *out_n = n;
-    if (n < 0) {
-        trace_why(r, "unterminated quoted field");
-        return FV_ERR_PARSE;
-    }
-    if (n < r->ncols_needed) {
-        trace_why(r, "%d fields, the header needs at least %d", n, r->ncols_needed);
-        return FV_ERR_PARSE;
-    }
-    return FV_OK;
 }
 
 static const char *trim_name(const char *s, size_t *out_len)

@@ -5,12 +5,11 @@
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_common.glsl"
+#include "fv_scene_set.h"
 #include "gbuffer_interface.h"
 
-layout(std140, set = 0, binding = FV_GBUFFER_BINDING_FRAME) uniform Frame { fv_gpu_frame frame; };
-layout(std430, set = 0, binding = FV_GBUFFER_BINDING_DRAWS) readonly buffer Draws { fv_gpu_draw draws[]; };
-layout(std430, set = 0, binding = FV_GBUFFER_BINDING_MATERIALS) readonly buffer Materials { fv_gpu_material materials[]; };
-layout(set = 1, binding = FV_GBUFFER_BINDING_BASE_COLOR) uniform sampler2D base_color_tex;
+FV_SCENE_SET_DECLARE
+layout(set = FV_SCENE_TEXTURE_SET, binding = FV_SCENE_BINDING_BASE_COLOR) uniform sampler2D base_color_tex;
 layout(push_constant) uniform Push { uint draw_index; uint eye; } pc;
 // 1: both eyes in one multiview pass (eye = gl_ViewIndex); 0: one pass per eye (eye from the push constant).
 layout(constant_id = 0) const uint USE_MULTIVIEW = 1u;

@@ -3,17 +3,17 @@
 #extension GL_EXT_multiview : require
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
+#include "fv_scene_set.h"
 #include "gbuffer_interface.h"
 
-layout(std140, set = 0, binding = FV_GBUFFER_BINDING_FRAME) uniform Frame { fv_gpu_frame frame; };
-layout(std430, set = 0, binding = FV_GBUFFER_BINDING_DRAWS) readonly buffer Draws { fv_gpu_draw draws[]; };
+FV_SCENE_SET_DECLARE
 layout(push_constant) uniform Push { uint draw_index; uint eye; } pc;
 // 1: both eyes in one multiview pass (eye = gl_ViewIndex); 0: one pass per eye (eye from the push constant).
 layout(constant_id = 0) const uint USE_MULTIVIEW = 1u;
 
-layout(location = FV_GBUFFER_ATTR_POSITION) in vec3 in_position;
-layout(location = FV_GBUFFER_ATTR_NORMAL) in vec3 in_normal;
-layout(location = FV_GBUFFER_ATTR_TEXCOORD) in vec2 in_texcoord;
+layout(location = FV_SCENE_ATTR_POSITION) in vec3 in_position;
+layout(location = FV_SCENE_ATTR_NORMAL) in vec3 in_normal;
+layout(location = FV_SCENE_ATTR_TEXCOORD) in vec2 in_texcoord;
 
 layout(location = 0) out vec3 v_pos_world;
 layout(location = 1) out vec3 v_normal_world;

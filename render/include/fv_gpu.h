@@ -32,7 +32,23 @@ struct fv_gpu_frame {
     FV_VEC4 eye_pos[2];        /* xyz world metres */
     FV_VEC4 ambient;           /* rgb ambient radiance */
     FV_UVEC4 counts;           /* x lights, y width px, z height px, w frame index (low bits) */
+    /* The runtime's view of the eyes at photon time (fv_frame_input), per eye: */
+    FV_VEC4 gaze_dir[2];       /* xyz predicted unit gaze in the eye's view space (-z forward); w 1 = valid, 0 = no
+                                * gaze (blink, lost, none: xyz is then straight ahead) */
+    FV_VEC4 gaze_info[2];      /* x uncertainty (radians, [0, pi]), y pupil diameter mm (0 = unknown), z, w 0 */
+    FV_VEC4 eye_tan[2];        /* the eye's frustum as tangents: x left, y right, z up, w down (a pixel's ray in
+                                * view space is (mix(x, y, u), mix(z, w, v), -1), u, v in [0,1], v down) */
+    FV_VEC4 time;              /* x scene time s (float), y seconds from this frame's scene time to its photons
+                                * (0 if unknown), z, w 0 */
+    FV_UVEC4 photon;           /* x low, y high 32 bits of the photon time (host clock ns, 0 = unknown); z debug
+                                * view (FV_GPU_DEBUG_VIEW_*); w 0 */
+    FV_VEC4 quality;           /* x exposure (linear scale before tonemapping); y, z, w 0 */
 };
+
+/** Debug views (fv_gpu_frame.photon.z; fv_quality.debug_view). */
+#define FV_GPU_DEBUG_VIEW_NONE 0
+#define FV_GPU_DEBUG_VIEW_NORMAL 1 /* world normal * 0.5 + 0.5 */
+#define FV_GPU_DEBUG_VIEW_GAZE 2   /* r: closeness to the predicted gaze ray, g: pupil mm / 10, b: gaze valid */
 
 /** One drawn node (storage buffer, indexed by a push constant). */
 struct fv_gpu_draw {
@@ -47,6 +63,9 @@ struct fv_gpu_material {
     FV_VEC4 base_color; /* linear rgb albedo factor */
     FV_VEC4 emissive;   /* rgb emitted radiance */
     FV_UVEC4 info;      /* x texture index or 0xffffffff, y flags (bit 0: translucent) */
+    FV_VEC4 sigma_a;    /* translucent: rgb absorption coefficient per metre of the scene (converted from mm^-1),
+                         * w relative index of refraction eta (1 when opaque) */
+    FV_VEC4 sigma_s;    /* translucent: rgb reduced scattering coefficient per metre; w 0 */
 };
 
 /** One light (storage buffer). */
@@ -62,14 +81,22 @@ typedef struct fv_gpu_frame fv_gpu_frame;
 typedef struct fv_gpu_draw fv_gpu_draw;
 typedef struct fv_gpu_material fv_gpu_material;
 typedef struct fv_gpu_light fv_gpu_light;
-_Static_assert(sizeof(fv_gpu_frame) == 6 * 64 + 4 * 16, "fv_gpu_frame layout");
+_Static_assert(sizeof(fv_gpu_frame) == 6 * 64 + 4 * 16 + 9 * 16, "fv_gpu_frame layout");
 _Static_assert(sizeof(fv_gpu_draw) == 3 * 64 + 16, "fv_gpu_draw layout");
-_Static_assert(sizeof(fv_gpu_material) == 48, "fv_gpu_material layout");
+_Static_assert(sizeof(fv_gpu_material) == 80, "fv_gpu_material layout");
 _Static_assert(sizeof(fv_gpu_light) == 64, "fv_gpu_light layout");
 #endif
 
 /** Sparse shading: a pixel of one eye packed in 32 bits (x: 15 bits, y: 15 bits, eye layer: 2 bits). */
 #define FV_GPU_PIXEL_PACK(x, y, layer) (((x) & 0x7fffu) | (((y) & 0x7fffu) << 15) | (((layer) & 3u) << 30))
 #define FV_GPU_PIXEL_MAX_DIM 32768u
+
+/** A pixel list (storage buffer): a 16-byte header { uint count; uint pad[3]; } then `count` packed pixels. Lists
+ *  are consumed by indirect dispatches of FV_GPU_LIST_GROUP_SIZE pixels per workgroup: x = min(groups,
+ *  FV_GPU_LIST_GROUPS_X), y = ceil(groups / FV_GPU_LIST_GROUPS_X), z = 1 with groups = ceil(count / group size);
+ *  workgroup (x, y) takes entries from (x + y * FV_GPU_LIST_GROUPS_X) * FV_GPU_LIST_GROUP_SIZE. */
+#define FV_GPU_LIST_HEADER_BYTES 16u
+#define FV_GPU_LIST_GROUP_SIZE 64u
+#define FV_GPU_LIST_GROUPS_X 65535u
 
 #endif

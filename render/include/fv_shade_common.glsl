@@ -1,8 +1,11 @@
-// @brief The shading function every pass shares: light evaluation and the BRDF. Direct lighting only for now
-// (Lambert; point, spot, directional; no shadows). Later issues extend fv_shade_surface with shadows, GI and SSS.
-// Requires fv_gpu.h and fv_common.glsl. The CPU reference in tests/render/test_render.c mirrors these formulas.
+// @brief The shading function every pass shares (fv_shade_surface): light evaluation and the BRDF, with named hooks
+// for visibility, indirect light and subsurface light (fv_shade_hooks.glsl). Direct lighting (Lambert; point, spot,
+// directional), emission and ambient today. Requires fv_gpu.h, fv_common.glsl, the scene set (FV_SCENE_SET_DECLARE)
+// and fv_gbuffer_decode.glsl. The CPU reference in tests/render/test_render.c mirrors these formulas.
 #ifndef FV_SHADE_COMMON_GLSL
 #define FV_SHADE_COMMON_GLSL
+
+#include "fv_shade_hooks.glsl"
 
 // Irradiance (per channel, W/m^2) that one light delivers to a surface point `pos` with unit normal `n`:
 //   point/spot: E = I * falloff * max(n.l, 0) / d^2   (inverse square; d clamped to 1e-4 m so E stays finite)
@@ -47,6 +50,22 @@ vec3 fv_brdf_lambert(vec3 albedo)
 vec3 fv_shade_combine(vec3 albedo, vec3 irradiance, vec3 emissive, vec3 ambient)
 {
     return fv_brdf_lambert(albedo) * irradiance + emissive + albedo * ambient;
+}
+
+// Outgoing radiance of a decoded surface toward the eye: every light's irradiance times its visibility, the indirect
+// irradiance, through the Lambertian BRDF; plus emission, ambient and subsurface light. Finite for any input.
+vec3 fv_shade_surface(fv_surface s)
+{
+    if (!s.hit) return vec3(0.0);
+    vec3 irradiance = vec3(0.0);
+    uint nl = min(frame.counts.x, uint(lights.length()));
+    for (uint i = 0u; i < nl; i++) irradiance += fv_hook_visibility(i, s) * fv_light_irradiance(lights[i], s.pos_world, s.normal);
+    irradiance += fv_hook_indirect_irradiance(s);
+    vec3 color = fv_shade_combine(s.albedo, irradiance, materials[s.material].emissive.rgb, frame.ambient.rgb);
+    color += fv_hook_subsurface_radiance(s);
+    // Keep the output finite whatever the inputs.
+    if (any(isnan(color))) color = vec3(0.0);
+    return clamp(color, vec3(0.0), vec3(1e30));
 }
 
 #endif

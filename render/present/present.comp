@@ -1,5 +1,5 @@
 #version 450
-// @brief Tonemap and encode: linear RGBA32F -> sRGB-encoded RGBA8, per eye layer (headless target).
+// @brief Tonemap and encode: linear RGBA32F -> sRGB-encoded RGBA8, per eye layer (the display image).
 #extension GL_GOOGLE_include_directive : require
 #include "fv_common.glsl"
 #include "present_interface.h"

@@ -1,16 +1,16 @@
-/* @brief Shading pass interface shared by C and GLSL: bindings, workgroup size, push constants, modes. */
+/* @brief Shading pass interface shared by C and GLSL: bindings of its own set (set 1; set 0 is the scene's),
+ * workgroup size, push constants, modes. */
 #ifndef FV_SHADE_INTERFACE_H
 #define FV_SHADE_INTERFACE_H
 
-#define FV_SHADE_BINDING_FRAME 0     /* uniform fv_gpu_frame */
-#define FV_SHADE_BINDING_LIGHTS 1    /* storage fv_gpu_light[] */
-#define FV_SHADE_BINDING_MATERIALS 2 /* storage fv_gpu_material[] */
-#define FV_SHADE_BINDING_DEPTH 3     /* sampler2DArray (D32) */
-#define FV_SHADE_BINDING_NORMAL 4    /* sampler2DArray (octahedral) */
-#define FV_SHADE_BINDING_ALBEDO 5    /* sampler2DArray (sRGB -> linear on read) */
-#define FV_SHADE_BINDING_MATERIAL 6  /* usampler2DArray (id + 1) */
-#define FV_SHADE_BINDING_COLOR 7     /* image2DArray rgba32f, linear radiance (written) */
-#define FV_SHADE_BINDING_PIXELS 8    /* storage { uint count; uint pad[3]; uint pixels[]; } (list mode) */
+#define FV_SHADE_SET 1
+#define FV_SHADE_BINDING_DEPTH 0    /* sampler2DArray (D32) */
+#define FV_SHADE_BINDING_NORMAL 1   /* sampler2DArray (octahedral) */
+#define FV_SHADE_BINDING_ALBEDO 2   /* sampler2DArray (sRGB -> linear on read) */
+#define FV_SHADE_BINDING_MATERIAL 3 /* usampler2DArray (id + 1) */
+#define FV_SHADE_BINDING_COLOR 4    /* image2DArray rgba32f, linear radiance (written) */
+#define FV_SHADE_BINDING_PIXELS 5   /* storage pixel list (fv_gpu.h FV_GPU_LIST_*; list mode) */
+#define FV_SHADE_BINDING_COUNT 6
 
 #define FV_SHADE_GROUP_X 8
 #define FV_SHADE_GROUP_Y 8
@@ -39,12 +39,5 @@ struct fv_shade_push {
     FV_SHADE_UINT groups_x;         /* dispatch width (workgroups are linearised as x + y * groups_x) */
     FV_SHADE_UINT pad[3];
 };
-
-/* List mode is dispatched indirectly: x = min(groups, FV_SHADE_LIST_GROUPS_X), y = ceil(groups / that), z = 1, with
- * groups = ceil(count / FV_SHADE_GROUP_SIZE); workgroup (x, y) handles list entries from (x + y * 65535) * 64. */
-#define FV_SHADE_LIST_GROUPS_X 65535u
-
-/* Header of the pixel list buffer: the count, then the packed pixels from byte 16. */
-#define FV_SHADE_LIST_HEADER_BYTES 16u
 
 #endif

@@ -15,6 +15,11 @@
 #include "fv_log.h"
 #include "fv_result.h"
 
+/** The most frames the renderer keeps in flight; every per-slot array in render/ is sized by it. */
+#define FV_MAX_FRAMES_IN_FLIGHT 8
+/** The most extra instance or device extensions a caller may ask fv_vk_create for. */
+#define FV_VK_MAX_EXTENSIONS 16
+
 /** Name of a VkResult ("VK_ERROR_DEVICE_LOST"); never NULL. */
 const char *fv_vk_result_str(VkResult r);
 /** Log a failed Vulkan call (call text, VkResult name, file:line) and map it to an fv_result. */
@@ -82,6 +87,16 @@ typedef struct fv_vk_desc {
     int validation;             /* 1 on, 0 = from $FOVEA_VALIDATION, -1 off */
     uint64_t memory_budget_bytes; /* 0 = 80% of the largest device-local heap */
     const char *app_name;       /* NULL = "fovea" */
+    /* Presenting to a surface (a window target): instance extensions it needs (e.g. from
+     * glfwGetRequiredInstanceExtensions; VK_KHR_surface is implied), extra device extensions (VK_KHR_swapchain is
+     * implied when create_surface is set), and a callback that creates the surface once the instance exists. A device
+     * with no queue family able to present to that surface, or missing a device extension, is not usable. */
+    const char *const *instance_extensions;
+    uint32_t instance_extension_count;
+    const char *const *device_extensions;
+    uint32_t device_extension_count;
+    fv_result (*create_surface)(VkInstance instance, void *user, VkSurfaceKHR *out_surface);
+    void *surface_user;
 } fv_vk_desc;
 
 typedef struct fv_vk {
@@ -91,6 +106,9 @@ typedef struct fv_vk {
     VkDevice device;
     VkQueue queue;
     uint32_t queue_family;
+    VkSurfaceKHR surface;    /* from fv_vk_desc.create_surface, or VK_NULL_HANDLE (headless) */
+    VkQueue present_queue;   /* a queue that can present to `surface` (== queue when one family does both) */
+    uint32_t present_family; /* its family; images shared across two families need an ownership transfer */
     VkCommandPool pool;      /* for one-shot commands (uploads, readbacks); resettable buffers */
     VkFence oneshot_fence;
     VkPhysicalDeviceProperties props;
@@ -197,6 +215,20 @@ FV_MUST_CHECK fv_result fv_vk_read_image(fv_vk *vk, fv_vk_image *img, uint32_t l
                                          VkPipelineStageFlags src_stage, VkAccessFlags src_access, void *out,
                                          size_t out_size, size_t out_offset, size_t out_row_pitch);
 
+/* ---- synchronisation ----------------------------------------------------------------------------------------- */
+
+/** How an image is (or is about to be) used: its layout, and the stages and accesses of that use. */
+typedef struct fv_vk_image_use {
+    VkImageLayout layout;
+    VkPipelineStageFlags stage;
+    VkAccessFlags access;
+} fv_vk_image_use;
+
+/** Record one image memory barrier over every layer and mip of img: the work of `from` (its accesses made
+ *  available) happens before the work of `to` (made visible to its accesses), with the layout changed from
+ *  from.layout to to.layout (UNDEFINED discards the contents). Same queue family on both sides. */
+void fv_vk_barrier_image(VkCommandBuffer cmd, const fv_vk_image *img, fv_vk_image_use from, fv_vk_image_use to);
+
 /* ---- pipelines and descriptors ----------------------------------------------------------------------------- */
 
 FV_MUST_CHECK fv_result fv_vk_shader_module(fv_vk *vk, const uint32_t *code, size_t size_bytes, const char *name,
@@ -245,6 +277,46 @@ void fv_vk_write_buffer(fv_vk *vk, VkDescriptorSet set, uint32_t binding, VkDesc
 void fv_vk_write_image(fv_vk *vk, VkDescriptorSet set, uint32_t binding, VkDescriptorType type, VkImageView view,
                        VkSampler sampler, VkImageLayout layout);
 
+/** A compute pass's pipeline objects: its own descriptor set layout (after any shared sets), pipeline layout, one
+ *  pipeline per variant (specialization constants), and `set_count` descriptor sets of its own layout. */
+typedef struct fv_vk_compute_desc {
+    const char *name;                         /* debug name prefix */
+    const uint32_t *code;                     /* embedded SPIR-V */
+    size_t code_size;
+    const VkDescriptorSetLayout *shared_sets; /* sets 0..n-1 (e.g. the scene's set), not owned */
+    uint32_t shared_set_count;
+    const VkDescriptorSetLayoutBinding *bindings; /* the pass's own set (set number shared_set_count) */
+    uint32_t binding_count;
+    uint32_t set_count;                       /* descriptor sets of its own layout to allocate (0 = 1) */
+    uint32_t push_bytes;                      /* push constant range (compute stage), 0 = none */
+    const uint32_t *spec;                     /* variant_count x spec_count uint32 values (constant ids 0..) */
+    uint32_t spec_count;
+    uint32_t variant_count;                   /* pipelines to build (0 = 1) */
+} fv_vk_compute_desc;
+
+#define FV_VK_COMPUTE_MAX_VARIANTS 4
+#define FV_VK_COMPUTE_MAX_SETS FV_MAX_FRAMES_IN_FLIGHT
+
+typedef struct fv_vk_compute {
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout layout;
+    VkPipeline pipelines[FV_VK_COMPUTE_MAX_VARIANTS];
+    uint32_t variant_count;
+    VkDescriptorPool pool;
+    VkDescriptorSet sets[FV_VK_COMPUTE_MAX_SETS];
+    uint32_t set_count;
+    uint32_t own_set;    /* set number of the pass's own set (= shared_set_count) */
+    uint32_t push_bytes;
+} fv_vk_compute;
+
+/** Build everything of a compute pass (c is zeroed first; fv_vk_compute_fini is safe after a failure). */
+FV_MUST_CHECK fv_result fv_vk_compute_init(fv_vk *vk, const fv_vk_compute_desc *desc, fv_vk_compute *c);
+void fv_vk_compute_fini(fv_vk *vk, fv_vk_compute *c);
+/** Bind variant's pipeline, the shared sets (may be NULL when there are none), own set `set_index`, and push
+ *  `push` (push_bytes of it; NULL = none). */
+void fv_vk_compute_bind(const fv_vk_compute *c, VkCommandBuffer cmd, uint32_t variant, const VkDescriptorSet *shared,
+                        uint32_t shared_count, uint32_t set_index, const void *push);
+
 /* ---- per-pass GPU timestamps --------------------------------------------------------------------------------- */
 
 #define FV_VK_TIMER_MAX_PASSES 16
@@ -257,11 +329,11 @@ typedef struct fv_vk_timer {
     bool supported;
     double period_ns;
     uint64_t valid_mask;
-    uint32_t pass_count[8];                                        /* per slot: passes recorded */
-    char names[8][FV_VK_TIMER_MAX_PASSES][FV_VK_TIMER_NAME_MAX];
+    uint32_t pass_count[FV_MAX_FRAMES_IN_FLIGHT];                  /* per slot: passes recorded */
+    char names[FV_MAX_FRAMES_IN_FLIGHT][FV_VK_TIMER_MAX_PASSES][FV_VK_TIMER_NAME_MAX];
 } fv_vk_timer;
 
-/** slots: frames in flight (<= 8). Timestamps unsupported: every call becomes a no-op and collect gives 0 passes. */
+/** slots: frames in flight (<= FV_MAX_FRAMES_IN_FLIGHT). Timestamps unsupported: every call becomes a no-op and collect gives 0 passes. */
 FV_MUST_CHECK fv_result fv_vk_timer_init(fv_vk_timer *t, fv_vk *vk, uint32_t slots);
 void fv_vk_timer_fini(fv_vk_timer *t, fv_vk *vk);
 /** Record a reset of the slot's range (start of the frame's command buffer, outside any render pass). */

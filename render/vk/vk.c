@@ -115,8 +115,8 @@ static bool layer_present(const char *name)
 }
 
 /* Creates the instance; vk may be NULL (device listing): then no validation and no messenger. */
-static fv_result create_instance(fv_vk *vk, bool validation, const char *app_name, VkInstance *out,
-                                 bool *out_debug_utils)
+static fv_result create_instance(fv_vk *vk, bool validation, const char *app_name, const fv_vk_desc *want,
+                                 VkInstance *out, bool *out_debug_utils)
 {
     uint32_t api = 0;
     FV_VK_CHECK(vkEnumerateInstanceVersion(&api));
@@ -134,13 +134,30 @@ static fv_result create_instance(fv_vk *vk, bool validation, const char *app_nam
         free(exts);
         return fv_vk_fail(vr, "vkEnumerateInstanceExtensionProperties", __FILE__, __LINE__);
     }
-    const char *enabled[4];
+    const char *enabled[FV_VK_MAX_EXTENSIONS + 3];
     uint32_t count = 0;
     bool debug_utils = has_extension(exts, n, VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     bool portability = has_extension(exts, n, "VK_KHR_portability_enumeration");
-    free(exts);
     if (debug_utils) enabled[count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
     if (portability) enabled[count++] = "VK_KHR_portability_enumeration";
+    /* What a surface target asks for (VK_KHR_surface implied), each checked before the instance is made. */
+    const char *asked[FV_VK_MAX_EXTENSIONS + 1];
+    uint32_t asked_count = 0;
+    if (want && want->create_surface) asked[asked_count++] = VK_KHR_SURFACE_EXTENSION_NAME;
+    for (uint32_t i = 0; want && i < want->instance_extension_count && asked_count < FV_VK_MAX_EXTENSIONS; i++)
+        asked[asked_count++] = want->instance_extensions[i];
+    for (uint32_t i = 0; i < asked_count; i++) {
+        bool dup = false;
+        for (uint32_t k = 0; k < count; k++) dup = dup || strcmp(enabled[k], asked[i]) == 0;
+        if (dup) continue;
+        if (!has_extension(exts, n, asked[i])) {
+            FV_ERROR(MOD, "the Vulkan loader lacks instance extension %s (needed to present to a window)", asked[i]);
+            free(exts);
+            return FV_ERR_UNSUPPORTED;
+        }
+        enabled[count++] = asked[i];
+    }
+    free(exts);
 
     const char *layers[1] = {VALIDATION_LAYER};
     if (validation && !layer_present(VALIDATION_LAYER)) {
@@ -263,6 +280,46 @@ static void describe(VkPhysicalDevice pd, uint32_t index, fv_vk_device_info *d)
     else d->usable = true;
 }
 
+/* A queue family of pd that can present to surface: `prefer` when it can, else the first that can; -1 if none. */
+static int present_family(VkPhysicalDevice pd, VkSurfaceKHR surface, uint32_t prefer)
+{
+    uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
+    int first = -1;
+    for (uint32_t i = 0; i < n && i < 64; i++) {
+        VkBool32 ok = VK_FALSE;
+        if (vkGetPhysicalDeviceSurfaceSupportKHR(pd, i, surface, &ok) != VK_SUCCESS || !ok) continue;
+        if (i == prefer) return (int)i;
+        if (first < 0) first = (int)i;
+    }
+    return first;
+}
+
+/* A device that cannot serve the asked-for presentation (device extensions, a family presenting to the surface)
+ * is not usable; why_not says what it lacks. */
+static void require_presentation(VkPhysicalDevice pd, fv_vk_device_info *d, const fv_vk_desc *want,
+                                 VkSurfaceKHR surface)
+{
+    if (!d->usable) return;
+    uint32_t n = 0;
+    if (vkEnumerateDeviceExtensionProperties(pd, NULL, &n, NULL) < 0) n = 0;
+    VkExtensionProperties *exts = calloc(n ? n : 1, sizeof *exts);
+    if (!exts) return;
+    if (vkEnumerateDeviceExtensionProperties(pd, NULL, &n, exts) < 0) n = 0;
+    const char *missing = NULL;
+    if (surface && !has_extension(exts, n, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) missing = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    for (uint32_t i = 0; !missing && i < want->device_extension_count; i++)
+        if (!has_extension(exts, n, want->device_extensions[i])) missing = want->device_extensions[i];
+    free(exts);
+    if (missing) {
+        d->usable = false;
+        snprintf(d->why_not, sizeof d->why_not, "lacks device extension %s", missing);
+    } else if (surface && present_family(pd, surface, 0) < 0) {
+        d->usable = false;
+        snprintf(d->why_not, sizeof d->why_not, "no queue family can present to the window's surface");
+    }
+}
+
 static int type_rank(VkPhysicalDeviceType t)
 {
     switch (t) {
@@ -341,7 +398,7 @@ fv_result fv_vk_list_devices(const char *selector, fv_vk_device_info *out, uint3
     *out_chosen = -1;
     VkInstance inst = VK_NULL_HANDLE;
     bool du = false;
-    FV_TRY(create_instance(NULL, false, "fovea-info", &inst, &du));
+    FV_TRY(create_instance(NULL, false, "fovea-info", NULL, &inst, &du));
     VkPhysicalDevice pds[MAX_DEVICES];
     fv_vk_device_info infos[MAX_DEVICES];
     uint32_t n = 0;
@@ -375,7 +432,12 @@ fv_result fv_vk_create(const fv_vk_desc *desc_in, fv_vk **out_vk)
     atomic_init(&vk->validation_messages, 0u);
     vk->validation = desc.validation > 0 || (desc.validation == 0 && env_on("FOVEA_VALIDATION"));
 
-    res = create_instance(vk, vk->validation, desc.app_name, &vk->instance, &vk->debug_utils);
+    if (desc.instance_extension_count > FV_VK_MAX_EXTENSIONS || desc.device_extension_count > FV_VK_MAX_EXTENSIONS) {
+        FV_ERROR(MOD, "more than %d instance or device extensions asked for", FV_VK_MAX_EXTENSIONS);
+        res = FV_ERR_RANGE;
+        goto fail;
+    }
+    res = create_instance(vk, vk->validation, desc.app_name, &desc, &vk->instance, &vk->debug_utils);
     if (res != FV_OK) goto fail;
     if (vk->debug_utils) {
         vk->set_object_name =
@@ -402,6 +464,15 @@ fv_result fv_vk_create(const fv_vk_desc *desc_in, fv_vk **out_vk)
     uint32_t n = 0;
     res = enumerate(vk->instance, pds, infos, &n);
     if (res != FV_OK) goto fail;
+    if (desc.create_surface) {
+        res = desc.create_surface(vk->instance, desc.surface_user, &vk->surface);
+        if (res != FV_OK || !vk->surface) {
+            FV_ERROR(MOD, "the presentation surface could not be created: %s", fv_result_str(res ? res : FV_ERR_VULKAN));
+            res = res ? res : FV_ERR_VULKAN;
+            goto fail;
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) require_presentation(pds[i], &infos[i], &desc, vk->surface);
     int chosen = choose(infos, n, desc.device, vk->choice_reason, sizeof vk->choice_reason);
     if (chosen < 0) {
         FV_ERROR(MOD, "no Vulkan device: %s", vk->choice_reason);
@@ -428,28 +499,47 @@ fv_result fv_vk_create(const fv_vk_desc *desc_in, fv_vk **out_vk)
     VkResult er = vkEnumerateDeviceExtensionProperties(vk->phys, NULL, &ne, exts);
     bool portability_subset = er >= 0 && has_extension(exts, ne, "VK_KHR_portability_subset");
     free(exts);
-    const char *dev_exts[1] = {"VK_KHR_portability_subset"};
+    const char *dev_exts[FV_VK_MAX_EXTENSIONS + 2];
+    uint32_t dev_ext_count = 0;
+    if (portability_subset) dev_exts[dev_ext_count++] = "VK_KHR_portability_subset";
+    if (vk->surface) dev_exts[dev_ext_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    for (uint32_t i = 0; i < desc.device_extension_count; i++) {
+        bool dup = false;
+        for (uint32_t k = 0; k < dev_ext_count; k++) dup = dup || strcmp(dev_exts[k], desc.device_extensions[i]) == 0;
+        if (!dup) dev_exts[dev_ext_count++] = desc.device_extensions[i];
+    }
 
+    /* Presenting: prefer the rendering family itself; else the first family that can present (then images
+     * change hands between the two families, which the presenter handles with ownership transfers). */
+    vk->present_family = vk->queue_family;
+    if (vk->surface) {
+        int pf = present_family(vk->phys, vk->surface, vk->queue_family);
+        vk->present_family = pf >= 0 ? (uint32_t)pf : vk->queue_family;
+    }
     float prio = 1.0f;
-    VkDeviceQueueCreateInfo qci = {
+    VkDeviceQueueCreateInfo qcis[2] = {{
         .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
         .queueFamilyIndex = vk->queue_family,
         .queueCount = 1,
         .pQueuePriorities = &prio,
-    };
+    }};
+    qcis[1] = qcis[0];
+    qcis[1].queueFamilyIndex = vk->present_family;
+    uint32_t queue_infos = vk->present_family == vk->queue_family ? 1u : 2u;
     VkPhysicalDeviceVulkan11Features f11 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
                                             .multiview = VK_TRUE};
     VkPhysicalDeviceFeatures2 f2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &f11};
     VkDeviceCreateInfo dci = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
         .pNext = &f2,
-        .queueCreateInfoCount = 1,
-        .pQueueCreateInfos = &qci,
-        .enabledExtensionCount = portability_subset ? 1 : 0,
+        .queueCreateInfoCount = queue_infos,
+        .pQueueCreateInfos = qcis,
+        .enabledExtensionCount = dev_ext_count,
         .ppEnabledExtensionNames = dev_exts,
     };
     FV_VK_CHECK_GOTO(vkCreateDevice(vk->phys, &dci, NULL, &vk->device), res, fail);
     vkGetDeviceQueue(vk->device, vk->queue_family, 0, &vk->queue);
+    vkGetDeviceQueue(vk->device, vk->present_family, 0, &vk->present_queue);
     FV_VK_NAME(vk, VK_OBJECT_TYPE_DEVICE, vk->device, "fovea device (%s)", vk->info.name);
     FV_VK_NAME(vk, VK_OBJECT_TYPE_QUEUE, vk->queue, "fovea queue (family %u)", vk->queue_family);
 
@@ -493,6 +583,7 @@ void fv_vk_destroy(fv_vk **pvk)
         if (vk->pool) vkDestroyCommandPool(vk->device, vk->pool, NULL);
         vkDestroyDevice(vk->device, NULL);
     }
+    if (vk->surface) vkDestroySurfaceKHR(vk->instance, vk->surface, NULL);
     if (vk->messenger) {
         PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger =
             (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(vk->instance, "vkDestroyDebugUtilsMessengerEXT");

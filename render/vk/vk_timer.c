@@ -10,7 +10,7 @@
 fv_result fv_vk_timer_init(fv_vk_timer *t, fv_vk *vk, uint32_t slots)
 {
     memset(t, 0, sizeof *t);
-    if (slots == 0 || slots > 8) return FV_ERR_INVALID_ARG;
+    if (slots == 0 || slots > FV_MAX_FRAMES_IN_FLIGHT) return FV_ERR_INVALID_ARG;
     t->slots = slots;
     t->supported = vk->info.timestamps;
     if (!t->supported) {

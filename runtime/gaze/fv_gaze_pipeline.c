@@ -12,6 +12,7 @@
 #include "fv_gaze_filter.h"
 #include "fv_gaze_saccade.h"
 #include "fv_log.h"
+#include "fv_stats.h"
 
 #define HIST 64                                   /* combined-gaze history (power of two not required) */
 #define SHORT_WINDOW_NS (20 * FV_NS_PER_MS)       /* saccade velocity: regression over 20 ms (>= 2 samples) */
@@ -35,20 +36,6 @@
 #define FIXATION_GROWTH_DEG_S 2.0
 
 enum { CH_LEFT = 0, CH_RIGHT = 1, CH_COMBINED = 2 };
-
-/* Time arithmetic that saturates instead of overflowing (device and host times may be anything). */
-static int64_t sub_sat(int64_t a, int64_t b)
-{
-    if (b < 0 && a > INT64_MAX + b) return INT64_MAX;
-    if (b > 0 && a < INT64_MIN + b) return INT64_MIN;
-    return a - b;
-}
-static int64_t add_sat(int64_t a, int64_t b)
-{
-    if (b > 0 && a > INT64_MAX - b) return INT64_MAX;
-    if (b < 0 && a < INT64_MIN - b) return INT64_MIN;
-    return a + b;
-}
 
 typedef struct channel {
     fv_gaze_one_euro filter;
@@ -213,7 +200,7 @@ static int regress(const fv_gaze_pipeline *p, int64_t window_ns, int min_n, int6
     double st = 0, stt = 0, sp[2] = {0, 0}, stp[2] = {0, 0};
     for (int i = 0; i < p->h_count; i++) {
         int k = hist_index(p, i);
-        int64_t dt_ns = sub_sat(t_new, p->h_t[k]);
+        int64_t dt_ns = fv_i64_sub_sat(t_new, p->h_t[k]);
         if (p->h_t[k] < from_ns) break;
         if (dt_ns > window_ns && n >= min_n) break;
         double t = (double)(-dt_ns) * 1e-9;
@@ -295,7 +282,7 @@ static void fit_saccade(fv_gaze_pipeline *p)
     p->fit_confident = n >= 3 && fit.rms_deg < 0.5;
     p->fit_amp_deg = fit.amplitude_deg;
     p->fit_dur_s = fit.duration_s;
-    p->fit_onset_ns = add_sat(t_new, (int64_t)llround(fit.t_onset_s * 1e9));
+    p->fit_onset_ns = fv_i64_add_sat(t_new, (int64_t)llround(fit.t_onset_s * 1e9));
     p->fit_dir[0] = dir[0];
     p->fit_dir[1] = dir[1];
     p->fit_d_now = d[n - 1];
@@ -374,10 +361,10 @@ static void update_pupil(fv_gaze_pipeline *p, const fv_gaze_sample *s, int64_t t
     }
     if (n == 0) return;
     double v = sum / n;
-    if (!p->pupil_valid || sub_sat(t, p->pupil_ns) > MAX_BLINK_NS) {
+    if (!p->pupil_valid || fv_i64_sub_sat(t, p->pupil_ns) > MAX_BLINK_NS) {
         p->pupil_mm = v;
     } else {
-        double dt = (double)sub_sat(t, p->pupil_ns) * 1e-9;
+        double dt = (double)fv_i64_sub_sat(t, p->pupil_ns) * 1e-9;
         double a = dt > 0.0 ? 1.0 - exp(-dt / PUPIL_TAU_S) : 0.0;
         p->pupil_mm += a * (v - p->pupil_mm);
     }
@@ -406,7 +393,7 @@ static void classify(fv_gaze_pipeline *p, int64_t t)
             return;
         }
     } else {
-        if (speed < p->desc.saccade_off_deg_s || sub_sat(t, p->sacc_start_ns) > MAX_SACCADE_NS) {
+        if (speed < p->desc.saccade_off_deg_s || fv_i64_sub_sat(t, p->sacc_start_ns) > MAX_SACCADE_NS) {
             p->state = FV_GAZE_EVENT_FIXATION;
             p->segment_start_ns = t;
         } else {
@@ -415,7 +402,7 @@ static void classify(fv_gaze_pipeline *p, int64_t t)
     }
     /* fixation or pursuit: the longer window, within this segment only */
     int nl = regress(p, LONG_WINDOW_NS, 3, p->segment_start_ns, p->v_long, p->reg_pos);
-    int64_t span = nl > 0 ? sub_sat(t, p->h_t[hist_index(p, nl - 1)]) : 0;
+    int64_t span = nl > 0 ? fv_i64_sub_sat(t, p->h_t[hist_index(p, nl - 1)]) : 0;
     p->long_ok = nl >= 3 && span >= LONG_MIN_SPAN_NS;
     double vl = p->long_ok ? ang_norm(p->v_long, pitch) : 0.0;
     /* a pursuit velocity must stand out of the noise (3 standard errors), or extrapolating it only adds error */
@@ -481,7 +468,7 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
             p->verg[e][1] = off[1];
             p->verg_valid[e] = true;
         } else {
-            double dt = p->have_valid ? (double)sub_sat(t, p->last_valid_ns) * 1e-9 : 0.0;
+            double dt = p->have_valid ? (double)fv_i64_sub_sat(t, p->last_valid_ns) * 1e-9 : 0.0;
             double w = dt > 0.0 ? 1.0 - exp(-dt / VERGENCE_TAU_S) : 0.0;
             for (int k = 0; k < 2; k++) p->verg[e][k] += w * (off[k] - p->verg[e][k]);
         }
@@ -489,7 +476,7 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
     update_pupil(p, s, t);
 
     /* ---- motion ---- */
-    if (!p->have_valid || sub_sat(t, p->last_valid_ns) > GAP_RESET_NS) reset_motion(p, t);
+    if (!p->have_valid || fv_i64_sub_sat(t, p->last_valid_ns) > GAP_RESET_NS) reset_motion(p, t);
     hist_push(p, t, a[CH_COMBINED]);
     fv_gaze_event was = p->state;
     classify(p, t);
@@ -564,7 +551,7 @@ void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_
         unc += FIXATION_GROWTH_DEG_S * hpos + 0.5 * v * hpos;
     } else if (ev == FV_GAZE_EVENT_SACCADE) {
         double remaining = 0.0;
-        int64_t target = add_sat(p->last_valid_ns, (int64_t)(h_s * 1e9)); /* clamped horizon */
+        int64_t target = fv_i64_add_sat(p->last_valid_ns, (int64_t)(h_s * 1e9)); /* clamped horizon */
         if (!p->fit_confident || !predict_saccade(p, target, pred, &remaining)) {
             /* no trustworthy landing yet: the newest position (the saccade's extent is unknown) */
             pred[0] = cc->pos[0];

@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "fv_stats.h"
+
 fv_result fv_gaze_unwrap_init(fv_gaze_unwrap *u, unsigned bits, int64_t tick_ns)
 {
     if (!u || bits < 1 || bits > 64 || tick_ns <= 0) return FV_ERR_INVALID_ARG;
@@ -20,20 +22,6 @@ void fv_gaze_unwrap_reset(fv_gaze_unwrap *u)
     u->last_ticks = 0;
 }
 
-static int64_t sat_add(int64_t a, int64_t b)
-{
-    if (b > 0 && a > INT64_MAX - b) return INT64_MAX;
-    if (b < 0 && a < INT64_MIN - b) return INT64_MIN;
-    return a + b;
-}
-
-static int64_t ticks_to_ns(int64_t ticks, int64_t tick_ns)
-{
-    if (ticks > 0 && ticks > INT64_MAX / tick_ns) return INT64_MAX;
-    if (ticks < 0 && ticks < INT64_MIN / tick_ns) return INT64_MIN;
-    return ticks * tick_ns;
-}
-
 int64_t fv_gaze_unwrap_push(fv_gaze_unwrap *u, uint64_t raw)
 {
     raw &= u->mask;
@@ -42,7 +30,7 @@ int64_t fv_gaze_unwrap_push(fv_gaze_unwrap *u, uint64_t raw)
         u->last_raw = raw;
         /* A 64-bit counter above INT64_MAX saturates; every narrower counter fits. */
         u->last_ticks = raw > (uint64_t)INT64_MAX ? INT64_MAX : (int64_t)raw;
-        return ticks_to_ns(u->last_ticks, u->tick_ns);
+        return fv_i64_mul_sat(u->last_ticks, u->tick_ns);
     }
     /* Modular difference, read as signed in [-2^(bits-1), 2^(bits-1)). */
     uint64_t diff = (raw - u->last_raw) & u->mask;
@@ -54,11 +42,11 @@ int64_t fv_gaze_unwrap_push(fv_gaze_unwrap *u, uint64_t raw)
         uint64_t back = (u->mask - diff) + 1u; /* 2^bits - diff, in (0, 2^(bits-1)] */
         delta = back > (uint64_t)INT64_MAX ? INT64_MIN : -(int64_t)back;
     }
-    int64_t ticks = sat_add(u->last_ticks, delta);
+    int64_t ticks = fv_i64_add_sat(u->last_ticks, delta);
     if (delta >= 0) {
         /* Forward (or equal): this is the newest value. A late value (delta < 0) leaves the reference alone. */
         u->last_raw = raw;
         u->last_ticks = ticks;
     }
-    return ticks_to_ns(ticks, u->tick_ns);
+    return fv_i64_mul_sat(ticks, u->tick_ns);
 }

@@ -8,6 +8,7 @@
 
 #include "fv_log.h"
 #include "fv_sim_driver.h"
+#include "fv_stats.h"
 
 static const int g_horizons_ms[FV_SIM_EVAL_HORIZONS] = {0, 10, 20, 40};
 
@@ -57,23 +58,14 @@ static bool raw_combined(const fv_gaze_sample *s, fv_vec3 *out)
     return fv_v3_len(sum) > 1e-6f;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static fv_sim_eval_error summarize(double *v, uint64_t n)
 {
     fv_sim_eval_error e = {0.0, 0.0, n};
     if (n == 0) return e;
     double sum = 0.0;
     for (uint64_t i = 0; i < n; i++) sum += v[i];
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
     e.mean_deg = sum / (double)n;
-    size_t k = (size_t)ceil(0.95 * (double)n) - 1;
-    if (k >= n) k = (size_t)n - 1;
-    e.p95_deg = v[k];
+    e.p95_deg = fv_percentile_f64(v, (size_t)n, 95.0); /* nearest rank */
     return e;
 }
 

@@ -5,12 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fovea_config.h"
 #include "fv_scene.h"
 #include "fv_test.h"
 
-#ifndef SEED_DIR
-#define SEED_DIR "."
-#endif
+#define SEED_DIR FV_SOURCE_DIR "/tests/scene/seeds" /* the fuzzer's seeds, used here as examples */
 
 static char *read_text(const char *path) { return fv_test_read_file(path, NULL); }
 

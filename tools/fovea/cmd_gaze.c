@@ -10,10 +10,8 @@
 #include "fv_clock.h"
 #include "fv_gaze_pipeline.h"
 #include "fv_log.h"
-#include "tool_devices.h"
-#ifdef FV_HAVE_LIB_FV_SIM
 #include "fv_sim_eval.h"
-#endif
+#include "tool_devices.h"
 
 static const char g_usage[] =
     "usage: fovea gaze eval --gaze URI [--seconds S] [--json] [--bench] [--accuracy-deg D] [--min-cutoff HZ]\n"
@@ -30,7 +28,6 @@ static const char g_usage[] =
     "             vmax_deg_s c_deg main_seq_spread ts_bits\n"
     "  --seconds S   device time to evaluate (default 60, at most 3600)\n";
 
-#ifdef FV_HAVE_LIB_FV_SIM
 static void print_text(const char *uri, const fv_sim_eval_result *r)
 {
     printf("gaze eval: %s\n", uri);
@@ -119,7 +116,6 @@ static int print_json(const char *uri, const fv_sim_eval_result *r)
     cJSON_free(txt);
     return FV_EXIT_OK;
 }
-#endif
 
 static bool parse_float_opt(const char *v, double lo, double hi, float *out)
 {
@@ -174,7 +170,6 @@ static int cmd_eval(int argc, char **argv)
     if (!uri) return fv_cli_usage_error("gaze", g_usage, "eval needs --gaze URI");
     if (pd.saccade_on_deg_s > 0 && pd.saccade_off_deg_s > pd.saccade_on_deg_s)
         return fv_cli_usage_error("gaze", g_usage, "--saccade-off must not exceed --saccade-on");
-#ifdef FV_HAVE_LIB_FV_SIM
     fv_clock clock;
     fv_clock_sim_init(&clock, FV_NS_PER_S);
     fv_device_open_desc od = {.clock = &clock};
@@ -195,12 +190,6 @@ static int cmd_eval(int argc, char **argv)
     if (json) return print_json(uri, &res);
     print_text(uri, &res);
     return FV_EXIT_OK;
-#else
-    (void)json;
-    (void)do_bench;
-    fprintf(stderr, "fovea gaze: this build has no simulator library (fv_sim): eval is unavailable\n");
-    return FV_EXIT_FAIL;
-#endif
 }
 
 int fv_cmd_gaze(int argc, char **argv)

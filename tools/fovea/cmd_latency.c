@@ -11,15 +11,9 @@
 #include "fv_frame_loop.h"
 #include "fv_log.h"
 #include "fv_sim_display.h"
+#include "fv_sim_driver.h" /* to read the simulated eye's declared latency from a sim: URI */
 #include "fv_standin_render.h"
 #include "tool_devices.h"
-
-#if defined(__has_include)
-#if __has_include("fv_sim_driver.h")
-#include "fv_sim_driver.h" /* to read the simulated eye's declared latency from a sim: URI */
-#define HAVE_SIM_DRIVER 1
-#endif
-#endif
 
 static const char *g_usage =
     "usage: fovea latency --gaze URI [--hz HZ] [--render-ms MS] [--frames N] [--json] [options]\n"
@@ -139,7 +133,6 @@ static double tracker_latency_ms(const options *o, const char **out_origin)
         *out_origin = "declared with --tracker-ms";
         return o->tracker_ms;
     }
-#ifdef HAVE_SIM_DRIVER
     if (strncmp(o->uri, "sim:", 4) == 0 || strcmp(o->uri, "sim") == 0) {
         fv_sim_eye_desc d;
         if (fv_sim_driver_parse_uri(o->uri, &d, NULL) == FV_OK && isfinite(d.latency_ms) && d.latency_ms >= 0) {
@@ -147,7 +140,6 @@ static double tracker_latency_ms(const options *o, const char **out_origin)
             return d.latency_ms;
         }
     }
-#endif
     *out_origin = "unknown, counted as 0 (use --tracker-ms)";
     return 0.0;
 }

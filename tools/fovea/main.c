@@ -13,57 +13,23 @@ typedef struct command {
     cmd_fn fn;
 } command;
 
-#define DECLARE(name) int fv_cmd_##name(int argc, char **argv);
-#ifdef FV_HAVE_CMD_RUN
-DECLARE(run)
-#endif
-#ifdef FV_HAVE_CMD_INFO
-DECLARE(info)
-#endif
-#ifdef FV_HAVE_CMD_DEVICES
-DECLARE(devices)
-#endif
-#ifdef FV_HAVE_CMD_TRACE
-DECLARE(trace)
-#endif
-#ifdef FV_HAVE_CMD_HID
-DECLARE(hid)
-#endif
-#ifdef FV_HAVE_CMD_GAZE
-DECLARE(gaze)
-#endif
-#ifdef FV_HAVE_CMD_LATENCY
-DECLARE(latency)
-#endif
-#ifdef FV_HAVE_CMD_BENCH
-DECLARE(bench)
-#endif
+int fv_cmd_run(int argc, char **argv);
+int fv_cmd_info(int argc, char **argv);
+int fv_cmd_devices(int argc, char **argv);
+int fv_cmd_trace(int argc, char **argv);
+int fv_cmd_hid(int argc, char **argv);
+int fv_cmd_gaze(int argc, char **argv);
+int fv_cmd_latency(int argc, char **argv);
 
+/* Every command, in `fovea --help` order. */
 static const command g_commands[] = {
-#ifdef FV_HAVE_CMD_RUN
     {"run", "render frames of a scene (headless by default) and report per-pass GPU time", fv_cmd_run},
-#endif
-#ifdef FV_HAVE_CMD_INFO
     {"info", "list Vulkan devices, the one fovea picks, and the features it uses", fv_cmd_info},
-#endif
-#ifdef FV_HAVE_CMD_DEVICES
     {"devices", "list eye trackers each driver can see", fv_cmd_devices},
-#endif
-#ifdef FV_HAVE_CMD_TRACE
     {"trace", "inspect, convert and record gaze recordings", fv_cmd_trace},
-#endif
-#ifdef FV_HAVE_CMD_HID
     {"hid", "parse HID report descriptors and decode eye-tracker reports", fv_cmd_hid},
-#endif
-#ifdef FV_HAVE_CMD_GAZE
     {"gaze", "evaluate the gaze pipeline (filtering, saccades, prediction)", fv_cmd_gaze},
-#endif
-#ifdef FV_HAVE_CMD_LATENCY
     {"latency", "simulate the frame loop and report gaze-to-photon latency", fv_cmd_latency},
-#endif
-#ifdef FV_HAVE_CMD_BENCH
-    {"bench", "measure speed/accuracy trade-offs", fv_cmd_bench},
-#endif
     {NULL, NULL, NULL},
 };
 

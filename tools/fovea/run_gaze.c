@@ -7,10 +7,8 @@
 
 #include "fv_log.h"
 #include "fv_sim_display.h"
-#include "tool_devices.h"
-#ifdef FV_HAVE_LIB_FV_USB
 #include "fv_usb_hotplug.h"
-#endif
+#include "tool_devices.h"
 
 static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc *desc, fv_device **out)
 {
@@ -39,14 +37,12 @@ fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t 
     FV_TRY(fv_gaze_source_create(&sd, &g->source));
     fv_gaze_pipeline_desc pd = {0};
     FV_TRY(fv_gaze_pipeline_create(&pd, &g->pipeline));
-#ifdef FV_HAVE_LIB_FV_USB
     /* A hardware tracker that is unplugged and plugged back is re-opened as soon as it arrives. Without hotplug
      * support (no udev, no permission) the source still re-opens on its backoff. */
     if (strncmp(uri, "hid:", 4) == 0 || strncmp(uri, "usb:", 4) == 0) {
         if (FV_FAILED(fv_usb_hotplug_start(&g->hotplug)))
             FV_INFO("run", "%s: no USB hotplug events; a lost tracker is re-opened on a backoff", uri);
     }
-#endif
     fv_frame_loop_desc ld = {
         .clock = clock,
         .display = g->display,
@@ -62,12 +58,10 @@ fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t 
 fv_result run_gaze_step(run_gaze *g)
 {
     if (g->count >= g->cap) return FV_ERR_STATE;
-#ifdef FV_HAVE_LIB_FV_USB
     if (g->hotplug && fv_usb_hotplug_take_reprobe(g->hotplug)) {
         g->reprobes++;
         fv_gaze_source_reprobe(g->source);
     }
-#endif
     FV_TRY(fv_frame_loop_step(g->loop, &g->records[g->count]));
     g->count++;
     return FV_OK;
@@ -126,9 +120,7 @@ void run_gaze_add_json(const run_gaze *g, cJSON *obj)
 
 void run_gaze_close(run_gaze *g)
 {
-#ifdef FV_HAVE_LIB_FV_USB
     fv_usb_hotplug_stop(&g->hotplug);
-#endif
     fv_frame_loop_destroy(&g->loop);
     fv_gaze_pipeline_destroy(&g->pipeline);
     fv_gaze_source_destroy(&g->source);

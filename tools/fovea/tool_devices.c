@@ -1,36 +1,21 @@
-/* @brief The drivers compiled into the fovea tool. Each driver library exports one `fv_driver` object. */
+/* @brief The drivers of the fovea tool (all of them). Each driver library exports one `fv_driver` object. */
 #include "tool_devices.h"
 
 #include <string.h>
 
 #include "fv_log.h"
 
-#ifdef FV_HAVE_LIB_FV_HID
-#include "fv_hid_driver.h" /* fv_hid_driver */
-#endif
-#ifdef FV_HAVE_LIB_FV_USB
-#include "fv_usb_driver.h" /* fv_usb_driver */
-#endif
-#ifdef FV_HAVE_LIB_FV_TRACE
+#include "fv_hid_driver.h"   /* fv_hid_driver */
+#include "fv_sim_driver.h"   /* fv_sim_driver */
 #include "fv_trace_driver.h" /* fv_trace_driver */
-#endif
-#ifdef FV_HAVE_LIB_FV_SIM
-#include "fv_sim_driver.h" /* fv_sim_driver */
-#endif
+#include "fv_usb_driver.h"   /* fv_usb_driver */
 
+/* Hardware first; the recorded and simulated drivers register last. */
 static const fv_driver *const g_drivers[] = {
-#ifdef FV_HAVE_LIB_FV_HID
     &fv_hid_driver,
-#endif
-#ifdef FV_HAVE_LIB_FV_USB
     &fv_usb_driver,
-#endif
-#ifdef FV_HAVE_LIB_FV_TRACE
     &fv_trace_driver,
-#endif
-#ifdef FV_HAVE_LIB_FV_SIM
     &fv_sim_driver,
-#endif
     NULL,
 };
 

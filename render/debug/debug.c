@@ -1,0 +1,120 @@
+/* @brief The debug-view pass (see debug.h). */
+#include "debug.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "debug_comp.spv.h"
+#include "debug_interface.h"
+
+#define MOD "debug"
+
+typedef struct debug {
+    fv_vk *vk;
+    uint32_t width, height;
+    fv_vk_compute cs;
+    VkSampler nearest;
+} debug;
+
+static void debug_plan(const fv_plan_context *ctx, fv_plan_entry *out)
+{
+    switch (ctx->quality->debug_view) {
+    case FV_DEBUG_VIEW_NORMAL:
+        out->enabled = true;
+        out->variant = FV_GPU_DEBUG_VIEW_NORMAL;
+        snprintf(out->reason, sizeof out->reason, "debug view 'normal': the G-buffer normal replaces the shading");
+        return;
+    case FV_DEBUG_VIEW_GAZE:
+        out->enabled = true;
+        out->variant = FV_GPU_DEBUG_VIEW_GAZE;
+        snprintf(out->reason, sizeof out->reason, "debug view 'gaze': the predicted gaze replaces the shading");
+        return;
+    case FV_DEBUG_VIEW_NONE:
+    default:
+        out->enabled = false;
+        snprintf(out->reason, sizeof out->reason, "off — no debug view asked for");
+        return;
+    }
+}
+
+static void debug_fini(void *state)
+{
+    debug *d = state;
+    if (!d) return;
+    fv_vk_compute_fini(d->vk, &d->cs);
+    if (d->nearest) vkDestroySampler(d->vk->device, d->nearest, NULL);
+    free(d);
+}
+
+static fv_result debug_init(const fv_pass_env *env, void **out_state)
+{
+    debug *d = calloc(1, sizeof *d);
+    if (!d) return FV_ERR_NO_MEMORY;
+    d->vk = env->vk;
+    d->width = env->width;
+    d->height = env->height;
+    const fv_image_id ids[FV_DEBUG_BINDING_COUNT] = {FV_IMAGE_DEPTH, FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO,
+                                                     FV_IMAGE_MATERIAL, FV_IMAGE_COLOR};
+    const fv_vk_image *img[FV_DEBUG_BINDING_COUNT];
+    fv_result res = FV_OK;
+    for (int i = 0; res == FV_OK && i < FV_DEBUG_BINDING_COUNT; i++) res = fv_images_get(env->images, ids[i], &img[i]);
+    if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "debug nearest sampler", &d->nearest);
+    VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
+    VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    VkDescriptorSetLayoutBinding b[FV_DEBUG_BINDING_COUNT] = {
+        {FV_DEBUG_BINDING_DEPTH, cis, 1, cs, NULL},
+        {FV_DEBUG_BINDING_NORMAL, cis, 1, cs, NULL},
+        {FV_DEBUG_BINDING_ALBEDO, cis, 1, cs, NULL},
+        {FV_DEBUG_BINDING_MATERIAL, cis, 1, cs, NULL},
+        {FV_DEBUG_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+    };
+    uint32_t view = env->plan ? env->plan->variant : FV_GPU_DEBUG_VIEW_NORMAL;
+    fv_vk_compute_desc cd = {.name = "debug view", .code = fv_spv_debug_comp, .code_size = sizeof fv_spv_debug_comp,
+                             .shared_sets = &env->scene->set_layout, .shared_set_count = 1, .bindings = b,
+                             .binding_count = FV_DEBUG_BINDING_COUNT, .set_count = 1, .spec = &view, .spec_count = 1};
+    if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &d->cs);
+    if (res != FV_OK) {
+        FV_ERROR(MOD, "debug view pass could not be created: %s", fv_result_str(res));
+        debug_fini(d);
+        return res;
+    }
+    for (int i = 0; i < 4; i++)
+        fv_vk_write_image(env->vk, d->cs.sets[0], (uint32_t)i, cis, img[i]->view, d->nearest,
+                          i == 0 ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
+                                 : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, img[4]->view,
+                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    *out_state = d;
+    return FV_OK;
+}
+
+static void debug_record(void *state, const fv_pass_frame *f)
+{
+    debug *d = state;
+    VkCommandBuffer cmd = f->cmd;
+    fv_vk_label_begin(d->vk, cmd, "debug view");
+    VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    fv_images_use(f->images, cmd, FV_IMAGE_DEPTH,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, cs, VK_ACCESS_SHADER_READ_BIT});
+    const fv_image_id sampled[3] = {FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO, FV_IMAGE_MATERIAL};
+    for (int i = 0; i < 3; i++)
+        fv_images_use(f->images, cmd, sampled[i],
+                      (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cs, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
+    /* The one set binds only images that stay put, and the scene set is the slot's: nothing per slot here. */
+    fv_vk_compute_bind(&d->cs, cmd, 0, &f->scene_set, 1, 0, NULL);
+    vkCmdDispatch(cmd, (d->width + FV_DEBUG_GROUP_X - 1) / FV_DEBUG_GROUP_X,
+                  (d->height + FV_DEBUG_GROUP_Y - 1) / FV_DEBUG_GROUP_Y, 2);
+    f->counters->dispatches++;
+    fv_vk_label_end(d->vk, cmd);
+}
+
+const fv_pass fv_debug_pass = {
+    .id = "debug",
+    .flags = FV_PASS_REPLAYS_ON_PIXELS,
+    .plan = debug_plan,
+    .init = debug_init,
+    .record = debug_record,
+    .fini = debug_fini,
+};

@@ -1,0 +1,47 @@
+#version 450
+// @brief Debug views of the frame's data, written over the linear colour: the G-buffer's world normal
+// (n * 0.5 + 0.5; black where nothing was drawn) or the frame constants' predicted gaze (red: closeness of each
+// pixel's ray to the gaze ray; green: pupil diameter mm / 10; blue: 1 when the gaze is valid).
+#extension GL_GOOGLE_include_directive : require
+#include "fv_gpu.h"
+#include "fv_scene_set.h"
+#include "fv_common.glsl"
+#include "debug_interface.h"
+
+layout(local_size_x = FV_DEBUG_GROUP_X, local_size_y = FV_DEBUG_GROUP_Y, local_size_z = 1) in;
+layout(constant_id = 0) const uint VIEW = FV_GPU_DEBUG_VIEW_NORMAL;
+
+FV_SCENE_SET_DECLARE
+#define FV_GBUFFER_SET FV_DEBUG_SET
+#define FV_GBUFFER_BINDING_DEPTH FV_DEBUG_BINDING_DEPTH
+#define FV_GBUFFER_BINDING_NORMAL FV_DEBUG_BINDING_NORMAL
+#define FV_GBUFFER_BINDING_ALBEDO FV_DEBUG_BINDING_ALBEDO
+#define FV_GBUFFER_BINDING_MATERIAL FV_DEBUG_BINDING_MATERIAL
+#include "fv_gbuffer_decode.glsl"
+layout(set = FV_DEBUG_SET, binding = FV_DEBUG_BINDING_COLOR, rgba32f) uniform writeonly image2DArray out_color;
+
+// The pixel's ray in the eye's view space (unit).
+vec3 pixel_ray(uvec3 p)
+{
+    vec4 t = frame.eye_tan[p.z];
+    vec2 uv = (vec2(p.xy) + 0.5) / vec2(frame.counts.y, frame.counts.z);
+    return normalize(vec3(mix(t.x, t.y, uv.x), mix(t.z, t.w, uv.y), -1.0));
+}
+
+void main()
+{
+    uvec3 p = gl_GlobalInvocationID;
+    if (p.x >= frame.counts.y || p.y >= frame.counts.z || p.z > 1u) return;
+    vec3 c = vec3(0.0);
+    if (VIEW == FV_GPU_DEBUG_VIEW_GAZE) {
+        vec4 g = frame.gaze_dir[p.z];
+        vec3 dir = g.w > 0.5 ? g.xyz : vec3(0.0, 0.0, -1.0);
+        float a = acos(clamp(dot(pixel_ray(p), dir), -1.0, 1.0));
+        float s = max(float(FV_DEBUG_GAZE_SIGMA_MIN_RAD), frame.gaze_info[p.z].x);
+        c = vec3(exp(-(a * a) / (2.0 * s * s)), frame.gaze_info[p.z].y / 10.0, g.w > 0.5 ? 1.0 : 0.0);
+    } else {
+        fv_surface s = fv_gbuffer_surface(p);
+        c = s.hit ? s.normal * 0.5 + 0.5 : vec3(0.0);
+    }
+    imageStore(out_color, ivec3(p), vec4(c, 1.0));
+}

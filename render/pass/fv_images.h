@@ -1,0 +1,81 @@
+/* @brief The renderer's frame images, owned in one table and handed to passes by id: the G-buffer targets, linear
+ * colour, a ping-pong history for temporal reuse, the display-encoded output, and per-pass scratch images. Each is a
+ * 2-layer array (layer = eye) created on first request, and the table tracks its layout and last accesses so a pass
+ * states only how it is about to use an image (fv_images_use) and gets exactly the barrier that needs. One owner
+ * thread; recording order must be submission order (one queue). */
+#ifndef FV_IMAGES_H
+#define FV_IMAGES_H
+
+#include <stdbool.h>
+
+#include "fv_vk.h"
+
+typedef enum fv_image_id {
+    FV_IMAGE_DEPTH = 0,  /* D32, G-buffer depth (Vulkan 0..1) */
+    FV_IMAGE_NORMAL,     /* octahedral world normal facing the eye: RG16_SNORM (RG32F where unsupported) */
+    FV_IMAGE_ALBEDO,     /* RGBA8 sRGB, linear albedo on read */
+    FV_IMAGE_MATERIAL,   /* R16UI material index + 1; 0 = nothing drawn */
+    FV_IMAGE_MOTION,     /* RG16F current uv - previous uv */
+    FV_IMAGE_COLOR,      /* RGBA32F linear radiance (shading's output) */
+    FV_IMAGE_HISTORY_A,  /* RGBA32F history ping-pong: see fv_images_history */
+    FV_IMAGE_HISTORY_B,
+    FV_IMAGE_DISPLAY,    /* RGBA8 UNORM holding sRGB-encoded values: the present pass's output, what targets show */
+    FV_IMAGE_BUILTIN_COUNT,
+    FV_IMAGE_MAX = FV_IMAGE_BUILTIN_COUNT + 8 /* + scratch images of passes */
+} fv_image_id;
+
+typedef struct fv_image_slot {
+    fv_vk_image img;
+    bool created;
+    char name[48];
+    VkFormat format;
+    VkImageUsageFlags usage;
+    /* tracked state */
+    VkImageLayout layout;
+    VkPipelineStageFlags write_stage; /* stages of the last write (or layout change) */
+    VkAccessFlags write_access;       /* its accesses, to be made available */
+    VkPipelineStageFlags visible;     /* stages the last write was made visible to */
+    VkPipelineStageFlags readers;     /* stages that read since the last write */
+} fv_image_slot;
+
+typedef struct fv_images {
+    fv_vk *vk;
+    uint32_t width, height; /* per eye */
+    fv_image_slot slot[FV_IMAGE_MAX];
+    uint32_t count;         /* builtins + scratch */
+    uint32_t history_parity;
+} fv_images;
+
+/** Describe the builtin images (nothing allocated yet). t is zeroed first. */
+FV_MUST_CHECK fv_result fv_images_init(fv_images *t, fv_vk *vk, uint32_t width, uint32_t height);
+/** Destroy every image (the GPU must be idle). Safe twice. */
+void fv_images_fini(fv_images *t);
+/** The image of id, created on first request (in UNDEFINED layout). */
+FV_MUST_CHECK fv_result fv_images_get(fv_images *t, fv_image_id id, const fv_vk_image **out);
+/** Add (and create) a scratch image of a pass: 2 layers of width x height per eye unless desc says otherwise. */
+FV_MUST_CHECK fv_result fv_images_scratch(fv_images *t, const fv_vk_image_desc *desc, fv_image_id *out_id);
+/** The image as created (NULL before fv_images_get created it). */
+const fv_vk_image *fv_images_image(const fv_images *t, fv_image_id id);
+
+/** Record what `use` needs before it: a barrier from the image's tracked state when the use writes, changes the
+ *  layout, or reads at a stage the last write was not yet made visible to; nothing otherwise. Updates the state. */
+void fv_images_use(fv_images *t, VkCommandBuffer cmd, fv_image_id id, fv_vk_image_use use);
+/** A render pass wrote the image itself (initial layout UNDEFINED, its external dependencies waiting for earlier
+ *  work at `waits_for` stages and making its writes visible at `visible_to` stages): record a barrier for earlier
+ *  users outside `waits_for` (before the render pass begins), then set the state to `done`. */
+void fv_images_render_pass(fv_images *t, VkCommandBuffer cmd, fv_image_id id, VkPipelineStageFlags waits_for,
+                           fv_vk_image_use done, VkPipelineStageFlags visible_to);
+/** The tracked layout of an image. */
+VkImageLayout fv_images_layout(const fv_images *t, fv_image_id id);
+
+/** The history image of `age` frames ago relative to this frame (0 = written this frame, 1 = the previous frame's);
+ *  fv_images_next_frame swaps them. */
+fv_image_id fv_images_history(const fv_images *t, uint32_t age);
+void fv_images_next_frame(fv_images *t);
+
+/** Read one layer back (submits and waits; the GPU must be done with every recorded use, e.g. after the frame's
+ *  fence). Texels tightly packed with out_row_pitch bytes per row at out_offset. */
+FV_MUST_CHECK fv_result fv_images_read(fv_images *t, fv_image_id id, uint32_t layer, void *out, size_t out_size,
+                                       size_t out_offset, size_t out_row_pitch);
+
+#endif

@@ -1,0 +1,76 @@
+/* @brief The contract between the renderer and a pass. A pass is a room (render/<pass>/) that exports one
+ * fv_pass entry; the renderer's pass table (render/passes.c) lists the entries in frame order. From the scene, the
+ * device and the quality settings, each entry's plan() decides once whether it runs and why; the renderer then
+ * init()s the enabled entries, record()s them in order inside their own timestamp range each frame, and fini()s
+ * them when the plan turns them off or the renderer goes. A pass receives its inputs and outputs from the
+ * renderer's image table (fv_images.h) and the scene from fv_scene_gpu; it never includes another pass. */
+#ifndef FV_PASS_H
+#define FV_PASS_H
+
+#include "fovea/fv_frame_input.h"
+#include "fv_images.h"
+#include "fv_plan.h"
+#include "fv_scene.h"
+#include "fv_scene_gpu.h"
+#include "fv_vk.h"
+
+/** What a plan decision may look at. */
+typedef struct fv_plan_context {
+    const fv_scene *scene;             /* NULL: no scene loaded */
+    const fv_vk_device_info *device;   /* NULL: planning without a device (fv_frame_plan_build) */
+    bool multiview;                    /* the G-buffer draws both eyes in one multiview pass */
+    const char *multiview_why;         /* when !multiview: why not (one line), else NULL */
+    const fv_quality *quality;         /* never NULL */
+    const char *target;                /* what the frame is shown on ("headless", "window"); NULL = headless */
+} fv_plan_context;
+
+/** What init gets: everything a pass may keep pointers to until fini. */
+typedef struct fv_pass_env {
+    fv_vk *vk;
+    fv_scene_gpu *scene;        /* its set_layout is set 0 (FV_SCENE_SET) of every pass's pipeline layout */
+    fv_images *images;          /* request images here (fv_images_get / fv_images_scratch) */
+    uint32_t width, height;     /* per eye, px */
+    uint32_t slots;             /* frames in flight */
+    bool multiview;
+    const fv_plan_entry *plan;  /* this pass's decision */
+} fv_pass_env;
+
+/** A list of packed pixels to re-shade (fv_gpu.h: FV_GPU_LIST_*), its indirect dispatch arguments, and the count
+ *  when the host knows it. Buffers already visible to compute reads and indirect commands. */
+typedef struct fv_pixel_list {
+    VkBuffer buffer;
+    VkDeviceSize offset, range;
+    VkBuffer indirect;
+    VkDeviceSize indirect_offset;
+    uint32_t host_count;
+} fv_pixel_list;
+
+/** What record gets, per frame. */
+typedef struct fv_pass_frame {
+    VkCommandBuffer cmd;
+    uint32_t slot;
+    const fv_frame_input *input;
+    fv_images *images;
+    fv_scene_gpu *scene;
+    VkDescriptorSet scene_set;   /* the slot's shared set (set 0) */
+    const fv_pixel_list *pixels; /* NULL: a whole frame; else the renderer re-shades these pixels only */
+    fv_pass_counters *counters;  /* zeroed before record; the pass adds what it did */
+} fv_pass_frame;
+
+/** Flags of a pass entry. */
+#define FV_PASS_REPLAYS_ON_PIXELS 1u /* runs again, after shading, when the renderer re-shades a pixel list */
+
+typedef struct fv_pass {
+    const char *id; /* "gbuffer", "shade", ...: the plan's and the timings' name */
+    uint32_t flags;
+    /** Decide: out->enabled, out->reason (one line: what it does, or "off — why"), out->variant. out->pass is set. */
+    void (*plan)(const fv_plan_context *ctx, fv_plan_entry *out);
+    /** Pipelines, layouts, images, descriptor sets. NULL for a plan-only entry (a pass that does not exist yet). */
+    fv_result (*init)(const fv_pass_env *env, void **out_state);
+    /** Record the frame's work. Records only: never submits, waits or allocates device memory. */
+    void (*record)(void *state, const fv_pass_frame *frame);
+    /** Free everything (the GPU is idle). */
+    void (*fini)(void *state);
+} fv_pass;
+
+#endif

@@ -1,0 +1,70 @@
+/* @brief The one builder of per-eye views from a head pose (see fv_frame_input.h): eyes at +-IPD/2 along the head's
+ * x axis, the HMD default asymmetric field of view (outer side wider, mirrored per eye), near/far clamped to a usable
+ * range. Finite for any input: NaN poses fall back to identity, IPD is clamped. */
+#include <math.h>
+#include <string.h>
+
+#include "fovea/fv_frame_input.h"
+
+#define DEFAULT_NEAR_M 0.05f
+#define DEFAULT_FAR_M 100.0f
+#define MIN_NEAR_M 1e-5f
+#define MAX_FAR_M 1e9f
+
+void fv_near_far_sanitize(float *near_m, float *far_m)
+{
+    float n = *near_m, f = *far_m;
+    if (!(n > 0.0f) || !isfinite(n)) n = DEFAULT_NEAR_M;
+    n = fv_clampf(n, MIN_NEAR_M, MAX_FAR_M / 2.0f);
+    if (!(f > 0.0f) || !isfinite(f)) f = fmaxf(DEFAULT_FAR_M, n * 1000.0f);
+    if (f > MAX_FAR_M) f = MAX_FAR_M;
+    if (f < n * 1.001f) f = n * 1.001f; /* a non-empty depth range keeps the projection finite */
+    *near_m = n;
+    *far_m = f;
+}
+
+void fv_eye_views_build(const fv_head_pose *head, float near_m, float far_m, uint32_t eye_width, uint32_t eye_height,
+                        fv_eye_view out[2])
+{
+    fv_vec3 pos = head && fv_v3_isfinite(head->position_m) ? head->position_m : fv_v3(0, 0, 0);
+    fv_quat q = head ? fv_quat_normalize(head->orientation) : fv_quat_identity();
+    if (!(isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w))) q = fv_quat_identity();
+    float ipd_mm = head && isfinite(head->ipd_mm) ? head->ipd_mm : FV_DEFAULT_IPD_MM;
+    ipd_mm = fv_clampf(ipd_mm, 0.0f, FV_MAX_IPD_MM);
+    fv_near_far_sanitize(&near_m, &far_m);
+
+    /* Field of view: the vertical extent of the HMD default; the horizontal extent follows the image aspect so that
+     * pixels stay square, split between the outer and inner side in the HMD's proportion (outer wider). Without an
+     * image size, the HMD's own horizontal extent. */
+    double t_up = tan(fv_deg_to_rad(FV_HMD_FOV_UP_DEG)), t_down = tan(fv_deg_to_rad(FV_HMD_FOV_DOWN_DEG));
+    double t_outer = tan(fv_deg_to_rad(FV_HMD_FOV_OUTER_DEG)), t_inner = tan(fv_deg_to_rad(FV_HMD_FOV_INNER_DEG));
+    double outer = t_outer, inner = t_inner;
+    if (eye_width && eye_height) {
+        double span_x = (t_up + t_down) * (double)eye_width / (double)eye_height;
+        outer = span_x * t_outer / (t_outer + t_inner);
+        inner = span_x - outer;
+    }
+
+    fv_mat4 rot = fv_mat4_from_quat(q);
+    fv_mat4 rot_t = fv_mat4_transpose(&rot);
+    for (int e = 0; e < 2; e++) {
+        fv_eye_view *v = &out[e];
+        memset(v, 0, sizeof *v);
+        float side = e == 0 ? -1.0f : 1.0f; /* left eye at -x of the head */
+        fv_vec3 offset = fv_quat_rotate(q, fv_v3(side * ipd_mm * 0.5e-3f, 0.0f, 0.0f));
+        v->pos_world = fv_v3_add(pos, offset);
+        /* view = R^T * T(-eye) */
+        v->view = rot_t;
+        fv_vec3 t = fv_mat4_mul_dir(&rot_t, v->pos_world);
+        v->view.m[3][0] = -t.x;
+        v->view.m[3][1] = -t.y;
+        v->view.m[3][2] = -t.z;
+        v->tan_left = (float)(e == 0 ? -outer : -inner);
+        v->tan_right = (float)(e == 0 ? inner : outer);
+        v->tan_up = (float)t_up;
+        v->tan_down = (float)-t_down;
+        v->near_m = near_m;
+        v->far_m = far_m;
+        v->proj = fv_mat4_perspective_tan(v->tan_left, v->tan_right, v->tan_up, v->tan_down, near_m, far_m);
+    }
+}
