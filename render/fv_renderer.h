@@ -45,6 +45,9 @@ void fv_renderer_destroy(fv_renderer **r);
 /** Upload a scene (the renderer keeps no pointer to it) and rebuild the frame plan. */
 FV_MUST_CHECK fv_result fv_renderer_load_scene(fv_renderer *r, const fv_scene *scene);
 const fv_frame_plan *fv_renderer_plan(const fv_renderer *r);
+/** Plan for these quality settings now (a frame drawn with other settings re-plans by itself): passes switched on
+ *  start, passes switched off stop (waiting for the GPU first). Out-of-range values fall back to the defaults. */
+FV_MUST_CHECK fv_result fv_renderer_set_quality(fv_renderer *r, const fv_quality *quality);
 /** Record and submit one frame. Returns once submitted (frames in flight overlap). */
 FV_MUST_CHECK fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in);
 /** Wait for all submitted frames; stats then describe the last one. */

@@ -364,6 +364,13 @@ fail:
 
 const fv_frame_plan *fv_renderer_plan(const fv_renderer *r) { return r ? &r->plan : NULL; }
 
+fv_result fv_renderer_set_quality(fv_renderer *r, const fv_quality *quality)
+{
+    if (!r || !quality) return FV_ERR_INVALID_ARG;
+    fv_quality q = quality_sanitized(quality);
+    return plan_differs(&q, &r->plan_quality) ? plan_apply(r, &q) : FV_OK;
+}
+
 fv_result fv_renderer_frame_input(const fv_renderer *r, const fv_head *head, uint64_t frame_id, double time_s,
                                   fv_frame_input *out)
 {
@@ -395,20 +402,24 @@ static void frame_constants(fv_renderer *r, const fv_frame_input *in, fv_gpu_fra
         fr->eye_tan[e] = (fv_gpu_vec4){v->tan_left, v->tan_right, v->tan_up, v->tan_down};
         /* Gaze: a valid, finite, non-zero direction is normalised; anything else is "no gaze" (straight ahead). */
         const fv_eye_gaze *g = &in->gaze[e];
-        fv_vec3 d = g->valid && fv_v3_isfinite(g->dir_eye) ? fv_v3_normalize_or(g->dir_eye, fv_v3(0, 0, 0))
-                                                            : fv_v3(0, 0, 0);
+        fv_vec3 d = fv_v3(0, 0, 0);
+        if (g->valid && fv_v3_isfinite(g->dir_eye)) {
+            /* Scale by the largest component first, so that neither huge nor tiny directions over/underflow. */
+            float m = fmaxf(fabsf(g->dir_eye.x), fmaxf(fabsf(g->dir_eye.y), fabsf(g->dir_eye.z)));
+            if (m > 0.0f) d = fv_v3_normalize_or(fv_v3_scale(g->dir_eye, 1.0f / m), fv_v3(0, 0, 0));
+        }
         bool valid = fv_v3_len(d) > 0.5f;
         if (!valid) d = fv_v3(0, 0, -1);
         fr->gaze_dir[e] = (fv_gpu_vec4){d.x, d.y, d.z, valid ? 1.0f : 0.0f};
         float u = isfinite(g->uncertainty_deg) ? fv_clampf((float)fv_deg_to_rad(g->uncertainty_deg), 0.0f, (float)FV_PI)
                                                : (float)FV_PI;
-        float pupil = isfinite(in->pupil_mm) && in->pupil_mm > 0.0f ? fminf(in->pupil_mm, 1e3f) : 0.0f;
+        /* A human pupil is 1.5 to 9 mm: anything outside (0, FV_GPU_PUPIL_MAX_MM] is unknown (0). */
+        float pupil = isfinite(in->pupil_mm) && in->pupil_mm > 0.0f && in->pupil_mm <= FV_GPU_PUPIL_MAX_MM ? in->pupil_mm
+                                                                                                         : 0.0f;
         fr->gaze_info[e] = (fv_gpu_vec4){valid ? u : (float)FV_PI, pupil, 0.0f, 0.0f};
     }
     fr->counts = (fv_gpu_uvec4){0, r->desc.eye_width, r->desc.eye_height, (uint32_t)in->frame_id};
-    double lead_s = in->t_photon_ns && in->t_frame_ns ? (double)(in->t_photon_ns - in->t_frame_ns) * 1e-9 : 0.0;
-    if (!isfinite(lead_s) || fabs(lead_s) > 3600.0) lead_s = 0.0;
-    fr->time = (fv_gpu_vec4){(float)(isfinite(in->time_s) ? in->time_s : 0.0), (float)lead_s, 0.0f, 0.0f};
+    fr->time = (fv_gpu_vec4){(float)(isfinite(in->time_s) ? in->time_s : 0.0), 0.0f, 0.0f, 0.0f};
     uint64_t photon = in->t_photon_ns > 0 ? (uint64_t)in->t_photon_ns : 0u;
     fr->photon = (fv_gpu_uvec4){(uint32_t)photon, (uint32_t)(photon >> 32), (uint32_t)in->quality.debug_view, 0};
     fr->quality = (fv_gpu_vec4){in->quality.exposure, 0.0f, 0.0f, 0.0f};

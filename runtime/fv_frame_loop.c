@@ -274,9 +274,12 @@ fv_result fv_frame_loop_step(fv_frame_loop *l, fv_latency_record *out_record)
     memset(&in, 0, sizeof in);
     in.frame_id = l->frame_id;
     in.time_s = (double)(t_photon_target - l->t_start_ns) / 1e9;
+    in.head = (fv_head_pose){.orientation = fv_quat_identity(),
+                             .ipd_mm = l->desc.ipd_mm > 0.0f ? l->desc.ipd_mm : FV_DEFAULT_IPD_MM};
     in.eye[0] = l->views[0];
     in.eye[1] = l->views[1];
     in.t_photon_ns = t_photon_target;
+    in.quality = fv_quality_default();
     in.pupil_mm = NAN;
     for (int e = 0; e < 2; e++) {
         in.gaze[e].valid = false;

@@ -54,11 +54,9 @@ static fv_result debug_init(const fv_pass_env *env, void **out_state)
     d->vk = env->vk;
     d->width = env->width;
     d->height = env->height;
-    const fv_image_id ids[FV_DEBUG_BINDING_COUNT] = {FV_IMAGE_DEPTH, FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO,
-                                                     FV_IMAGE_MATERIAL, FV_IMAGE_COLOR};
-    const fv_vk_image *img[FV_DEBUG_BINDING_COUNT];
-    fv_result res = FV_OK;
-    for (int i = 0; res == FV_OK && i < FV_DEBUG_BINDING_COUNT; i++) res = fv_images_get(env->images, ids[i], &img[i]);
+    const fv_vk_image *color;
+    fv_result res = fv_images_get_gbuffer(env->images);
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "debug nearest sampler", &d->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -79,11 +77,8 @@ static fv_result debug_init(const fv_pass_env *env, void **out_state)
         debug_fini(d);
         return res;
     }
-    for (int i = 0; i < 4; i++)
-        fv_vk_write_image(env->vk, d->cs.sets[0], (uint32_t)i, cis, img[i]->view, d->nearest,
-                          i == 0 ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
-                                 : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, img[4]->view,
+    fv_images_bind_gbuffer(env->images, d->cs.sets[0], FV_DEBUG_BINDING_DEPTH, d->nearest);
+    fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color->view,
                       VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     *out_state = d;
     return FV_OK;
@@ -95,12 +90,7 @@ static void debug_record(void *state, const fv_pass_frame *f)
     VkCommandBuffer cmd = f->cmd;
     fv_vk_label_begin(d->vk, cmd, "debug view");
     VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
-    fv_images_use(f->images, cmd, FV_IMAGE_DEPTH,
-                  (fv_vk_image_use){VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, cs, VK_ACCESS_SHADER_READ_BIT});
-    const fv_image_id sampled[3] = {FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO, FV_IMAGE_MATERIAL};
-    for (int i = 0; i < 3; i++)
-        fv_images_use(f->images, cmd, sampled[i],
-                      (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cs, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use_gbuffer(f->images, cmd, cs);
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
     /* The one set binds only images that stay put, and the scene set is the slot's: nothing per slot here. */
     fv_vk_compute_bind(&d->cs, cmd, 0, &f->scene_set, 1, 0, NULL);

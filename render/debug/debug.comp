@@ -36,7 +36,9 @@ void main()
     if (VIEW == FV_GPU_DEBUG_VIEW_GAZE) {
         vec4 g = frame.gaze_dir[p.z];
         vec3 dir = g.w > 0.5 ? g.xyz : vec3(0.0, 0.0, -1.0);
-        float a = acos(clamp(dot(pixel_ray(p), dir), -1.0, 1.0));
+        // atan2 of |cross| and dot keeps the angle exact near 0, where acos of a dot product loses it.
+        vec3 r = pixel_ray(p);
+        float a = atan(length(cross(r, dir)), dot(r, dir));
         float s = max(float(FV_DEBUG_GAZE_SIGMA_MIN_RAD), frame.gaze_info[p.z].x);
         c = vec3(exp(-(a * a) / (2.0 * s * s)), frame.gaze_info[p.z].y / 10.0, g.w > 0.5 ? 1.0 : 0.0);
     } else {

@@ -38,12 +38,14 @@ struct fv_gpu_frame {
     FV_VEC4 gaze_info[2];      /* x uncertainty (radians, [0, pi]), y pupil diameter mm (0 = unknown), z, w 0 */
     FV_VEC4 eye_tan[2];        /* the eye's frustum as tangents: x left, y right, z up, w down (a pixel's ray in
                                 * view space is (mix(x, y, u), mix(z, w, v), -1), u, v in [0,1], v down) */
-    FV_VEC4 time;              /* x scene time s (float), y seconds from this frame's scene time to its photons
-                                * (0 if unknown), z, w 0 */
+    FV_VEC4 time;              /* x scene time s (float); y, z, w 0 */
     FV_UVEC4 photon;           /* x low, y high 32 bits of the photon time (host clock ns, 0 = unknown); z debug
                                 * view (FV_GPU_DEBUG_VIEW_*); w 0 */
     FV_VEC4 quality;           /* x exposure (linear scale before tonemapping); y, z, w 0 */
 };
+
+/** The largest pupil diameter passed on as known (mm); larger values are not a pupil (gaze_info.y = 0). */
+#define FV_GPU_PUPIL_MAX_MM 20.0f
 
 /** Debug views (fv_gpu_frame.photon.z; fv_quality.debug_view). */
 #define FV_GPU_DEBUG_VIEW_NONE 0

@@ -65,6 +65,15 @@ void fv_images_use(fv_images *t, VkCommandBuffer cmd, fv_image_id id, fv_vk_imag
  *  users outside `waits_for` (before the render pass begins), then set the state to `done`. */
 void fv_images_render_pass(fv_images *t, VkCommandBuffer cmd, fv_image_id id, VkPipelineStageFlags waits_for,
                            fv_vk_image_use done, VkPipelineStageFlags visible_to);
+/** Reading the G-buffer in shaders at `stage`: depth, normal, albedo and material as sampled images, in the
+ *  layouts the G-buffer pass leaves them (fv_images_use on each). */
+void fv_images_use_gbuffer(fv_images *t, VkCommandBuffer cmd, VkPipelineStageFlags stage);
+/** Write the G-buffer's depth, normal, albedo and material views into bindings first_binding .. first_binding + 3
+ *  of `set` as combined image samplers with `sampler`, in those layouts (the images must exist: fv_images_get). */
+void fv_images_bind_gbuffer(const fv_images *t, VkDescriptorSet set, uint32_t first_binding, VkSampler sampler);
+/** Request the four G-buffer images a reader binds (creating them if needed). */
+FV_MUST_CHECK fv_result fv_images_get_gbuffer(fv_images *t);
+
 /** The tracked layout of an image. */
 VkImageLayout fv_images_layout(const fv_images *t, fv_image_id id);
 

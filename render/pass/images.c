@@ -155,6 +155,36 @@ void fv_images_render_pass(fv_images *t, VkCommandBuffer cmd, fv_image_id id, Vk
     s->readers = 0;
 }
 
+static const fv_image_id gbuffer_read[4] = {FV_IMAGE_DEPTH, FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO, FV_IMAGE_MATERIAL};
+
+static VkImageLayout read_layout(fv_image_id id)
+{
+    return id == FV_IMAGE_DEPTH ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+}
+
+void fv_images_use_gbuffer(fv_images *t, VkCommandBuffer cmd, VkPipelineStageFlags stage)
+{
+    for (int i = 0; i < 4; i++)
+        fv_images_use(t, cmd, gbuffer_read[i], (fv_vk_image_use){read_layout(gbuffer_read[i]), stage, VK_ACCESS_SHADER_READ_BIT});
+}
+
+void fv_images_bind_gbuffer(const fv_images *t, VkDescriptorSet set, uint32_t first_binding, VkSampler sampler)
+{
+    for (uint32_t i = 0; i < 4; i++) {
+        const fv_vk_image *img = fv_images_image(t, gbuffer_read[i]);
+        if (img)
+            fv_vk_write_image(t->vk, set, first_binding + i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img->view,
+                              sampler, read_layout(gbuffer_read[i]));
+    }
+}
+
+fv_result fv_images_get_gbuffer(fv_images *t)
+{
+    const fv_vk_image *img;
+    for (int i = 0; i < 4; i++) FV_TRY(fv_images_get(t, gbuffer_read[i], &img));
+    return FV_OK;
+}
+
 fv_image_id fv_images_history(const fv_images *t, uint32_t age)
 {
     uint32_t p = (t ? t->history_parity : 0) ^ (age & 1u);

@@ -12,6 +12,9 @@
 
 _Static_assert(sizeof(struct fv_shade_push) == 32, "fv_shade_push layout");
 _Static_assert(FV_SHADE_GROUP_SIZE == FV_GPU_LIST_GROUP_SIZE, "list dispatches count FV_GPU_LIST_GROUP_SIZE pixels");
+_Static_assert(FV_SHADE_BINDING_NORMAL == FV_SHADE_BINDING_DEPTH + 1 && FV_SHADE_BINDING_ALBEDO == FV_SHADE_BINDING_DEPTH + 2 &&
+                   FV_SHADE_BINDING_MATERIAL == FV_SHADE_BINDING_DEPTH + 3,
+               "fv_images_bind_gbuffer writes depth, normal, albedo, material in a row");
 
 enum { VARIANT_ALL = 0, VARIANT_LIST = 1 };
 
@@ -87,11 +90,8 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
     sh->height = env->height;
     sh->slots = env->slots;
     fv_vk *vk = env->vk;
-    const fv_vk_image *depth, *normal, *albedo, *material, *color;
-    fv_result res = fv_images_get(env->images, FV_IMAGE_DEPTH, &depth);
-    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_NORMAL, &normal);
-    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_ALBEDO, &albedo);
-    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MATERIAL, &material);
+    const fv_vk_image *color;
+    fv_result res = fv_images_get_gbuffer(env->images);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_sampler_create(vk, false, false, "shade nearest sampler", &sh->nearest);
     if (res == FV_OK)
@@ -118,16 +118,8 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
                              .variant_count = 2};
     if (res == FV_OK) res = fv_vk_compute_init(vk, &cd, &sh->cs);
     for (uint32_t i = 0; res == FV_OK && i < env->slots; i++) {
-        VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         VkDescriptorSet set = sh->cs.sets[i];
-        fv_vk_write_image(vk, set, FV_SHADE_BINDING_DEPTH, cis, depth->view, sh->nearest,
-                          VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-        fv_vk_write_image(vk, set, FV_SHADE_BINDING_NORMAL, cis, normal->view, sh->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        fv_vk_write_image(vk, set, FV_SHADE_BINDING_ALBEDO, cis, albedo->view, sh->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        fv_vk_write_image(vk, set, FV_SHADE_BINDING_MATERIAL, cis, material->view, sh->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        fv_images_bind_gbuffer(env->images, set, FV_SHADE_BINDING_DEPTH, sh->nearest);
         fv_vk_write_image(vk, set, FV_SHADE_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         bind_list(sh, i, VK_NULL_HANDLE, 0, 0);
@@ -149,12 +141,7 @@ static void shade_record(void *state, const fv_pass_frame *f)
     fv_vk_label_begin(sh->vk, cmd, list ? "shade (pixel list)" : "shade (all pixels)");
     VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
     fv_images *im = f->images;
-    fv_images_use(im, cmd, FV_IMAGE_DEPTH, (fv_vk_image_use){VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, cs,
-                                                             VK_ACCESS_SHADER_READ_BIT});
-    const fv_image_id sampled[3] = {FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO, FV_IMAGE_MATERIAL};
-    for (int i = 0; i < 3; i++)
-        fv_images_use(im, cmd, sampled[i],
-                      (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cs, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use_gbuffer(im, cmd, cs);
     fv_images_use(im, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
 
     /* The pixel binding of this slot's set: the GPU is done with the slot when its frame is recorded. */

@@ -61,6 +61,9 @@ static void unknown_command_and_bad_options_exit_2_with_one_line_error(void **st
         {"run --save sometimes", "--save: 'sometimes'"},
         {"run --layout tb", "--layout: 'tb'"},
         {"run --hz 0", "--hz: '0'"},
+        {"run --debug-view depth", "--debug-view: 'depth' is not one of none, normal, gaze"},
+        {"run --exposure 0", "--exposure: '0' is not a number in 1e-6..1e6"},
+        {"run --exposure nan", "--exposure: 'nan'"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         r = run(NULL, bad[i][0]);
@@ -129,6 +132,44 @@ static void json_summary_is_the_only_stdout(void **state)
     /* Validation on, and the layer said nothing. */
     assert_null(strstr(r->err, "VUID"));
     assert_null(strstr(r->err, "validation"));
+}
+
+/* The quality options reach the plan and the JSON summary; the debug pass runs with its own timings and counters. */
+static void debug_view_option_switches_the_debug_pass_on(void **state)
+{
+    (void)state;
+    run_result *r = run("FOVEA_VALIDATION=1", "run --frames 2 --eye-size 64x64 --json --explain --debug-view gaze "
+                                              "--exposure 2");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    cJSON *j = cJSON_Parse(r->out);
+    assert_non_null(j);
+    cJSON *q = cJSON_GetObjectItem(j, "quality");
+    assert_non_null(q);
+    assert_string_equal(cJSON_GetObjectItem(q, "debug_view")->valuestring, "gaze");
+    assert_float_equal(cJSON_GetObjectItem(q, "exposure")->valuedouble, 2.0, 1e-9);
+    bool debug_planned = false, debug_timed = false;
+    cJSON *e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "plan"))
+    {
+        const char *pass = cJSON_GetObjectItem(e, "pass")->valuestring;
+        if (strcmp(pass, "debug") == 0) debug_planned = cJSON_IsTrue(cJSON_GetObjectItem(e, "enabled"));
+        if (strcmp(pass, "present") == 0) assert_non_null(strstr(cJSON_GetObjectItem(e, "reason")->valuestring, "exposure 2"));
+    }
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "passes"))
+    {
+        const char *pass = cJSON_GetObjectItem(e, "name")->valuestring;
+        if (strcmp(pass, "debug") == 0) debug_timed = cJSON_GetObjectItem(e, "dispatches")->valuedouble == 1;
+        if (strcmp(pass, "shade") == 0)
+            assert_int_equal((int)cJSON_GetObjectItem(e, "pixels_shaded")->valuedouble, 64 * 64 * 2);
+    }
+    assert_true(debug_planned);
+    assert_true(debug_timed);
+    cJSON_Delete(j);
+    /* Without the option the debug pass is off and not timed. */
+    r = run(NULL, "run --frames 1 --eye-size 64x64 --json --explain");
+    assert_int_equal(r->exit_code, 0);
+    assert_null(strstr(r->out, "\"name\":\"debug\""));
+    assert_contains(r->out, "off — no debug view asked for");
 }
 
 /* Renders a file to a side-by-side PNG and checks its size and that something was drawn in both halves. */
@@ -328,6 +369,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(missing_scene_file_exits_1_naming_the_file),
         cmocka_unit_test(malformed_scene_json_names_the_field),
         cmocka_unit_test(json_summary_is_the_only_stdout),
+        cmocka_unit_test(debug_view_option_switches_the_debug_pass_on),
         cmocka_unit_test(renders_gltf_cornell_box),
         cmocka_unit_test(renders_embree_obj_cornell_box),
         cmocka_unit_test(renders_stanford_bunny_ply),

@@ -18,6 +18,21 @@ int fv_gpu_test_teardown(fv_renderer **r);
  *  fv_scene_add_mesh takes them). */
 fv_mesh fv_gpu_test_square_mesh(const char *name, double half, uint32_t material);
 
+/** Define `static fv_renderer *g_r` and the cmocka group `setup` / `teardown` that create it at w x h per eye with
+ *  validation on and destroy it (failing on any validation message). */
+#define FV_GPU_TEST_GROUP(w, h)                                                                                        \
+    static fv_renderer *g_r;                                                                                           \
+    static int setup(void **state)                                                                                     \
+    {                                                                                                                  \
+        (void)state;                                                                                                   \
+        return fv_gpu_test_setup((w), (h), &g_r);                                                                      \
+    }                                                                                                                  \
+    static int teardown(void **state)                                                                                  \
+    {                                                                                                                  \
+        (void)state;                                                                                                   \
+        return fv_gpu_test_teardown(&g_r);                                                                             \
+    }
+
 /** Skip the test when no device was available. */
 #define FV_NEED_GPU(r)                                                                                                 \
     do {                                                                                                               \

@@ -16,19 +16,7 @@
 #define W 96
 #define H 96
 
-static fv_renderer *g_r;
-
-static int setup(void **state)
-{
-    (void)state;
-    return fv_gpu_test_setup(W, H, &g_r);
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    return fv_gpu_test_teardown(&g_r);
-}
+FV_GPU_TEST_GROUP(W, H)
 
 #define NEED_GPU() FV_NEED_GPU(g_r)
 

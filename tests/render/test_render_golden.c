@@ -37,19 +37,7 @@
 #define LOOSE_REL 1e-3
 #define LOOSE_LEVELS 2
 
-static fv_renderer *g_r;
-
-static int setup(void **state)
-{
-    (void)state;
-    return fv_gpu_test_setup(W, H, &g_r);
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    return fv_gpu_test_teardown(&g_r);
-}
+FV_GPU_TEST_GROUP(W, H)
 
 /* ---- files ----------------------------------------------------------------------------------------------------- */
 

@@ -20,19 +20,7 @@
 #define TOL_PX 0.05      /* moving surfaces: |gpu - cpu| per component, pixels */
 #define ZERO_TOL_PX 1e-3 /* static surfaces and empty pixels */
 
-static fv_renderer *g_r;
-
-static int setup(void **state)
-{
-    (void)state;
-    return fv_gpu_test_setup(W, H, &g_r);
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    return fv_gpu_test_teardown(&g_r);
-}
+FV_GPU_TEST_GROUP(W, H)
 
 #define NEED_GPU() FV_NEED_GPU(g_r)
 

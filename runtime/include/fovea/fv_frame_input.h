@@ -58,7 +58,6 @@ typedef struct fv_frame_input {
     fv_eye_gaze gaze[2];
     float pupil_mm;           /* NaN when unknown */
     int64_t t_photon_ns;      /* when this frame's photons are due (host clock), 0 if unknown */
-    int64_t t_frame_ns;       /* host time the scene time refers to (for photon lead), 0 if unknown */
     fv_quality quality;       /* what this frame is drawn with */
 } fv_frame_input;
 

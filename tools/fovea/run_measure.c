@@ -1,0 +1,140 @@
+/* @brief What a rendering command measures (see run_measure.h). */
+#include "run_measure.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "fv_clock.h"
+#include "fv_stats.h"
+
+fv_result fv_measure_init(fv_measure *m, size_t frames)
+{
+    memset(m, 0, sizeof *m);
+    m->cap = frames;
+    m->last_timed = UINT64_MAX;
+    m->cpu_ms = calloc(frames ? frames : 1, sizeof *m->cpu_ms);
+    m->wall_ms = calloc(frames ? frames : 1, sizeof *m->wall_ms);
+    m->frame_gpu_ms = calloc(frames ? frames : 1, sizeof *m->frame_gpu_ms);
+    if (!m->cpu_ms || !m->wall_ms || !m->frame_gpu_ms) {
+        fv_measure_fini(m);
+        return FV_ERR_NO_MEMORY;
+    }
+    return FV_OK;
+}
+
+void fv_measure_fini(fv_measure *m)
+{
+    if (!m) return;
+    free(m->cpu_ms);
+    free(m->wall_ms);
+    free(m->frame_gpu_ms);
+    for (uint32_t i = 0; i < FV_MAX_PASSES; i++) free(m->passes[i].ms);
+    memset(m, 0, sizeof *m);
+}
+
+int64_t fv_measure_thread_cpu_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (int64_t)ts.tv_sec * FV_NS_PER_S + ts.tv_nsec;
+}
+
+void fv_measure_cpu(fv_measure *m, double ms)
+{
+    if (m->drawn < m->cap) m->cpu_ms[m->drawn] = ms;
+    m->drawn++;
+}
+
+void fv_measure_wall(fv_measure *m, double ms)
+{
+    if (m->walled < m->cap) m->wall_ms[m->walled] = ms;
+    m->walled++;
+}
+
+/* Record one frame's GPU timings and counters. */
+static bool record(fv_measure *m, const fv_render_stats *rs)
+{
+    if (m->measured >= m->cap) return true;
+    m->frame_gpu_ms[m->measured] = rs->frame_gpu_ms;
+    for (uint32_t p = 0; p < rs->pass_count && p < FV_MAX_PASSES; p++) {
+        fv_pass_series *ps = &m->passes[p];
+        if (!ps->ms) {
+            ps->ms = calloc(m->cap, sizeof *ps->ms);
+            if (!ps->ms) return false;
+            snprintf(ps->name, sizeof ps->name, "%s", rs->pass_name[p]);
+            if (p + 1 > m->pass_count) m->pass_count = p + 1;
+        }
+        if (ps->n < m->cap) ps->ms[ps->n++] = rs->pass_gpu_ms[p];
+        ps->last = rs->pass_counters[p];
+    }
+    m->last_stats = *rs;
+    m->measured++;
+    return true;
+}
+
+bool fv_measure_take(fv_measure *m, const fv_renderer *r)
+{
+    fv_render_stats newest, rs;
+    if (fv_renderer_stats(r, &newest) != FV_OK) return true;
+    if (m->last_timed != UINT64_MAX && newest.frame_id <= m->last_timed) return true;
+    uint64_t first = m->last_timed == UINT64_MAX ? 0 : m->last_timed + 1;
+    if (newest.frame_id - first >= FV_RENDERER_STATS_HISTORY) first = newest.frame_id - FV_RENDERER_STATS_HISTORY + 1;
+    for (uint64_t id = first; id <= newest.frame_id; id++)
+        if (fv_renderer_frame_stats(r, id, &rs) == FV_OK && !record(m, &rs)) return false;
+    m->last_timed = newest.frame_id;
+    return true;
+}
+
+/* Percentile of a series (sorted in place: the order of a finished series does not matter). */
+static double pct(double *v, size_t n, double p) { return fv_percentile_f64(v, n, p); }
+
+static size_t held(size_t count, size_t cap) { return count < cap ? count : cap; }
+
+void fv_measure_add_json(const fv_measure *mc, cJSON *j)
+{
+    fv_measure *m = (fv_measure *)mc; /* percentiles sort the series in place */
+    cJSON_AddNumberToObject(j, "frames_timed", (double)m->measured);
+    cJSON *jp = cJSON_AddArrayToObject(j, "passes");
+    for (uint32_t p = 0; p < m->pass_count; p++) {
+        fv_pass_series *ps = &m->passes[p];
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddStringToObject(e, "name", ps->name);
+        cJSON_AddNumberToObject(e, "gpu_ms_median", pct(ps->ms, ps->n, 50));
+        cJSON_AddNumberToObject(e, "gpu_ms_p95", pct(ps->ms, ps->n, 95));
+        cJSON_AddNumberToObject(e, "draws", (double)ps->last.draws);
+        cJSON_AddNumberToObject(e, "triangles", (double)ps->last.triangles);
+        cJSON_AddNumberToObject(e, "pixels_shaded", (double)ps->last.pixels_shaded);
+        cJSON_AddNumberToObject(e, "dispatches", (double)ps->last.dispatches);
+        cJSON_AddItemToArray(jp, e);
+    }
+    cJSON_AddNumberToObject(j, "frame_gpu_ms_median", pct(m->frame_gpu_ms, m->measured, 50));
+    cJSON_AddNumberToObject(j, "frame_gpu_ms_p95", pct(m->frame_gpu_ms, m->measured, 95));
+    cJSON_AddNumberToObject(j, "cpu_ms_per_frame_median", pct(m->cpu_ms, held(m->drawn, m->cap), 50));
+    cJSON_AddNumberToObject(j, "cpu_ms_per_frame_p95", pct(m->cpu_ms, held(m->drawn, m->cap), 95));
+    cJSON_AddNumberToObject(j, "wall_ms_per_frame_median", pct(m->wall_ms, held(m->walled, m->cap), 50));
+    cJSON_AddNumberToObject(j, "pixels_shaded_last_frame", (double)m->last_stats.pixels_shaded);
+    cJSON_AddNumberToObject(j, "peak_device_memory_mib", (double)m->last_stats.peak_device_memory_bytes / 1048576.0);
+}
+
+void fv_measure_print(const fv_measure *mc, FILE *f)
+{
+    fv_measure *m = (fv_measure *)mc;
+    fprintf(f, "  %-14s %10s %10s   (GPU time over %zu timed frame%s)\n", "pass", "median ms", "p95 ms", m->measured,
+            m->measured == 1 ? "" : "s");
+    for (uint32_t p = 0; p < m->pass_count; p++) {
+        fv_pass_series *ps = &m->passes[p];
+        fprintf(f, "  %-14s %10.3f %10.3f", ps->name, pct(ps->ms, ps->n, 50), pct(ps->ms, ps->n, 95));
+        if (ps->last.draws) fprintf(f, "   %llu draws", (unsigned long long)ps->last.draws);
+        if (ps->last.pixels_shaded) fprintf(f, "   %llu px shaded", (unsigned long long)ps->last.pixels_shaded);
+        fputc('\n', f);
+    }
+    fprintf(f, "  %-14s %10.3f %10.3f\n", "frame (GPU)", pct(m->frame_gpu_ms, m->measured, 50),
+            pct(m->frame_gpu_ms, m->measured, 95));
+    fprintf(f, "  %-14s %10.3f %10.3f   (record + submit, this thread)\n", "CPU per frame",
+            pct(m->cpu_ms, held(m->drawn, m->cap), 50), pct(m->cpu_ms, held(m->drawn, m->cap), 95));
+    fprintf(f, "  %-14s %10.3f %10.3f\n", "wall per frame", pct(m->wall_ms, held(m->walled, m->cap), 50),
+            pct(m->wall_ms, held(m->walled, m->cap), 95));
+}
