@@ -12,8 +12,10 @@ PACKAGES=(
   libassimp-dev libcjson-dev libstb-dev libglfw3-dev
   # eye-tracker I/O
   libhidapi-dev libusb-1.0-0-dev zlib1g-dev
-  # tests
-  libcmocka-dev
+  # CPU reference renderer (ray casting) and the plots of `fovea bench`
+  libembree-dev gnuplot-nox
+  # tests (image metrics are checked against scikit-image)
+  libcmocka-dev python3-skimage python3-numpy
 )
 
 missing=()
