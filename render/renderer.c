@@ -10,6 +10,7 @@
 #include "fv_passes.h"
 #include "fv_renderer.h"
 #include "fv_scene_gpu.h"
+#include "fv_shade_inputs.h"
 #include "fv_target.h"
 #include "fv_vk.h"
 
@@ -33,6 +34,7 @@ struct fv_renderer {
     fv_vk *vk;
     fv_images images;
     fv_scene_gpu scene;
+    fv_shade_inputs shade_inputs;
     fv_vk_timer timer;
     fv_target *target;
     frame_slot slots[FV_MAX_FRAMES_IN_FLIGHT];
@@ -91,7 +93,8 @@ static bool plan_differs(const fv_quality *a, const fv_quality *b)
 
 static void pass_env(fv_renderer *r, uint32_t i, fv_pass_env *env)
 {
-    *env = (fv_pass_env){.vk = r->vk, .scene = &r->scene, .images = &r->images, .width = r->desc.eye_width,
+    *env = (fv_pass_env){.vk = r->vk, .scene = &r->scene, .images = &r->images, .shade_inputs = &r->shade_inputs,
+                         .width = r->desc.eye_width,
                          .height = r->desc.eye_height, .slots = r->slot_count, .multiview = r->multiview,
                          .plan = &r->plan.entries[i]};
 }
@@ -113,17 +116,21 @@ static fv_result plan_apply(fv_renderer *r, const fv_quality *quality)
                            .target = r->target && r->target->ops ? r->target->ops->name : "headless"};
     fv_frame_plan plan;
     fv_frame_plan_build_ctx(&ctx, &plan);
-    bool idle = false;
+    /* Passes write descriptor sets shared with frames in flight when they start or stop: wait for the GPU first. */
+    bool change = false;
+    for (uint32_t i = 0; i < r->pass_count; i++) {
+        bool want = plan.entries[i].enabled && r->table[i]->init;
+        change = change || (want != (r->pass_state[i] != NULL)) ||
+                 (want && r->pass_state[i] && r->pass_variant[i] != plan.entries[i].variant);
+    }
+    if (change) {
+        FV_TRY(fv_renderer_finish(r));
+        VkResult vr = vkDeviceWaitIdle(r->vk->device);
+        if (vr < 0) return fv_vk_fail(vr, "vkDeviceWaitIdle", __FILE__, __LINE__);
+    }
     for (uint32_t i = 0; i < r->pass_count; i++) {
         bool keep = plan.entries[i].enabled && r->table[i]->init && r->pass_variant[i] == plan.entries[i].variant;
-        if (!r->pass_state[i] || keep) continue;
-        if (!idle) {
-            FV_TRY(fv_renderer_finish(r));
-            VkResult vr = vkDeviceWaitIdle(r->vk->device);
-            if (vr < 0) return fv_vk_fail(vr, "vkDeviceWaitIdle", __FILE__, __LINE__);
-            idle = true;
-        }
-        fini_pass(r, i);
+        if (r->pass_state[i] && !keep) fini_pass(r, i);
     }
     r->plan = plan;
     r->plan_quality = *quality;
@@ -209,6 +216,7 @@ fv_result fv_renderer_create(const fv_renderer_desc *desc_in, fv_renderer **out_
     r->multiview = fv_vk_multiview_trusted(&r->vk->info, r->multiview_why, sizeof r->multiview_why);
     res = fv_images_init(&r->images, r->vk, desc.eye_width, desc.eye_height);
     if (res == FV_OK) res = fv_scene_gpu_init(&r->scene, r->vk, r->slot_count);
+    if (res == FV_OK) res = fv_shade_inputs_init(&r->shade_inputs, r->vk, r->slot_count);
     if (res == FV_OK) res = fv_vk_timer_init(&r->timer, r->vk, r->slot_count);
     if (res == FV_OK) res = create_slots(r);
     fv_quality q = fv_quality_default();
@@ -259,6 +267,7 @@ void fv_renderer_destroy(fv_renderer **pr)
         }
         fv_vk_timer_fini(&r->timer, r->vk);
         fv_scene_gpu_fini(&r->scene);
+        fv_shade_inputs_fini(&r->shade_inputs);
         fv_images_fini(&r->images);
         fv_vk_destroy(&r->vk);
     }
@@ -434,6 +443,22 @@ static bool frame_input_ok(const fv_frame_input *in)
     return fv_v3_isfinite(in->eye[0].pos_world) && fv_v3_isfinite(in->eye[1].pos_world);
 }
 
+/* Let the enabled passes write the slot's host-side data (the GPU is done with the slot). */
+static fv_result prepare_passes(fv_renderer *r, uint32_t slot, const fv_frame_input *in)
+{
+    fv_shade_inputs_begin_frame(&r->shade_inputs, slot);
+    for (uint32_t i = 0; i < r->pass_count; i++) {
+        const fv_pass *p = r->table[i];
+        if (!r->plan.entries[i].enabled || !r->pass_state[i] || !p->prepare) continue;
+        fv_pass_counters unused = {0};
+        fv_pass_frame f = {.slot = slot, .input = in, .images = &r->images, .scene = &r->scene,
+                           .scene_set = fv_scene_gpu_set(&r->scene, slot), .shade_inputs = &r->shade_inputs,
+                           .counters = &unused};
+        p->prepare(r->pass_state[i], &f);
+    }
+    return fv_shade_inputs_end_frame(&r->shade_inputs, slot);
+}
+
 /* Record the enabled passes (only those that replay on a pixel list when `pixels` is set), each in its own
  * timestamp range when `timed`. */
 static void record_passes(fv_renderer *r, VkCommandBuffer cmd, uint32_t slot, const fv_frame_input *in,
@@ -449,7 +474,8 @@ static void record_passes(fv_renderer *r, VkCommandBuffer cmd, uint32_t slot, co
         fv_pass_counters *counters = s && t >= 0 && (uint32_t)t < FV_MAX_PASSES ? &s->counters[t] : &scratch;
         *counters = (fv_pass_counters){0};
         fv_pass_frame f = {.cmd = cmd, .slot = slot, .input = in, .images = &r->images, .scene = &r->scene,
-                           .scene_set = fv_scene_gpu_set(&r->scene, slot), .pixels = pixels, .counters = counters};
+                           .scene_set = fv_scene_gpu_set(&r->scene, slot), .shade_inputs = &r->shade_inputs,
+                           .pixels = pixels, .counters = counters};
         p->record(r->pass_state[i], &f);
         if (t >= 0) {
             fv_vk_timer_end(&r->timer, cmd, slot, t);
@@ -483,6 +509,7 @@ fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in_raw)
     frame_constants(r, &in, &fr, vp);
     double t = isfinite(in.time_s) ? in.time_s : 0.0;
     FV_TRY(fv_scene_gpu_write_frame(&r->scene, slot, &fr, t, r->have_prev ? r->prev_time_s : t));
+    FV_TRY(prepare_passes(r, slot, &in));
     r->have_prev = true;
     r->prev_time_s = t;
     r->prev_view_proj[0] = vp[0];

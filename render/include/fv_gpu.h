@@ -78,7 +78,36 @@ struct fv_gpu_light {
     FV_VEC4 cone;           /* spot: x cos(inner), y cos(outer) */
 };
 
+/** Shadows (set 2 of shading passes, fv_shade_inputs_interface.h): per shadowed light its maps in one 2D-array depth image. */
+#define FV_SHADOW_MAX_LIGHTS 4
+#define FV_SHADOW_MAX_SPLITS 8
+#define FV_SHADOW_MAX_MAPS 64 /* lights x (2 eyes) x splits */
+#define FV_SHADOW_KIND_NONE 0
+#define FV_SHADOW_KIND_CASCADES 1    /* directional light: parallel-split shadow maps (orthographic per split) */
+#define FV_SHADOW_KIND_PERSPECTIVE 2 /* spot light: one perspective map */
+
+struct fv_gpu_shadow_light {
+    FV_UVEC4 info;        /* x kind (FV_SHADOW_KIND_*), y first map, z splits (1 for spot), w maps per eye (0: both
+                           * eyes share the maps; else eye e uses first + e * w) */
+    FV_VEC4 split_far[2]; /* view depth (m) where each split ends, splits 0..7; a deeper pixel uses the last */
+    FV_VEC4 params;       /* x filter radius in texels (0: one tap, 1: 3x3, 2: 5x5), y 1 / resolution, z, w 0 */
+};
+
+struct fv_gpu_shadow {
+    FV_UVEC4 counts; /* x lights with an entry (scene lights 0..x-1; others unshadowed), y maps, z resolution, w 0 */
+#ifdef FV_GLSL
+    fv_gpu_shadow_light light[FV_SHADOW_MAX_LIGHTS];
+#else
+    struct fv_gpu_shadow_light light[FV_SHADOW_MAX_LIGHTS];
+#endif
+    FV_MAT4 map_view_proj[FV_SHADOW_MAX_MAPS]; /* world -> the map's clip space (Vulkan: y down, depth 0..1) */
+};
+
 #ifndef FV_GLSL
+typedef struct fv_gpu_shadow_light fv_gpu_shadow_light;
+typedef struct fv_gpu_shadow fv_gpu_shadow;
+_Static_assert(sizeof(fv_gpu_shadow_light) == 64, "fv_gpu_shadow_light layout");
+_Static_assert(sizeof(fv_gpu_shadow) == 16 + 64 * FV_SHADOW_MAX_LIGHTS + 64 * FV_SHADOW_MAX_MAPS, "fv_gpu_shadow layout");
 typedef struct fv_gpu_frame fv_gpu_frame;
 typedef struct fv_gpu_draw fv_gpu_draw;
 typedef struct fv_gpu_material fv_gpu_material;

@@ -5,10 +5,40 @@
 #ifndef FV_SHADE_HOOKS_GLSL
 #define FV_SHADE_HOOKS_GLSL
 
-// Visibility of light `light` from the surface, in [0, 1] (shadows: parallel-split shadow maps). 1 = unshadowed.
+// Visibility of light `light` from the surface, in [0, 1]: its shadow map (render/shadow: parallel-split shadow
+// maps for directional lights, Zhang et al. 2006; one perspective map for spot lights), the split that holds the
+// pixel's view depth, a depth compare over (2r+1)^2 texels (r = 0: one tap). 1 where the light has no map or the
+// point lies outside it. Requires the shading inputs set (FV_SHADE_INPUTS_DECLARE, fv_shade_inputs_interface.h).
 float fv_hook_visibility(uint light, fv_surface s)
 {
-    return 1.0;
+    if (light >= min(shadow.counts.x, uint(FV_SHADOW_MAX_LIGHTS))) return 1.0;
+    fv_gpu_shadow_light L = shadow.light[light];
+    if (L.info.x == FV_SHADOW_KIND_NONE) return 1.0;
+    uint eye = min(s.pixel.z, 1u);
+    uint split = 0u;
+    if (L.info.x == FV_SHADOW_KIND_CASCADES) {
+        float d = (frame.view_proj[eye] * vec4(s.pos_world, 1.0)).w; // clip w = view depth for a perspective eye
+        uint n = min(L.info.z, uint(FV_SHADOW_MAX_SPLITS));
+        while (split + 1u < n && d > L.split_far[split / 4u][split % 4u]) split++;
+    }
+    uint map = L.info.y + eye * L.info.w + split;
+    if (map >= min(shadow.counts.y, uint(FV_SHADOW_MAX_MAPS))) return 1.0;
+    vec4 c = shadow.map_view_proj[map] * vec4(s.pos_world, 1.0);
+    if (!(c.w > 1e-20)) return 1.0; // behind a spot light
+    vec3 p = c.xyz / c.w;
+    vec2 uv = p.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || p.z > 1.0 || p.z < 0.0) return 1.0;
+    int res = max(int(shadow.counts.z), 1);
+    ivec2 t = clamp(ivec2(uv * float(res)), ivec2(0), ivec2(res - 1));
+    int r = clamp(int(L.params.x + 0.5), 0, 2);
+    float lit = 0.0;
+    for (int dy = -r; dy <= r; dy++)
+        for (int dx = -r; dx <= r; dx++) {
+            ivec2 q = clamp(t + ivec2(dx, dy), ivec2(0), ivec2(res - 1));
+            lit += p.z <= texelFetch(shadow_map, ivec3(q, int(map)), 0).r ? 1.0 : 0.0;
+        }
+    float side = float(2 * r + 1);
+    return lit / (side * side);
 }
 
 // Indirect irradiance reaching the surface, W/m^2 per channel (one-bounce GI from the light quad-tree). 0 = none.

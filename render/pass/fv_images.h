@@ -54,6 +54,8 @@ void fv_images_fini(fv_images *t);
 FV_MUST_CHECK fv_result fv_images_get(fv_images *t, fv_image_id id, const fv_vk_image **out);
 /** Add (and create) a scratch image of a pass: 2 layers of width x height per eye unless desc says otherwise. */
 FV_MUST_CHECK fv_result fv_images_scratch(fv_images *t, const fv_vk_image_desc *desc, fv_image_id *out_id);
+/** Destroy a scratch image and free its slot for the next fv_images_scratch (the GPU must be done with it). */
+void fv_images_release(fv_images *t, fv_image_id id);
 /** The image as created (NULL before fv_images_get created it). */
 const fv_vk_image *fv_images_image(const fv_images *t, fv_image_id id);
 

@@ -12,6 +12,7 @@
 #include "fv_plan.h"
 #include "fv_scene.h"
 #include "fv_scene_gpu.h"
+#include "fv_shade_inputs.h"
 #include "fv_vk.h"
 
 /** What a plan decision may look at. */
@@ -29,6 +30,7 @@ typedef struct fv_pass_env {
     fv_vk *vk;
     fv_scene_gpu *scene;        /* its set_layout is set 0 (FV_SCENE_SET) of every pass's pipeline layout */
     fv_images *images;          /* request images here (fv_images_get / fv_images_scratch) */
+    fv_shade_inputs *shade_inputs; /* set 1 of shading passes: producers bind their images here at init */
     uint32_t width, height;     /* per eye, px */
     uint32_t slots;             /* frames in flight */
     bool multiview;
@@ -53,6 +55,7 @@ typedef struct fv_pass_frame {
     fv_images *images;
     fv_scene_gpu *scene;
     VkDescriptorSet scene_set;   /* the slot's shared set (set 0) */
+    fv_shade_inputs *shade_inputs; /* the slot's set: fv_shade_inputs_set(shade_inputs, slot) */
     const fv_pixel_list *pixels; /* NULL: a whole frame; else the renderer re-shades these pixels only */
     fv_pass_counters *counters;  /* zeroed before record; the pass adds what it did */
 } fv_pass_frame;
@@ -67,6 +70,9 @@ typedef struct fv_pass {
     void (*plan)(const fv_plan_context *ctx, fv_plan_entry *out);
     /** Pipelines, layouts, images, descriptor sets. NULL for a plan-only entry (a pass that does not exist yet). */
     fv_result (*init)(const fv_pass_env *env, void **out_state);
+    /** Before recording (the GPU is done with the slot): write this slot's host-side data, e.g. the shadow block of
+     *  the shading inputs. frame->cmd is not yet recording. NULL: nothing to prepare. */
+    void (*prepare)(void *state, const fv_pass_frame *frame);
     /** Record the frame's work. Records only: never submits, waits or allocates device memory. */
     void (*record)(void *state, const fv_pass_frame *frame);
     /** Free everything (the GPU is idle). */

@@ -60,8 +60,8 @@ void fv_images_fini(fv_images *t)
 
 static fv_result create(fv_images *t, fv_image_slot *s, uint32_t width, uint32_t height, uint32_t layers)
 {
-    fv_vk_image_desc d = {.width = width, .height = height, .layers = layers, .format = s->format, .usage = s->usage,
-                          .name = s->name};
+    fv_vk_image_desc d = {.width = width, .height = height, .layers = layers, .array = true, .format = s->format,
+                          .usage = s->usage, .name = s->name};
     FV_TRY(fv_vk_image_create(t->vk, &d, &s->img));
     s->created = true;
     s->layout = VK_IMAGE_LAYOUT_UNDEFINED;
@@ -82,17 +82,28 @@ fv_result fv_images_get(fv_images *t, fv_image_id id, const fv_vk_image **out)
 fv_result fv_images_scratch(fv_images *t, const fv_vk_image_desc *desc, fv_image_id *out_id)
 {
     if (!t || !t->vk || !desc || !out_id || !desc->format || !desc->usage) return FV_ERR_INVALID_ARG;
-    if (t->count >= FV_IMAGE_MAX) {
+    uint32_t k = FV_IMAGE_BUILTIN_COUNT;
+    while (k < t->count && t->slot[k].created) k++; /* a released slot is taken again */
+    if (k >= FV_IMAGE_MAX) {
         FV_ERROR(MOD, "scratch image %s: the table holds %d images", desc->name ? desc->name : "?", FV_IMAGE_MAX);
         return FV_ERR_RANGE;
     }
-    fv_image_slot *s = &t->slot[t->count];
+    fv_image_slot *s = &t->slot[k];
     memset(s, 0, sizeof *s);
     describe(s, desc->name ? desc->name : "scratch", desc->format, desc->usage);
     FV_TRY(create(t, s, desc->width ? desc->width : t->width, desc->height ? desc->height : t->height,
                   desc->layers ? desc->layers : 2));
-    *out_id = (fv_image_id)t->count++;
+    *out_id = (fv_image_id)k;
+    if (k == t->count) t->count++;
     return FV_OK;
+}
+
+void fv_images_release(fv_images *t, fv_image_id id)
+{
+    if (!t || !t->vk || (uint32_t)id < FV_IMAGE_BUILTIN_COUNT || (uint32_t)id >= t->count) return;
+    fv_image_slot *s = &t->slot[id];
+    if (s->created) fv_vk_image_destroy(t->vk, &s->img);
+    memset(s, 0, sizeof *s);
 }
 
 const fv_vk_image *fv_images_image(const fv_images *t, fv_image_id id)

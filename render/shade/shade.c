@@ -111,8 +111,10 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
         {FV_SHADE_BINDING_PIXELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
     };
     const uint32_t modes[2] = {FV_SHADE_MODE_ALL, FV_SHADE_MODE_LIST};
+    VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
+    _Static_assert(FV_SCENE_SET == 0 && FV_SHADE_INPUTS_SET == 1 && FV_SHADE_SET == 2, "shade's set order");
     fv_vk_compute_desc cd = {.name = "shade", .code = fv_spv_shade_comp, .code_size = sizeof fv_spv_shade_comp,
-                             .shared_sets = &env->scene->set_layout, .shared_set_count = 1, .bindings = b,
+                             .shared_sets = shared, .shared_set_count = 2, .bindings = b,
                              .binding_count = FV_SHADE_BINDING_COUNT, .set_count = env->slots,
                              .push_bytes = sizeof(struct fv_shade_push), .spec = modes, .spec_count = 1,
                              .variant_count = 2};
@@ -142,6 +144,7 @@ static void shade_record(void *state, const fv_pass_frame *f)
     VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
     fv_images *im = f->images;
     fv_images_use_gbuffer(im, cmd, cs);
+    fv_shade_inputs_use(f->shade_inputs, im, cmd, cs);
     fv_images_use(im, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
 
     /* The pixel binding of this slot's set: the GPU is done with the slot when its frame is recorded. */
@@ -157,7 +160,8 @@ static void shade_record(void *state, const fv_pass_frame *f)
     uint32_t total = pc.tiles_per_stripe * FV_SHADE_STRIPES;
     uint32_t max_x = sh->vk->props.limits.maxComputeWorkGroupCount[0];
     pc.groups_x = total < max_x ? total : max_x;
-    fv_vk_compute_bind(&sh->cs, cmd, list ? VARIANT_LIST : VARIANT_ALL, &f->scene_set, 1, f->slot, &pc);
+    VkDescriptorSet shared[2] = {f->scene_set, fv_shade_inputs_set(f->shade_inputs, f->slot)};
+    fv_vk_compute_bind(&sh->cs, cmd, list ? VARIANT_LIST : VARIANT_ALL, shared, 2, f->slot, &pc);
     if (list) {
         if (list->indirect) vkCmdDispatchIndirect(cmd, list->indirect, list->indirect_offset);
         f->counters->pixels_shaded += list->host_count;

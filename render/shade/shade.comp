@@ -4,6 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
+#include "fv_shade_inputs_interface.h"
 #include "fv_common.glsl"
 #include "shade_interface.h"
 
@@ -11,6 +12,7 @@ layout(local_size_x = FV_SHADE_GROUP_X, local_size_y = FV_SHADE_GROUP_Y, local_s
 layout(constant_id = 0) const uint SHADE_MODE = FV_SHADE_MODE_ALL;
 
 FV_SCENE_SET_DECLARE
+FV_SHADE_INPUTS_DECLARE
 #define FV_GBUFFER_SET FV_SHADE_SET
 #define FV_GBUFFER_BINDING_DEPTH FV_SHADE_BINDING_DEPTH
 #define FV_GBUFFER_BINDING_NORMAL FV_SHADE_BINDING_NORMAL

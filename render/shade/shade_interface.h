@@ -1,9 +1,10 @@
-/* @brief Shading pass interface shared by C and GLSL: bindings of its own set (set 1; set 0 is the scene's),
+/* @brief Shading pass interface shared by C and GLSL: bindings of its own set (set 2; set 0 is the scene's, set 1
+ * the shading inputs),
  * workgroup size, push constants, modes. */
 #ifndef FV_SHADE_INTERFACE_H
 #define FV_SHADE_INTERFACE_H
 
-#define FV_SHADE_SET 1
+#define FV_SHADE_SET 2
 #define FV_SHADE_BINDING_DEPTH 0    /* sampler2DArray (D32) */
 #define FV_SHADE_BINDING_NORMAL 1   /* sampler2DArray (octahedral) */
 #define FV_SHADE_BINDING_ALBEDO 2   /* sampler2DArray (sRGB -> linear on read) */

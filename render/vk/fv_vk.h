@@ -168,6 +168,7 @@ FV_MUST_CHECK fv_result fv_vk_buffer_invalidate(fv_vk *vk, fv_vk_buffer *b);
 typedef struct fv_vk_image_desc {
     uint32_t width, height;
     uint32_t layers;          /* 1 = a 2D image (view type 2D), >1 = a 2D array (view type 2D_ARRAY) */
+    bool array;               /* a 2D_ARRAY view even with one layer (for array samplers) */
     VkFormat format;
     VkImageUsageFlags usage;
     const char *name;
@@ -257,6 +258,7 @@ typedef struct fv_vk_graphics_desc {
     VkRenderPass render_pass;
     uint32_t color_attachments;
     bool depth_test;
+    bool depth_bias;       /* depth bias enabled, set per draw with vkCmdSetDepthBias (a dynamic state) */
     VkCullModeFlags cull;
     const uint32_t *spec;  /* specialization constants (uint32 each, ids 0..n-1) for both stages, or NULL */
     uint32_t spec_count;

@@ -203,7 +203,7 @@ fv_result fv_vk_image_create(fv_vk *vk, const fv_vk_image_desc *d, fv_vk_image *
     VkImageViewCreateInfo vi = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
         .image = out->image,
-        .viewType = d->layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D,
+        .viewType = d->layers > 1 || d->array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D,
         .format = d->format,
         .subresourceRange = {out->aspect, 0, 1, 0, d->layers},
     };

@@ -110,6 +110,7 @@ fv_result fv_vk_graphics_pipeline(fv_vk *vk, const fv_vk_graphics_desc *d, VkPip
         .polygonMode = VK_POLYGON_MODE_FILL,
         .cullMode = d->cull,
         .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
+        .depthBiasEnable = d->depth_bias,
         .lineWidth = 1.0f,
     };
     VkPipelineMultisampleStateCreateInfo ms = {.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
@@ -126,9 +127,9 @@ fv_result fv_vk_graphics_pipeline(fv_vk *vk, const fv_vk_graphics_desc *d, VkPip
         blend[i] = (VkPipelineColorBlendAttachmentState){.colorWriteMask = 0xf};
     VkPipelineColorBlendStateCreateInfo cb = {.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
                                               .attachmentCount = nc, .pAttachments = blend};
-    VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkDynamicState dyn[3] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_DEPTH_BIAS};
     VkPipelineDynamicStateCreateInfo dy = {.sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO,
-                                           .dynamicStateCount = 2, .pDynamicStates = dyn};
+                                           .dynamicStateCount = d->depth_bias ? 3u : 2u, .pDynamicStates = dyn};
     VkGraphicsPipelineCreateInfo ci = {
         .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
         .stageCount = 2,

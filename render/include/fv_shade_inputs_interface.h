@@ -1,0 +1,21 @@
+/* @brief What shading passes read besides the scene and the G-buffer: set 1 of their pipelines, filled by the
+ * passes that produce it (shadows now; indirect light and subsurface light later), owned by the renderer
+ * (render/pass/fv_shade_inputs.h). Shared by C and GLSL. */
+#ifndef FV_SHADE_INPUTS_INTERFACE_H
+#define FV_SHADE_INPUTS_INTERFACE_H
+
+#define FV_SHADE_INPUTS_SET 1 /* after the scene set; a shading pass's own set comes after it */
+#define FV_SHADE_INPUTS_BINDING_SHADOW 0     /* storage fv_gpu_shadow (per frame in flight) */
+#define FV_SHADE_INPUTS_BINDING_SHADOW_MAP 1 /* sampler2DArray: the shadow maps' depth (a 1x1 dummy when none) */
+#define FV_SHADE_INPUTS_BINDING_COUNT 2
+
+#if defined(GL_core_profile) || defined(VULKAN) || defined(GL_SPIRV)
+/* GLSL: declare set 2. Requires fv_gpu.h. */
+#define FV_SHADE_INPUTS_DECLARE                                                                                        \
+    layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_SHADE_INPUTS_BINDING_SHADOW) readonly buffer FvShadow {   \
+        fv_gpu_shadow shadow;                                                                                          \
+    };                                                                                                                 \
+    layout(set = FV_SHADE_INPUTS_SET, binding = FV_SHADE_INPUTS_BINDING_SHADOW_MAP) uniform sampler2DArray shadow_map;
+#endif
+
+#endif

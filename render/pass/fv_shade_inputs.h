@@ -1,0 +1,38 @@
+/* @brief The shading inputs (set 1 of shading passes, render/include/fv_shade_inputs_interface.h): per frame in flight the
+ * shadow block (fv_gpu_shadow) that the shadow pass fills before recording, and the shadow-map image (a 1x1 dummy
+ * until a pass binds one). Owned by the renderer; producers fill it, consumers bind it. One owner thread. */
+#ifndef FV_SHADE_INPUTS_H
+#define FV_SHADE_INPUTS_H
+
+#include "fv_gpu.h"
+#include "fv_images.h"
+#include "fv_shade_inputs_interface.h"
+#include "fv_vk.h"
+
+typedef struct fv_shade_inputs {
+    fv_vk *vk;
+    uint32_t slots;
+    VkDescriptorSetLayout layout;
+    VkDescriptorPool pool;
+    VkDescriptorSet sets[FV_MAX_FRAMES_IN_FLIGHT];
+    fv_vk_buffer shadow[FV_MAX_FRAMES_IN_FLIGHT]; /* host-visible fv_gpu_shadow per slot */
+    VkSampler nearest;
+    fv_vk_image dummy;     /* 1x1, 1 layer, depth 1 (nothing occludes) */
+    fv_image_id shadow_map; /* the image table's id of the bound shadow maps, or FV_IMAGE_MAX for the dummy */
+} fv_shade_inputs;
+
+FV_MUST_CHECK fv_result fv_shade_inputs_init(fv_shade_inputs *si, fv_vk *vk, uint32_t frames_in_flight);
+void fv_shade_inputs_fini(fv_shade_inputs *si);
+/** The slot's shadow block to fill (the GPU is done with the slot); fv_shade_inputs_begin_frame zeroes its counts. */
+fv_gpu_shadow *fv_shade_inputs_shadow(fv_shade_inputs *si, uint32_t slot);
+void fv_shade_inputs_begin_frame(fv_shade_inputs *si, uint32_t slot);
+/** Make the slot's host writes visible (after every producer filled it). */
+FV_MUST_CHECK fv_result fv_shade_inputs_end_frame(fv_shade_inputs *si, uint32_t slot);
+/** Bind the shadow maps (an image of the table, sampled in DEPTH_STENCIL_READ_ONLY_OPTIMAL), or FV_IMAGE_MAX for
+ *  the dummy. Rewrites every slot's set: the GPU must be idle. */
+void fv_shade_inputs_bind_shadow_map(fv_shade_inputs *si, const fv_images *images, fv_image_id id);
+VkDescriptorSet fv_shade_inputs_set(const fv_shade_inputs *si, uint32_t slot);
+/** Declare a consumer's read of the bound shadow maps at `stage` (a barrier when the maps were just drawn). */
+void fv_shade_inputs_use(const fv_shade_inputs *si, fv_images *images, VkCommandBuffer cmd, VkPipelineStageFlags stage);
+
+#endif

@@ -1,0 +1,105 @@
+/* @brief The shading inputs (see fv_shade_inputs.h). */
+#include "fv_shade_inputs.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define MOD "shade_inputs"
+
+fv_result fv_shade_inputs_init(fv_shade_inputs *si, fv_vk *vk, uint32_t slots)
+{
+    memset(si, 0, sizeof *si);
+    if (!vk || !slots || slots > FV_MAX_FRAMES_IN_FLIGHT) return FV_ERR_INVALID_ARG;
+    si->vk = vk;
+    si->slots = slots;
+    si->shadow_map = FV_IMAGE_MAX;
+    VkShaderStageFlags st = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_VERTEX_BIT;
+    VkDescriptorSetLayoutBinding b[FV_SHADE_INPUTS_BINDING_COUNT] = {
+        {FV_SHADE_INPUTS_BINDING_SHADOW, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, st, NULL},
+        {FV_SHADE_INPUTS_BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, st, NULL},
+    };
+    fv_result res = fv_vk_set_layout(vk, b, FV_SHADE_INPUTS_BINDING_COUNT, "shading inputs set", &si->layout);
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slots},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, slots}};
+    if (res == FV_OK) res = fv_vk_descriptor_pool(vk, sizes, 2, slots, "shading inputs pool", &si->pool);
+    if (res == FV_OK) res = fv_vk_sampler_create(vk, false, false, "shadow map sampler (nearest)", &si->nearest);
+    if (res == FV_OK) {
+        fv_vk_image_desc d = {.width = 1, .height = 1, .layers = 1, .array = true, .format = VK_FORMAT_R32_SFLOAT,
+                              .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                              .name = "no shadow map (depth 1)"};
+        res = fv_vk_image_create(vk, &d, &si->dummy);
+        const float one = 1.0f;
+        if (res == FV_OK) res = fv_vk_upload_image(vk, &si->dummy, 0, &one, sizeof one, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    }
+    for (uint32_t i = 0; res == FV_OK && i < slots; i++) {
+        char name[48];
+        snprintf(name, sizeof name, "shadow block slot %u", i);
+        res = fv_vk_buffer_create(vk, sizeof(fv_gpu_shadow), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_UPLOAD, name,
+                                  &si->shadow[i]);
+        if (res != FV_OK) break;
+        memset(si->shadow[i].mapped, 0, sizeof(fv_gpu_shadow));
+        snprintf(name, sizeof name, "shading inputs set %u", i);
+        res = fv_vk_descriptor_set(vk, si->pool, si->layout, name, &si->sets[i]);
+        if (res != FV_OK) break;
+        fv_vk_write_buffer(vk, si->sets[i], FV_SHADE_INPUTS_BINDING_SHADOW, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                           si->shadow[i].buffer, 0, sizeof(fv_gpu_shadow));
+        res = fv_vk_buffer_flush(vk, &si->shadow[i]);
+    }
+    if (res == FV_OK) fv_shade_inputs_bind_shadow_map(si, NULL, FV_IMAGE_MAX);
+    if (res != FV_OK) {
+        FV_ERROR(MOD, "shading inputs could not be created: %s", fv_result_str(res));
+        fv_shade_inputs_fini(si);
+    }
+    return res;
+}
+
+void fv_shade_inputs_fini(fv_shade_inputs *si)
+{
+    if (!si || !si->vk) return;
+    fv_vk *vk = si->vk;
+    for (uint32_t i = 0; i < FV_MAX_FRAMES_IN_FLIGHT; i++) fv_vk_buffer_destroy(vk, &si->shadow[i]);
+    fv_vk_image_destroy(vk, &si->dummy);
+    if (si->nearest) vkDestroySampler(vk->device, si->nearest, NULL);
+    if (si->pool) vkDestroyDescriptorPool(vk->device, si->pool, NULL);
+    if (si->layout) vkDestroyDescriptorSetLayout(vk->device, si->layout, NULL);
+    memset(si, 0, sizeof *si);
+}
+
+fv_gpu_shadow *fv_shade_inputs_shadow(fv_shade_inputs *si, uint32_t slot)
+{
+    return si && slot < si->slots ? (fv_gpu_shadow *)si->shadow[slot].mapped : NULL;
+}
+
+void fv_shade_inputs_begin_frame(fv_shade_inputs *si, uint32_t slot)
+{
+    fv_gpu_shadow *s = fv_shade_inputs_shadow(si, slot);
+    if (s) memset(&s->counts, 0, sizeof s->counts);
+}
+
+fv_result fv_shade_inputs_end_frame(fv_shade_inputs *si, uint32_t slot)
+{
+    if (!si || slot >= si->slots) return FV_ERR_INVALID_ARG;
+    return fv_vk_buffer_flush(si->vk, &si->shadow[slot]);
+}
+
+void fv_shade_inputs_bind_shadow_map(fv_shade_inputs *si, const fv_images *images, fv_image_id id)
+{
+    const fv_vk_image *img = images && id != FV_IMAGE_MAX ? fv_images_image(images, id) : NULL;
+    si->shadow_map = img ? id : FV_IMAGE_MAX;
+    for (uint32_t i = 0; i < si->slots; i++)
+        fv_vk_write_image(si->vk, si->sets[i], FV_SHADE_INPUTS_BINDING_SHADOW_MAP,
+                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img ? img->view : si->dummy.view, si->nearest,
+                          img ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+}
+
+VkDescriptorSet fv_shade_inputs_set(const fv_shade_inputs *si, uint32_t slot)
+{
+    return si && slot < si->slots ? si->sets[slot] : VK_NULL_HANDLE;
+}
+
+void fv_shade_inputs_use(const fv_shade_inputs *si, fv_images *images, VkCommandBuffer cmd, VkPipelineStageFlags stage)
+{
+    if (!si || si->shadow_map == FV_IMAGE_MAX) return;
+    fv_images_use(images, cmd, si->shadow_map,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, stage, VK_ACCESS_SHADER_READ_BIT});
+}
