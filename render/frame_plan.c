@@ -10,6 +10,7 @@
 #include "gbuffer.h"
 #include "present.h"
 #include "shade.h"
+#include "shadow.h"
 
 static const char *plural(uint64_t n) { return n == 1 ? "" : "s"; }
 
@@ -40,13 +41,6 @@ static void motion_plan(const fv_plan_context *ctx, fv_plan_entry *out)
             plural(animated));
     else
         say(out, true, "static scene: motion vectors from head motion only (G-buffer)");
-}
-
-static void shadow_plan(const fv_plan_context *ctx, fv_plan_entry *out)
-{
-    uint32_t n = light_count(ctx->scene);
-    if (n) say(out, false, "needed (%u light%s cast shadows) — not implemented yet: unshadowed", n, plural(n));
-    else say(out, false, "off — no lights");
 }
 
 static void gi_plan(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -82,7 +76,6 @@ static void fovea_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 }
 
 static const fv_pass motion_entry = {.id = "motion", .plan = motion_plan};
-static const fv_pass shadow_entry = {.id = "shadow", .plan = shadow_plan};
 static const fv_pass gi_entry = {.id = "gi", .plan = gi_plan};
 static const fv_pass sss_entry = {.id = "sss", .plan = sss_plan};
 static const fv_pass fovea_entry = {.id = "fovea", .plan = fovea_plan};
@@ -91,7 +84,7 @@ static const fv_pass fovea_entry = {.id = "fovea", .plan = fovea_plan};
 
 /* Frame order. A new pass: its folder under render/, and one line here. */
 static const fv_pass *const table[] = {
-    &fv_gbuffer_pass, &motion_entry, &shadow_entry, &gi_entry, &sss_entry, &fovea_entry,
+    &fv_gbuffer_pass, &motion_entry, &fv_shadow_pass, &gi_entry, &sss_entry, &fovea_entry,
     &fv_shade_pass,   &fv_debug_pass, &fv_present_pass,
 };
 _Static_assert(sizeof table / sizeof table[0] <= FV_MAX_PASSES, "FV_MAX_PASSES holds the table");

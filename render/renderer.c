@@ -7,6 +7,7 @@
 
 #include "fv_gpu.h"
 #include "fv_images.h"
+#include "fv_knobs.h"
 #include "fv_passes.h"
 #include "fv_renderer.h"
 #include "fv_scene_gpu.h"
@@ -78,18 +79,24 @@ static fv_gpu_mat4 to_gpu(const fv_mat4 *m)
 
 /* ---- the plan ----------------------------------------------------------------------------------------------- */
 
+/* Out-of-range settings fall back to the defaults, field by field (a zeroed fv_quality becomes the default). */
 static fv_quality quality_sanitized(const fv_quality *q)
 {
     fv_quality d = fv_quality_default(), o = q ? *q : d;
     if (!(isfinite(o.exposure) && o.exposure > 0.0f)) o.exposure = d.exposure;
-    if ((unsigned)o.debug_view > FV_DEBUG_VIEW_GAZE) o.debug_view = d.debug_view;
+    if ((unsigned)o.debug_view >= FV_DEBUG_VIEW_COUNT) o.debug_view = d.debug_view;
+    fv_quality_shadow *s = &o.shadow;
+    if (s->splits < 1 || s->splits > 8) s->splits = d.shadow.splits;
+    if (!(s->lambda >= 0.0f && s->lambda <= 1.0f)) s->lambda = d.shadow.lambda;
+    uint32_t r = s->resolution_px;
+    if (r < 256 || r > 4096 || (r & (r - 1))) s->resolution_px = d.shadow.resolution_px;
+    if ((unsigned)s->filter > FV_SHADOW_FILTER_PCF5) s->filter = d.shadow.filter;
+    if (!(s->bias_texels >= 0.0f && s->bias_texels <= 10.0f)) s->bias_texels = d.shadow.bias_texels;
     return o;
 }
 
-static bool plan_differs(const fv_quality *a, const fv_quality *b)
-{
-    return a->exposure != b->exposure || a->debug_view != b->debug_view;
-}
+/* Whether the plan must be decided again: any setting a pass's plan looks at (every knob and view setting). */
+static bool plan_differs(const fv_quality *a, const fv_quality *b) { return !fv_quality_equal(a, b); }
 
 static void pass_env(fv_renderer *r, uint32_t i, fv_pass_env *env)
 {
@@ -705,6 +712,15 @@ done:
 }
 
 /* ---- small queries ------------------------------------------------------------------------------------------- */
+
+uint32_t fv_renderer_pass_details(const fv_renderer *r, const char *pass, fv_pass_detail *out, uint32_t cap)
+{
+    if (!r || !pass || !out) return 0;
+    for (uint32_t i = 0; i < r->pass_count; i++)
+        if (strcmp(r->table[i]->id, pass) == 0 && r->pass_state[i] && r->table[i]->details)
+            return r->table[i]->details(r->pass_state[i], out, cap);
+    return 0;
+}
 
 uint32_t fv_renderer_validation_messages(const fv_renderer *r) { return r ? fv_vk_validation_messages(r->vk) : 0; }
 

@@ -7,6 +7,7 @@
 
 #include "debug_comp.spv.h"
 #include "debug_interface.h"
+#include "fv_shade_inputs_interface.h"
 
 #define MOD "debug"
 
@@ -19,23 +20,20 @@ typedef struct debug {
 
 static void debug_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 {
-    switch (ctx->quality->debug_view) {
-    case FV_DEBUG_VIEW_NORMAL:
-        out->enabled = true;
-        out->variant = FV_GPU_DEBUG_VIEW_NORMAL;
-        snprintf(out->reason, sizeof out->reason, "debug view 'normal': the G-buffer normal replaces the shading");
-        return;
-    case FV_DEBUG_VIEW_GAZE:
-        out->enabled = true;
-        out->variant = FV_GPU_DEBUG_VIEW_GAZE;
-        snprintf(out->reason, sizeof out->reason, "debug view 'gaze': the predicted gaze replaces the shading");
-        return;
-    case FV_DEBUG_VIEW_NONE:
-    default:
+    static const char *const what[FV_DEBUG_VIEW_COUNT] = {
+        "", "the G-buffer normal", "the predicted gaze", "direct light only", "light 0's visibility",
+        "which of light 0's shadow maps holds each pixel", "the G-buffer albedo", "the G-buffer depth"};
+    fv_debug_view v = ctx->quality->debug_view;
+    if (v == FV_DEBUG_VIEW_NONE || (unsigned)v >= FV_DEBUG_VIEW_COUNT) {
         out->enabled = false;
         snprintf(out->reason, sizeof out->reason, "off — no debug view asked for");
         return;
     }
+    _Static_assert(FV_DEBUG_VIEW_DEPTH == FV_GPU_DEBUG_VIEW_DEPTH && FV_DEBUG_VIEW_GAZE == FV_GPU_DEBUG_VIEW_GAZE,
+                   "view numbers agree between C and GLSL");
+    out->enabled = true;
+    out->variant = (uint32_t)v;
+    snprintf(out->reason, sizeof out->reason, "debug view '%s': %s replaces the shading", fv_debug_view_name(v), what[v]);
 }
 
 static void debug_fini(void *state)
@@ -68,8 +66,10 @@ static fv_result debug_init(const fv_pass_env *env, void **out_state)
         {FV_DEBUG_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
     };
     uint32_t view = env->plan ? env->plan->variant : FV_GPU_DEBUG_VIEW_NORMAL;
+    VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
+    _Static_assert(FV_SCENE_SET == 0 && FV_SHADE_INPUTS_SET == 1 && FV_DEBUG_SET == 2, "debug's set order");
     fv_vk_compute_desc cd = {.name = "debug view", .code = fv_spv_debug_comp, .code_size = sizeof fv_spv_debug_comp,
-                             .shared_sets = &env->scene->set_layout, .shared_set_count = 1, .bindings = b,
+                             .shared_sets = shared, .shared_set_count = 2, .bindings = b,
                              .binding_count = FV_DEBUG_BINDING_COUNT, .set_count = 1, .spec = &view, .spec_count = 1};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &d->cs);
     if (res != FV_OK) {
@@ -91,9 +91,11 @@ static void debug_record(void *state, const fv_pass_frame *f)
     fv_vk_label_begin(d->vk, cmd, "debug view");
     VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
     fv_images_use_gbuffer(f->images, cmd, cs);
+    fv_shade_inputs_use(f->shade_inputs, f->images, cmd, cs);
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
-    /* The one set binds only images that stay put, and the scene set is the slot's: nothing per slot here. */
-    fv_vk_compute_bind(&d->cs, cmd, 0, &f->scene_set, 1, 0, NULL);
+    /* Its own set binds only images that stay put; the scene's and the shading inputs' sets are the slot's. */
+    VkDescriptorSet shared[2] = {f->scene_set, fv_shade_inputs_set(f->shade_inputs, f->slot)};
+    fv_vk_compute_bind(&d->cs, cmd, 0, shared, 2, 0, NULL);
     vkCmdDispatch(cmd, (d->width + FV_DEBUG_GROUP_X - 1) / FV_DEBUG_GROUP_X,
                   (d->height + FV_DEBUG_GROUP_Y - 1) / FV_DEBUG_GROUP_Y, 2);
     f->counters->dispatches++;

@@ -1,8 +1,9 @@
-/* @brief Debug-view pass interface shared by C and GLSL: bindings of its own set (set 1), workgroup size. */
+/* @brief Debug-view pass interface shared by C and GLSL: bindings of its own set (set 2, after the scene's and the
+ * shading inputs), workgroup size. */
 #ifndef FV_DEBUG_INTERFACE_H
 #define FV_DEBUG_INTERFACE_H
 
-#define FV_DEBUG_SET 1
+#define FV_DEBUG_SET 2
 #define FV_DEBUG_BINDING_DEPTH 0    /* sampler2DArray */
 #define FV_DEBUG_BINDING_NORMAL 1   /* sampler2DArray (octahedral) */
 #define FV_DEBUG_BINDING_ALBEDO 2   /* sampler2DArray */

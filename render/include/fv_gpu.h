@@ -49,8 +49,13 @@ struct fv_gpu_frame {
 
 /** Debug views (fv_gpu_frame.photon.z; fv_quality.debug_view). */
 #define FV_GPU_DEBUG_VIEW_NONE 0
-#define FV_GPU_DEBUG_VIEW_NORMAL 1 /* world normal * 0.5 + 0.5 */
-#define FV_GPU_DEBUG_VIEW_GAZE 2   /* r: closeness to the predicted gaze ray, g: pupil mm / 10, b: gaze valid */
+#define FV_GPU_DEBUG_VIEW_NORMAL 1  /* world normal * 0.5 + 0.5 */
+#define FV_GPU_DEBUG_VIEW_GAZE 2    /* r: closeness to the predicted gaze ray, g: pupil mm / 10, b: gaze valid */
+#define FV_GPU_DEBUG_VIEW_DIRECT 3  /* direct light only (visibility x irradiance x BRDF): no emission, no ambient */
+#define FV_GPU_DEBUG_VIEW_SHADOW 4  /* visibility of light 0, 0..1, grey */
+#define FV_GPU_DEBUG_VIEW_CASCADE 5 /* which of light 0's maps holds the pixel, as a colour (black: none) */
+#define FV_GPU_DEBUG_VIEW_ALBEDO 6  /* linear albedo */
+#define FV_GPU_DEBUG_VIEW_DEPTH 7   /* Vulkan depth 0..1 of the eye's projection, grey (1 where nothing is drawn) */
 
 /** One drawn node (storage buffer, indexed by a push constant). */
 struct fv_gpu_draw {
@@ -90,7 +95,9 @@ struct fv_gpu_shadow_light {
     FV_UVEC4 info;        /* x kind (FV_SHADOW_KIND_*), y first map, z splits (1 for spot), w maps per eye (0: both
                            * eyes share the maps; else eye e uses first + e * w) */
     FV_VEC4 split_far[2]; /* view depth (m) where each split ends, splits 0..7; a deeper pixel uses the last */
-    FV_VEC4 params;       /* x filter radius in texels (0: one tap, 1: 3x3, 2: 5x5), y 1 / resolution, z, w 0 */
+    FV_VEC4 params;       /* x filter radius in texels (0: one tap, 1: 3x3, 2: 5x5), y 1 / resolution, z (spot) a
+                           * texel's world size per metre of distance from the light, w 0 */
+    FV_VEC4 split_texel[2]; /* cascades: a texel's world size (m) in each split, for the receiver's normal offset */
 };
 
 struct fv_gpu_shadow {
@@ -106,8 +113,8 @@ struct fv_gpu_shadow {
 #ifndef FV_GLSL
 typedef struct fv_gpu_shadow_light fv_gpu_shadow_light;
 typedef struct fv_gpu_shadow fv_gpu_shadow;
-_Static_assert(sizeof(fv_gpu_shadow_light) == 64, "fv_gpu_shadow_light layout");
-_Static_assert(sizeof(fv_gpu_shadow) == 16 + 64 * FV_SHADOW_MAX_LIGHTS + 64 * FV_SHADOW_MAX_MAPS, "fv_gpu_shadow layout");
+_Static_assert(sizeof(fv_gpu_shadow_light) == 96, "fv_gpu_shadow_light layout");
+_Static_assert(sizeof(fv_gpu_shadow) == 16 + 96 * FV_SHADOW_MAX_LIGHTS + 64 * FV_SHADOW_MAX_MAPS, "fv_gpu_shadow layout");
 typedef struct fv_gpu_frame fv_gpu_frame;
 typedef struct fv_gpu_draw fv_gpu_draw;
 typedef struct fv_gpu_material fv_gpu_material;

@@ -54,12 +54,19 @@ vec3 fv_shade_combine(vec3 albedo, vec3 irradiance, vec3 emissive, vec3 ambient)
 
 // Outgoing radiance of a decoded surface toward the eye: every light's irradiance times its visibility, the indirect
 // irradiance, through the Lambertian BRDF; plus emission, ambient and subsurface light. Finite for any input.
-vec3 fv_shade_surface(fv_surface s)
+// Direct irradiance at a decoded surface: every light's irradiance times its visibility (W/m^2 per channel).
+vec3 fv_shade_direct_irradiance(fv_surface s)
 {
-    if (!s.hit) return vec3(0.0);
     vec3 irradiance = vec3(0.0);
     uint nl = min(frame.counts.x, uint(lights.length()));
     for (uint i = 0u; i < nl; i++) irradiance += fv_hook_visibility(i, s) * fv_light_irradiance(lights[i], s.pos_world, s.normal);
+    return irradiance;
+}
+
+vec3 fv_shade_surface(fv_surface s)
+{
+    if (!s.hit) return vec3(0.0);
+    vec3 irradiance = fv_shade_direct_irradiance(s);
     irradiance += fv_hook_indirect_irradiance(s);
     vec3 color = fv_shade_combine(s.albedo, irradiance, materials[s.material].emissive.rgb, frame.ambient.rgb);
     color += fv_hook_subsurface_radiance(s);

@@ -9,21 +9,35 @@
 // maps for directional lights, Zhang et al. 2006; one perspective map for spot lights), the split that holds the
 // pixel's view depth, a depth compare over (2r+1)^2 texels (r = 0: one tap). 1 where the light has no map or the
 // point lies outside it. Requires the shading inputs set (FV_SHADE_INPUTS_DECLARE, fv_shade_inputs_interface.h).
-float fv_hook_visibility(uint light, fv_surface s)
+// The shadow map of light `light` that holds the surface (its split for cascades), or -1 when the light has none.
+int fv_shadow_map_of(uint light, fv_surface s, out uint split)
 {
-    if (light >= min(shadow.counts.x, uint(FV_SHADOW_MAX_LIGHTS))) return 1.0;
+    split = 0u;
+    if (light >= min(shadow.counts.x, uint(FV_SHADOW_MAX_LIGHTS))) return -1;
     fv_gpu_shadow_light L = shadow.light[light];
-    if (L.info.x == FV_SHADOW_KIND_NONE) return 1.0;
+    if (L.info.x == FV_SHADOW_KIND_NONE) return -1;
     uint eye = min(s.pixel.z, 1u);
-    uint split = 0u;
     if (L.info.x == FV_SHADOW_KIND_CASCADES) {
         float d = (frame.view_proj[eye] * vec4(s.pos_world, 1.0)).w; // clip w = view depth for a perspective eye
         uint n = min(L.info.z, uint(FV_SHADOW_MAX_SPLITS));
         while (split + 1u < n && d > L.split_far[split / 4u][split % 4u]) split++;
     }
     uint map = L.info.y + eye * L.info.w + split;
-    if (map >= min(shadow.counts.y, uint(FV_SHADOW_MAX_MAPS))) return 1.0;
-    vec4 c = shadow.map_view_proj[map] * vec4(s.pos_world, 1.0);
+    return map < min(shadow.counts.y, uint(FV_SHADOW_MAX_MAPS)) ? int(map) : -1;
+}
+
+float fv_hook_visibility(uint light, fv_surface s)
+{
+    uint split;
+    int m = fv_shadow_map_of(light, s, split);
+    if (m < 0) return 1.0;
+    uint map = uint(m);
+    fv_gpu_shadow_light L = shadow.light[light];
+    // Normal offset: look the receiver up 1.5 texels off its surface, so a surface never shadows itself through
+    // the map's finite resolution (the casters' slope-scaled depth bias does the rest).
+    float texel = L.info.x == FV_SHADOW_KIND_CASCADES ? L.split_texel[split / 4u][split % 4u]
+                                                       : L.params.z * length(s.pos_world - lights[light].position_range.xyz);
+    vec4 c = shadow.map_view_proj[map] * vec4(s.pos_world + s.normal * (1.5 * texel), 1.0);
     if (!(c.w > 1e-20)) return 1.0; // behind a spot light
     vec3 p = c.xyz / c.w;
     vec2 uv = p.xy * 0.5 + 0.5;

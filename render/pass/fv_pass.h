@@ -77,6 +77,8 @@ typedef struct fv_pass {
     void (*record)(void *state, const fv_pass_frame *frame);
     /** Free everything (the GPU is idle). */
     void (*fini)(void *state);
+    /** What it decided for the last prepared frame, as named numbers (NULL: nothing to say). Returns the count. */
+    uint32_t (*details)(void *state, fv_pass_detail *out, uint32_t cap);
 } fv_pass;
 
 #endif

@@ -31,4 +31,12 @@ typedef struct fv_pass_counters {
     uint64_t dispatches;    /* compute dispatches (direct or indirect) */
 } fv_pass_counters;
 
+/** A named list of numbers a pass reports about its last frame (e.g. "light0.splits_m"), for --explain --json. */
+#define FV_PASS_DETAIL_VALUES 9
+typedef struct fv_pass_detail {
+    char key[40];
+    double value[FV_PASS_DETAIL_VALUES];
+    uint32_t count;
+} fv_pass_detail;
+
 #endif

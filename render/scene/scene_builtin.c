@@ -1,10 +1,13 @@
 /* @brief Built-in procedural scenes: `cornell` (the measured Cornell box with a spot light under the ceiling, as in
- * Ki & Oh's light-tree scenes) and `cornell-translucent` (the same plus a marble sphere, Jensen et al. 2001).
+ * Ki & Oh's light-tree scenes), `cornell-translucent` (the same plus a marble sphere, Jensen et al. 2001) and
+ * `pillars` (a ground plane 400 m long with a grid of columns and boxes under a low sun: the large depth range that
+ * parallel-split shadow maps are about, Zhang et al. 2006).
  *
  * Geometry: the Cornell box measurements (Cornell University Program of Computer Graphics, "Cornell Box Data",
  * millimetres; its camera looks along +z with +x to the viewer's left). We rotate it 180 degrees about +y and
  * centre it so that, in fovea's frame, the open side faces +z, the red wall is on the left (-x) and the green
  * wall on the right (+x), the floor is at y = 0 and the back wall at z = -0.2796 m. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,7 +21,7 @@
 #define CB_RED fv_v3(0.63f, 0.065f, 0.05f)
 #define CB_GREEN fv_v3(0.14f, 0.45f, 0.091f)
 
-static const char *const g_builtin_names[] = {"cornell", "cornell-translucent", NULL};
+static const char *const g_builtin_names[] = {"cornell", "cornell-translucent", "pillars", NULL};
 
 const char *const *fv_scene_builtin_names(void) { return g_builtin_names; }
 
@@ -262,6 +265,69 @@ static fv_result build_cornell_translucent(fv_scene *s)
     return emit(s, &b, "marble_sphere", mi);
 }
 
+/* An axis-aligned box from min to max corner (six quads, normals outwards). */
+static void add_box(builder *b, fv_vec3 lo, fv_vec3 hi)
+{
+    fv_vec3 c[8];
+    for (int i = 0; i < 8; i++) c[i] = fv_v3((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    add_quad(b, c[0], c[1], c[3], c[2], fv_v3(0, 0, -1)); /* z = lo */
+    add_quad(b, c[4], c[5], c[7], c[6], fv_v3(0, 0, 1));  /* z = hi */
+    add_quad(b, c[0], c[2], c[6], c[4], fv_v3(-1, 0, 0)); /* x = lo */
+    add_quad(b, c[1], c[3], c[7], c[5], fv_v3(1, 0, 0));  /* x = hi */
+    add_quad(b, c[0], c[1], c[5], c[4], fv_v3(0, -1, 0)); /* y = lo */
+    add_quad(b, c[2], c[3], c[7], c[6], fv_v3(0, 1, 0));  /* y = hi */
+}
+
+#define PILLARS_LENGTH_M 400.0f /* ground along -z from the viewer */
+#define PILLARS_WIDTH_M 60.0f
+#define PILLARS_ROWS 20         /* columns every 20 m in depth */
+#define PILLARS_COLUMNS 3       /* at x = -6, 0, +6 m */
+
+static fv_result build_pillars(fv_scene *s)
+{
+    uint32_t ground, stone, crate;
+    FV_TRY(add_named_material(s, "ground", fv_v3(0.55f, 0.52f, 0.45f), fv_v3(0, 0, 0), &ground));
+    FV_TRY(add_named_material(s, "stone", fv_v3(0.75f, 0.74f, 0.72f), fv_v3(0, 0, 0), &stone));
+    FV_TRY(add_named_material(s, "crate", fv_v3(0.60f, 0.38f, 0.20f), fv_v3(0, 0, 0), &crate));
+    builder b;
+    memset(&b, 0, sizeof b);
+    float w = PILLARS_WIDTH_M * 0.5f;
+    add_quad(&b, fv_v3(-w, 0, 10.0f), fv_v3(w, 0, 10.0f), fv_v3(w, 0, -PILLARS_LENGTH_M), fv_v3(-w, 0, -PILLARS_LENGTH_M),
+             fv_v3(0, 1, 0));
+    FV_TRY(emit(s, &b, "ground", ground));
+    /* Columns 0.8 m square, 6 m tall, from 5 m in front of the viewer to the far end. */
+    for (int r = 0; r < PILLARS_ROWS; r++)
+        for (int c = 0; c < PILLARS_COLUMNS; c++) {
+            float x = -6.0f + 6.0f * (float)c, z = -5.0f - 20.0f * (float)r;
+            add_box(&b, fv_v3(x - 0.4f, 0.0f, z - 0.4f), fv_v3(x + 0.4f, 6.0f, z + 0.4f));
+        }
+    FV_TRY(emit(s, &b, "columns", stone));
+    /* A few boxes near and far, so that contact shadows at every depth can be seen. */
+    static const float boxes[][4] = {{-2.5f, -3.0f, 0.6f, 0.6f}, {2.0f, -8.0f, 1.0f, 1.5f}, {-3.5f, -30.0f, 1.5f, 1.0f},
+                                     {3.0f, -75.0f, 2.0f, 2.0f}, {-2.0f, -150.0f, 3.0f, 3.0f}};
+    for (size_t i = 0; i < sizeof boxes / sizeof boxes[0]; i++) {
+        float x = boxes[i][0], z = boxes[i][1], hw = boxes[i][2] * 0.5f, h = boxes[i][3];
+        add_box(&b, fv_v3(x - hw, 0.0f, z - hw), fv_v3(x + hw, h, z + hw));
+    }
+    FV_TRY(emit(s, &b, "boxes", crate));
+    /* A sun 15 degrees above the horizon, from the front left: long shadows over the whole depth range. */
+    fv_light l;
+    memset(&l, 0, sizeof l);
+    fv_scene_copy_name(l.name, sizeof l.name, "sun");
+    l.type = FV_LIGHT_DIRECTIONAL;
+    double elev = fv_deg_to_rad(15.0), az = fv_deg_to_rad(35.0);
+    l.direction = fv_v3((float)(cos(elev) * sin(az)), (float)-sin(elev), (float)(-cos(elev) * cos(az)));
+    l.color = fv_v3(1.0f, 0.95f, 0.85f);
+    l.intensity = 3.0f; /* W/m^2: a white surface facing the sun reflects about 0.7 */
+    FV_TRY(fv_scene_add_light(s, &l, NULL));
+    s->ambient = fv_v3(0.03f, 0.035f, 0.045f);
+    /* Standing eye height, looking down the avenue of columns, slightly down. */
+    fv_scene_head_look_at(&s->head, fv_v3(0.0f, 1.7f, 2.0f), fv_v3(0.0f, 1.0f, -30.0f));
+    s->head.ipd_mm = FV_SCENE_DEFAULT_IPD_MM;
+    s->head.from_file = true;
+    return FV_OK;
+}
+
 fv_result fv_scene_builtin(const char *name, fv_scene **out_scene)
 {
     if (!name || !out_scene) return FV_ERR_INVALID_ARG;
@@ -274,8 +340,12 @@ fv_result fv_scene_builtin(const char *name, fv_scene **out_scene)
     } else if (!strcmp(name, "cornell-translucent")) {
         build = build_cornell_translucent;
         canon = "cornell-translucent";
+    } else if (!strcmp(name, "pillars")) {
+        build = build_pillars;
+        canon = "pillars";
     } else {
-        FV_ERROR("scene", "builtin:%s: no built-in scene of that name (known: cornell, cornell-translucent)", name);
+        FV_ERROR("scene", "builtin:%s: no built-in scene of that name (known: cornell, cornell-translucent, pillars)",
+                 name);
         return FV_ERR_NOT_FOUND;
     }
     fv_scene *s = NULL;

@@ -44,7 +44,7 @@ typedef struct fv_scene_gpu {
     uint32_t texture_count;
     VkDescriptorPool texture_pool;
     VkDescriptorSet *texture_sets; /* texture_count + 1: the last is the white texture */
-    fv_scene anim;                 /* nodes only, for fv_scene_node_world */
+    fv_scene anim;                 /* nodes and mesh headers (no data): fv_scene_node_world, world bounds */
     fv_scene_gpu_draw *draws;
     uint32_t draw_count;
     uint64_t triangle_count;       /* of the drawn meshes */
@@ -70,6 +70,8 @@ void fv_scene_gpu_unload(fv_scene_gpu *sg);
  *  ambient and light count set here; the lights; every draw's transform at t_s and at t_prev_s (for motion). */
 FV_MUST_CHECK fv_result fv_scene_gpu_write_frame(fv_scene_gpu *sg, uint32_t slot, const fv_gpu_frame *frame,
                                                  double t_s, double t_prev_s);
+/** World bounds of everything drawn at time t_s; false when nothing is drawn. */
+bool fv_scene_gpu_world_bounds(const fv_scene_gpu *sg, double t_s, fv_vec3 *out_min, fv_vec3 *out_max);
 /** The slot's shared set (set 0 of every pass). */
 VkDescriptorSet fv_scene_gpu_set(const fv_scene_gpu *sg, uint32_t slot);
 

@@ -100,6 +100,7 @@ void fv_scene_gpu_unload(fv_scene_gpu *sg)
     free(sg->texture_sets);
     free(sg->meshes);
     free(sg->anim.nodes);
+    free(sg->anim.meshes);
     free(sg->draws);
     free(sg->lights);
     for (uint32_t i = 0; i < FV_MAX_FRAMES_IN_FLIGHT; i++) fv_vk_buffer_destroy(vk, &sg->upload[i]);
@@ -303,6 +304,16 @@ static fv_result build_frame_data(fv_scene_gpu *sg, const fv_scene *scene)
     if (!sg->anim.nodes || !sg->draws || !sg->lights) return FV_ERR_NO_MEMORY;
     memcpy(sg->anim.nodes, scene->nodes, scene->node_count * sizeof *scene->nodes);
     sg->anim.node_count = scene->node_count;
+    /* Mesh headers without their data: what world bounds at any time need (fv_scene_world_bounds). */
+    sg->anim.meshes = malloc((scene->mesh_count ? scene->mesh_count : 1) * sizeof *sg->anim.meshes);
+    if (!sg->anim.meshes) return FV_ERR_NO_MEMORY;
+    for (uint32_t m = 0; m < scene->mesh_count; m++) {
+        sg->anim.meshes[m] = scene->meshes[m];
+        sg->anim.meshes[m].positions = sg->anim.meshes[m].normals = NULL;
+        sg->anim.meshes[m].texcoords = NULL;
+        sg->anim.meshes[m].indices = NULL;
+    }
+    sg->anim.mesh_count = scene->mesh_count;
     for (uint32_t i = 0; i < scene->node_count; i++) {
         const fv_node *n = &scene->nodes[i];
         if (n->mesh < 0 || (uint32_t)n->mesh >= scene->mesh_count) continue;
@@ -394,6 +405,11 @@ fv_result fv_scene_gpu_write_frame(fv_scene_gpu *sg, uint32_t slot, const fv_gpu
         d[i].info = (fv_gpu_uvec4){dr->material, dr->texture >= 0 ? (uint32_t)dr->texture : 0xffffffffu, 0, 0};
     }
     return fv_vk_buffer_flush(sg->vk, &sg->upload[slot]);
+}
+
+bool fv_scene_gpu_world_bounds(const fv_scene_gpu *sg, double t_s, fv_vec3 *out_min, fv_vec3 *out_max)
+{
+    return sg && sg->loaded && fv_scene_world_bounds(&sg->anim, t_s, out_min, out_max);
 }
 
 VkDescriptorSet fv_scene_gpu_set(const fv_scene_gpu *sg, uint32_t slot)

@@ -1,6 +1,7 @@
 /* @brief The `fovea` command as a user runs it: exit codes, one-line usage errors, clear messages for malformed
  * input, the JSON summary on stdout, PNG output of real model files, and zero validation messages. */
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 
 #include <stb_image.h>
 
+#include "fovea_config.h"
 #include "fv_test.h"
 
 static const char *g_fovea;
@@ -61,7 +63,7 @@ static void unknown_command_and_bad_options_exit_2_with_one_line_error(void **st
         {"run --save sometimes", "--save: 'sometimes'"},
         {"run --layout tb", "--layout: 'tb'"},
         {"run --hz 0", "--hz: '0'"},
-        {"run --debug-view depth", "--debug-view: 'depth' is not one of none, normal, gaze"},
+        {"run --view depht", "--view: 'depht' is not one of color, direct, shadow, cascade, albedo, normal, depth, gaze"},
         {"run --exposure 0", "--exposure: '0' is not a number in 1e-6..1e6"},
         {"run --exposure nan", "--exposure: 'nan'"},
     };
@@ -138,7 +140,7 @@ static void json_summary_is_the_only_stdout(void **state)
 static void debug_view_option_switches_the_debug_pass_on(void **state)
 {
     (void)state;
-    run_result *r = run("FOVEA_VALIDATION=1", "run --frames 2 --eye-size 64x64 --json --explain --debug-view gaze "
+    run_result *r = run("FOVEA_VALIDATION=1", "run --frames 2 --eye-size 64x64 --json --explain --view gaze "
                                               "--exposure 2");
     if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
     cJSON *j = cJSON_Parse(r->out);
@@ -170,6 +172,45 @@ static void debug_view_option_switches_the_debug_pass_on(void **state)
     assert_int_equal(r->exit_code, 0);
     assert_null(strstr(r->out, "\"name\":\"debug\""));
     assert_contains(r->out, "off — no debug view asked for");
+}
+
+/* The shadow pass reports what it decided: near/far and the m + 1 split distances, increasing, first = near and
+ * last = far; the Sponza scene file (sun over the atrium of ../shared/data) renders with it, validation clean. */
+static void shadowed_scenes_report_their_splits(void **state)
+{
+    (void)state;
+    run_result *r = run("FOVEA_VALIDATION=1", "run --scene pillars --frames 2 --eye-size 64x64 --json --explain "
+                                              "--set shadow.splits=3 --set shadow.lambda=1");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    cJSON *j = cJSON_Parse(r->out);
+    assert_non_null(j);
+    const cJSON *shadow = NULL, *e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "plan"))
+        if (strcmp(cJSON_GetObjectItem(e, "pass")->valuestring, "shadow") == 0) shadow = e;
+    assert_non_null(shadow);
+    assert_true(cJSON_IsTrue(cJSON_GetObjectItem(shadow, "enabled")));
+    const cJSON *d = cJSON_GetObjectItem(shadow, "details");
+    assert_non_null(d);
+    double n = cJSON_GetObjectItem(d, "light0.near_m")->valuedouble, f = cJSON_GetObjectItem(d, "light0.far_m")->valuedouble;
+    const cJSON *splits = cJSON_GetObjectItem(d, "light0.splits_m");
+    assert_int_equal(cJSON_GetArraySize(splits), 4);
+    assert_true(n > 0 && f > 100.0 * n); /* pillars: a deep scene */
+    double prev = 0;
+    for (int i = 0; i < 4; i++) {
+        double c = cJSON_GetArrayItem(splits, i)->valuedouble;
+        assert_true(c > prev);
+        if (i == 1) assert_float_equal(c, n * pow(f / n, 1.0 / 3.0), 1e-6 * c); /* lambda 1: logarithmic */
+        prev = c;
+    }
+    assert_float_equal(cJSON_GetArrayItem(splits, 0)->valuedouble, n, 1e-9);
+    assert_float_equal(cJSON_GetArrayItem(splits, 3)->valuedouble, f, 1e-9);
+    cJSON_Delete(j);
+
+    r = run("FOVEA_VALIDATION=1", "run --scene " FV_SOURCE_DIR "/scenes/sponza-sun.scene.json --frames 1 "
+                                  "--eye-size 64x64 --explain");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    assert_contains(r->out, "1 directional: up to 4 splits");
+    assert_contains(r->out, "validation messages: 0");
 }
 
 /* Renders a file to a side-by-side PNG and checks its size and that something was drawn in both halves. */
@@ -370,6 +411,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(malformed_scene_json_names_the_field),
         cmocka_unit_test(json_summary_is_the_only_stdout),
         cmocka_unit_test(debug_view_option_switches_the_debug_pass_on),
+        cmocka_unit_test(shadowed_scenes_report_their_splits),
         cmocka_unit_test(renders_gltf_cornell_box),
         cmocka_unit_test(renders_embree_obj_cornell_box),
         cmocka_unit_test(renders_stanford_bunny_ply),

@@ -25,8 +25,16 @@ static void plan_for_cornell_runs_gbuffer_shade_present_and_explains_the_rest(vo
     assert_non_null(strstr(fv_frame_plan_find(&p, "sss")->reason, "off — no translucent material"));
     assert_false(fv_frame_plan_find(&p, "sss")->enabled);
     assert_non_null(strstr(fv_frame_plan_find(&p, "motion")->reason, "static scene"));
-    assert_non_null(strstr(fv_frame_plan_find(&p, "shadow")->reason, "not implemented yet"));
+    /* cornell's one spot light gets a perspective shadow map (balanced preset: on). */
+    assert_true(fv_frame_plan_find(&p, "shadow")->enabled);
+    assert_non_null(strstr(fv_frame_plan_find(&p, "shadow")->reason, "1 spot: one perspective map"));
     assert_null(fv_frame_plan_find(&p, "nope"));
+    fv_scene_destroy(&s);
+
+    assert_int_equal(fv_scene_load("pillars", &s), FV_OK);
+    fv_frame_plan_build(s, &p);
+    assert_true(fv_frame_plan_find(&p, "shadow")->enabled);
+    assert_non_null(strstr(fv_frame_plan_find(&p, "shadow")->reason, "1 directional: up to 4 splits"));
     fv_scene_destroy(&s);
 
     assert_int_equal(fv_scene_load("cornell-translucent", &s), FV_OK);

@@ -323,7 +323,8 @@ static void builtin_cornell_translucent_adds_a_marble_sphere(void **state)
     const char *const *names = fv_scene_builtin_names();
     assert_string_equal(names[0], "cornell");
     assert_string_equal(names[1], "cornell-translucent");
-    assert_null(names[2]);
+    assert_string_equal(names[2], "pillars");
+    assert_null(names[3]);
 }
 
 /* Read the CSV and compare it with the C table row by row. */

@@ -19,11 +19,14 @@
 #include "fv_target.h"
 #include "run_gaze.h"
 #include "run_measure.h"
+#include "tool_knobs.h"
 
-static const char *USAGE =
+/* The usage; %s: the preset names from the knob table. */
+static const char *USAGE_FMT =
     "usage: fovea run [--scene NAME|FILE] [--frames N] [--eye-size WxH] [--out DIR]\n"
     "                 [--save last|every|none] [--layout sbs|eyes] [--gaze URI [--hz HZ]]\n"
-    "                 [--debug-view none|normal|gaze] [--exposure X] [--explain] [--json]\n"
+    "                 [--quality PRESET] [--set NAME=VALUE]...\n"
+    "                 [--view NAME] [--exposure X] [--explain] [--json]\n"
     "  --scene     built-in scene name (cornell, cornell-translucent) or a file: *.scene.json, .gltf/.glb, .obj, .ply\n"
     "              (default cornell)\n"
     "  --frames    frames to render (default 1; 1..1000000)\n"
@@ -35,11 +38,23 @@ static const char *USAGE =
     "              the frame loop, paced by a display, with one gaze-to-photon latency record per frame\n"
     "              (default: no tracker, gaze straight ahead, frames as fast as the GPU allows)\n"
     "  --hz        refresh rate of the (simulated) display that paces --gaze runs (default 90; 1..1000)\n"
-    "  --debug-view  replace the shading with a view of the frame's data: normal (the G-buffer normal) or gaze\n"
-    "              (the predicted gaze of each eye); default none\n"
+    "  --quality   the speed/accuracy preset: %s (default balanced; exact: every shortcut off)\n"
+    "  --set       set one knob after the preset, e.g. shadow.splits=3 (repeatable, applied in order);\n"
+    "              `fovea knobs` lists the knobs, their ranges and their presets\n"
+    "  --view      what the image shows (default color): direct (direct light only), shadow (light 0's\n"
+    "              visibility), cascade (which of light 0's shadow maps), albedo, normal, depth (the G-buffer's),\n"
+    "              gaze (each eye's predicted gaze as the GPU receives it)\n"
     "  --exposure  linear scale of the colour before tonemapping (default 1; 1e-6..1e6)\n"
     "  --explain   print the frame plan (which passes run and why)\n"
     "  --json      print the summary as one JSON object on stdout (and nothing else on stdout)\n";
+
+static const char *usage_text(void)
+{
+    static char text[4096];
+    if (!text[0]) snprintf(text, sizeof text, USAGE_FMT, fv_quality_preset_names());
+    return text;
+}
+#define USAGE usage_text()
 
 typedef enum { SAVE_LAST, SAVE_EVERY, SAVE_NONE } save_mode;
 
@@ -52,19 +67,24 @@ typedef struct run_opts {
     bool sbs;
     const char *gaze_uri;
     double hz;
-    fv_quality quality;
+    fv_tool_quality tq;       /* --quality and --set, applied after parsing */
+    float exposure;           /* --exposure and --view: view settings, not knobs */
+    fv_debug_view debug_view;
+    fv_quality quality;       /* the preset, the --set knobs, then the view settings */
     bool explain, json;
 } run_opts;
 
 static int parse_args(int argc, char **argv, run_opts *o)
 {
     *o = (run_opts){.scene = "cornell", .frames = 1, .eye_w = 720, .eye_h = 800, .save = SAVE_LAST, .sbs = true,
-                    .hz = 90, .quality = fv_quality_default()};
+                    .hz = 90, .exposure = fv_quality_default().exposure,
+                    .debug_view = fv_quality_default().debug_view};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = NULL;
         int r;
         if (fv_cli_is_help(a)) {
             fputs(USAGE, stdout);
+            fv_tool_knobs_help(stdout);
             return -1;
         }
 #define OPT(name)                                                                                                      \
@@ -110,12 +130,16 @@ static int parse_args(int argc, char **argv, run_opts *o)
                 return fv_cli_usage_error("run", USAGE, "--hz: '%s' is not a number in 1..1000", v);
             continue;
         }
-        if ((r = OPT("--debug-view")) == -2) return FV_EXIT_USAGE;
+        if ((r = OPT("--view")) == -2) return FV_EXIT_USAGE;
         else if (r) {
-            if (strcmp(v, "none") == 0) o->quality.debug_view = FV_DEBUG_VIEW_NONE;
-            else if (strcmp(v, "normal") == 0) o->quality.debug_view = FV_DEBUG_VIEW_NORMAL;
-            else if (strcmp(v, "gaze") == 0) o->quality.debug_view = FV_DEBUG_VIEW_GAZE;
-            else return fv_cli_usage_error("run", USAGE, "--debug-view: '%s' is not one of none, normal, gaze", v);
+            int found = -1;
+            for (int k = 0; k < FV_DEBUG_VIEW_COUNT; k++)
+                if (strcmp(v, fv_debug_view_name((fv_debug_view)k)) == 0) found = k;
+            if (found < 0)
+                return fv_cli_usage_error("run", USAGE,
+                                          "--view: '%s' is not one of color, direct, shadow, cascade, albedo, normal, "
+                                          "depth, gaze", v);
+            o->debug_view = (fv_debug_view)found;
             continue;
         }
         if ((r = OPT("--exposure")) == -2) return FV_EXIT_USAGE;
@@ -123,14 +147,20 @@ static int parse_args(int argc, char **argv, run_opts *o)
             double x;
             if (!fv_cli_parse_f64(v, 1e-6, 1e6, &x))
                 return fv_cli_usage_error("run", USAGE, "--exposure: '%s' is not a number in 1e-6..1e6", v);
-            o->quality.exposure = (float)x;
+            o->exposure = (float)x;
             continue;
         }
 #undef OPT
+        if ((r = fv_tool_quality_option(&o->tq, argc, argv, &i, "run", USAGE)) == FV_EXIT_USAGE) return r;
+        else if (r) continue;
         if (strcmp(a, "--explain") == 0) { o->explain = true; continue; }
         if (strcmp(a, "--json") == 0) { o->json = true; continue; }
         return fv_cli_usage_error("run", USAGE, "unknown option '%s'", a);
     }
+    int built = fv_tool_quality_build(&o->tq, "run", USAGE, &o->quality);
+    if (built != 0) return built;
+    o->quality.exposure = o->exposure;
+    o->quality.debug_view = o->debug_view;
     return 0;
 }
 
@@ -142,16 +172,6 @@ static int ensure_dir(const char *dir)
     }
     FV_ERROR("run", "--out %s: cannot create directory (%s)", dir, strerror(errno ? errno : ENOTDIR));
     return -1;
-}
-
-static const char *debug_view_name(fv_debug_view v)
-{
-    switch (v) {
-    case FV_DEBUG_VIEW_NORMAL: return "normal";
-    case FV_DEBUG_VIEW_GAZE: return "gaze";
-    case FV_DEBUG_VIEW_NONE:
-    default: return "none";
-    }
 }
 
 static void print_plan(FILE *f, const fv_frame_plan *plan)
@@ -250,11 +270,12 @@ int fv_cmd_run(int argc, char **argv)
         goto done;
     }
     st.r = r;
+    /* The quality first, so that the scene's passes start once, with the settings they will run with. */
+    if (FV_FAILED(fv_renderer_set_quality(r, &o.quality))) goto done;
     if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
         fprintf(stderr, "fovea run: cannot upload scene '%s'\n", o.scene);
         goto done;
     }
-    if (FV_FAILED(fv_renderer_set_quality(r, &o.quality))) goto done;
     if (o.explain) print_plan(o.json ? stderr : stdout, fv_renderer_plan(r));
     if (o.gaze_uri) {
         fv_frame_input first;
@@ -307,7 +328,8 @@ int fv_cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(j, "validation_messages", vmsg);
         cJSON *jq = cJSON_AddObjectToObject(j, "quality");
         cJSON_AddNumberToObject(jq, "exposure", o.quality.exposure);
-        cJSON_AddStringToObject(jq, "debug_view", debug_view_name(o.quality.debug_view));
+        cJSON_AddStringToObject(jq, "debug_view", fv_debug_view_name(o.quality.debug_view));
+        fv_tool_quality_add_json(jq, fv_tool_quality_preset(&o.tq), &o.quality);
         if (o.explain) {
             const fv_frame_plan *plan = fv_renderer_plan(r);
             cJSON *pl = cJSON_AddArrayToObject(j, "plan");
@@ -316,6 +338,19 @@ int fv_cmd_run(int argc, char **argv)
                 cJSON_AddStringToObject(e, "pass", plan->entries[i].pass);
                 cJSON_AddBoolToObject(e, "enabled", plan->entries[i].enabled);
                 cJSON_AddStringToObject(e, "reason", plan->entries[i].reason);
+                fv_pass_detail det[16];
+                uint32_t nd = fv_renderer_pass_details(r, plan->entries[i].pass, det, 16);
+                if (nd) {
+                    cJSON *jd = cJSON_AddObjectToObject(e, "details");
+                    for (uint32_t k = 0; k < nd; k++) {
+                        if (det[k].count == 1 && !strstr(det[k].key, "splits_m")) {
+                            cJSON_AddNumberToObject(jd, det[k].key, det[k].value[0]);
+                            continue;
+                        }
+                        cJSON *arr = cJSON_AddArrayToObject(jd, det[k].key);
+                        for (uint32_t v = 0; v < det[k].count; v++) cJSON_AddItemToArray(arr, cJSON_CreateNumber(det[k].value[v]));
+                    }
+                }
                 cJSON_AddItemToArray(pl, e);
             }
         }
@@ -330,6 +365,7 @@ int fv_cmd_run(int argc, char **argv)
                o.frames == 1 ? "" : "s", o.eye_w, o.eye_h, (unsigned long long)fv_scene_triangle_count(scene),
                wall_s);
         fv_measure_print(&st.m, stdout);
+        fv_tool_quality_print(stdout, fv_tool_quality_preset(&o.tq), &o.quality);
         printf("  memory: %.1f MiB device (peak), %.1f MiB host RSS (peak); validation messages: %u\n",
                (double)st.m.last_stats.peak_device_memory_bytes / 1048576.0, (double)ru.ru_maxrss / 1024.0, vmsg);
         if (o.gaze_uri) run_gaze_print(&gaze, stdout);

@@ -20,6 +20,9 @@ int fv_cmd_trace(int argc, char **argv);
 int fv_cmd_hid(int argc, char **argv);
 int fv_cmd_gaze(int argc, char **argv);
 int fv_cmd_latency(int argc, char **argv);
+int fv_cmd_compare(int argc, char **argv);
+int fv_cmd_reference(int argc, char **argv);
+int fv_cmd_knobs(int argc, char **argv);
 
 /* Every command, in `fovea --help` order. */
 static const command g_commands[] = {
@@ -30,6 +33,10 @@ static const command g_commands[] = {
     {"hid", "parse HID report descriptors and decode eye-tracker reports", fv_cmd_hid},
     {"gaze", "evaluate the gaze pipeline (filtering, saccades, prediction)", fv_cmd_gaze},
     {"latency", "simulate the frame loop and report gaze-to-photon latency", fv_cmd_latency},
+    {"compare", "compare two images: PSNR, SSIM, mismatch, relative error, by eccentricity band", fv_cmd_compare},
+    {"reference", "render a scene on the CPU: fovea's shading with exact shadows, or a path-traced ground truth",
+     fv_cmd_reference},
+    {"knobs", "list the speed/accuracy knobs: ranges, units, their values under each preset", fv_cmd_knobs},
     {NULL, NULL, NULL},
 };
 

@@ -34,19 +34,71 @@ typedef enum fv_debug_view {
     FV_DEBUG_VIEW_NONE = 0,
     FV_DEBUG_VIEW_NORMAL = 1, /* the G-buffer's world normal, n * 0.5 + 0.5 */
     FV_DEBUG_VIEW_GAZE = 2,   /* the predicted gaze: red peaks on the gaze ray, green = pupil mm / 10, blue = valid */
+    FV_DEBUG_VIEW_DIRECT = 3, /* direct light only: visibility x irradiance x BRDF, no emission or ambient */
+    FV_DEBUG_VIEW_SHADOW = 4, /* the visibility of light 0, 0..1 */
+    FV_DEBUG_VIEW_CASCADE = 5, /* which of light 0's shadow maps (cascade split) holds each pixel, as colours */
+    FV_DEBUG_VIEW_ALBEDO = 6, /* the G-buffer's linear albedo */
+    FV_DEBUG_VIEW_DEPTH = 7,  /* the G-buffer's depth 0..1 */
+    FV_DEBUG_VIEW_COUNT = 8
 } fv_debug_view;
 
-/** The speed/accuracy settings a frame is drawn with. Zero is not a valid value: start from fv_quality_default().
- *  (The knob table, its presets and `--set` come with the measuring work; each pass reads its fields here.) */
+/** The name of a view ("color" for FV_DEBUG_VIEW_NONE, "normal", "gaze", "direct", "shadow", "cascade", "albedo",
+ *  "depth"); "?" when out of range. */
+static inline const char *fv_debug_view_name(fv_debug_view v)
+{
+    static const char *const names[FV_DEBUG_VIEW_COUNT] = {"color",  "normal",  "gaze",   "direct",
+                                                           "shadow", "cascade", "albedo", "depth"};
+    return (unsigned)v < FV_DEBUG_VIEW_COUNT ? names[v] : "?";
+}
+
+/** Shadow-map filters (fv_quality.shadow.filter, knob `shadow.filter`): percentage-closer filtering over an N x N
+ *  texel footprint of the shadow map. */
+typedef enum fv_shadow_filter {
+    FV_SHADOW_FILTER_NONE = 0, /* "none": one tap, binary visibility (hard shadows) */
+    FV_SHADOW_FILTER_PCF3 = 1, /* "pcf3": 3 x 3 PCF */
+    FV_SHADOW_FILTER_PCF5 = 2, /* "pcf5": 5 x 5 PCF */
+} fv_shadow_filter;
+
+/** The shadow pass's knobs (render/shadow/: parallel-split shadow maps, Zhang et al. 2006). Each field is one knob
+ *  of the table in render/knobs/ (its name in quotes); ranges are inclusive. */
+typedef struct fv_quality_shadow {
+    bool enabled;            /* "shadow.enabled": draw shadow maps at all (off: every light is unoccluded) */
+    uint32_t splits;         /* "shadow.splits": splits of the view frustum along view depth, a count in 1..8 */
+    float lambda;            /* "shadow.lambda": the split scheme's blend, 0 = uniform, 1 = logarithmic; 0..1,
+                              * unitless (PSSM: C_i = lambda * log_i + (1 - lambda) * uniform_i) */
+    uint32_t resolution_px;  /* "shadow.resolution": px per side of each split's square map, a power of two in
+                              * 256..4096 */
+    fv_shadow_filter filter; /* "shadow.filter": none | pcf3 | pcf5 */
+    float bias_texels;       /* "shadow.bias": slope-scaled depth bias in shadow-map texels, 0..10 */
+    bool stereo_shared;      /* "shadow.stereo_shared": true = one set of splits for both eyes, fitted to the union of
+                              * the two frusta; false = one set per eye */
+} fv_quality_shadow;
+
+/** The settings a frame is drawn with. Zero is not a valid value: start from fv_quality_default() (the `balanced`
+ *  preset) or fv_quality_preset() (render/knobs/fv_knobs.h).
+ *  Every speed/accuracy trade is a knob of the one knob table (render/knobs/: name, type, range, unit, a default per
+ *  preset, doc; `fovea knobs` lists it), which reads and writes these fields by offset. `exposure` and `debug_view`
+ *  are view settings, not speed/accuracy trades, and are deliberately not in the knob table (`fovea run` sets them
+ *  with --exposure and --debug-view). */
 typedef struct fv_quality {
-    float exposure;          /* present: linear scale before tonemapping, > 0 (default 1) */
-    fv_debug_view debug_view; /* default FV_DEBUG_VIEW_NONE */
+    float exposure;           /* view setting, present: linear scale before tonemapping, finite and > 0 (default 1) */
+    fv_debug_view debug_view; /* view setting: default FV_DEBUG_VIEW_NONE */
+    fv_quality_shadow shadow; /* knobs "shadow.*" */
 } fv_quality;
 
-/** The defaults every preset starts from. */
+/** The `balanced` preset, and the one source of its values: the knob table's balanced column reads this (a unit
+ *  test checks it). Inline so that runtime code needs no extra library. */
 static inline fv_quality fv_quality_default(void)
 {
-    fv_quality q = {.exposure = 1.0f, .debug_view = FV_DEBUG_VIEW_NONE};
+    fv_quality q = {.exposure = 1.0f,
+                    .debug_view = FV_DEBUG_VIEW_NONE,
+                    .shadow = {.enabled = true,
+                               .splits = 4,
+                               .lambda = 0.5f,
+                               .resolution_px = 2048,
+                               .filter = FV_SHADOW_FILTER_PCF3,
+                               .bias_texels = 1.5f,
+                               .stereo_shared = true}};
     return q;
 }
 

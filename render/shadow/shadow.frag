@@ -1,0 +1,5 @@
+#version 450
+// @brief Shadow-map casters write depth only.
+void main()
+{
+}

@@ -1,0 +1,426 @@
+/* @brief `fovea reference`: render a scene's two eyes on the CPU with the reference renderer (render/reference:
+ * model mode = fovea's shading with exact shadows, path mode = path-traced ground truth) from exactly the stereo
+ * views `fovea run` draws, and write linear PFM + sRGB PNG images and a summary (text or JSON). Optional cache of
+ * finished images keyed by the scene's content and every setting. */
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <stb_image_write.h>
+
+#include "cli.h"
+#include "fv_clock.h"
+#include "fv_image_io.h"
+#include "fv_log.h"
+#include "fv_reference.h"
+#include "fv_renderer.h"
+#include "fv_scene.h"
+
+#define MOD "reference"
+
+static const char *USAGE =
+    "usage: fovea reference [--scene NAME|FILE] [--mode model|path] [--spp N] [--bounces N] [--seed N]\n"
+    "                       [--eye-size WxH] [--view NAME] [--out DIR] [--layout sbs|eyes] [--aa]\n"
+    "                       [--threads N] [--time S] [--cache DIR] [--json]\n"
+    "  --scene     as fovea run: a built-in scene (cornell, cornell-translucent) or a file (default cornell)\n"
+    "  --mode      model: fovea's shading formulas per pixel centre with exact shadow rays (default);\n"
+    "              path: path-traced ground truth (area lights from emissive surfaces, bounces)\n"
+    "  --spp       samples per pixel (default 1 for model, 64 for path; 1..1048576); model mode only uses more\n"
+    "              than one with --aa\n"
+    "  --bounces   path mode: indirect bounces (0 = direct light only; default 8; 0..1024)\n"
+    "  --seed      random seed (default 1); the images are identical for any --threads\n"
+    "  --eye-size  per-eye size (default 720x800, as fovea run)\n"
+    "  --view      color (default), direct (no emission/ambient), shadow (visibility of light 0), albedo,\n"
+    "              normal (n*0.5+0.5), depth (Vulkan depth 0..1)\n"
+    "  --out       write frame_00000.pfm (linear float) and frame_00000.png (sRGB, clamped) into DIR\n"
+    "  --layout    sbs: one side-by-side image (default); eyes: frame_00000_left/_right\n"
+    "  --aa        jitter the samples inside each pixel (default: pixel centres, as the GPU's G-buffer)\n"
+    "  --threads   worker threads (default: every CPU)\n"
+    "  --time      scene time in seconds for animations (default 0, the first frame of fovea run)\n"
+    "  --cache     reuse an earlier result for the same scene content and settings from DIR (created if missing)\n"
+    "  --json      print the summary as one JSON object on stdout (and nothing else there)\n";
+
+typedef struct ref_opts {
+    const char *scene;
+    fv_reference_desc desc;
+    bool spp_set, sbs, json;
+    double time_s;
+    const char *out_dir, *cache_dir;
+} ref_opts;
+
+static int parse_args(int argc, char **argv, ref_opts *o)
+{
+    *o = (ref_opts){.scene = "cornell", .sbs = true};
+    o->desc = (fv_reference_desc){.mode = FV_REFERENCE_MODEL, .view = FV_REFERENCE_VIEW_COLOR, .bounces = 8,
+                                  .seed = 1, .eye_width = 720, .eye_height = 800};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = NULL;
+        int r;
+        int64_t n;
+        if (fv_cli_is_help(a)) {
+            fputs(USAGE, stdout);
+            return -1;
+        }
+#define OPT(name)                                                                                                      \
+    ((r = fv_cli_option(argc, argv, &i, name, &v)) < 0                                                                 \
+         ? (fv_cli_usage_error("reference", USAGE, "option %s needs a value", name), -2)                               \
+         : r)
+#define NUMBER(name, lo, hi)                                                                                           \
+    if (!fv_cli_parse_i64(v, lo, hi, &n))                                                                              \
+        return fv_cli_usage_error("reference", USAGE, "%s: '%s' is not a whole number in %lld..%lld", name, v,      \
+                                  (long long)(lo), (long long)(hi));
+        if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;
+        else if (r) { o->scene = v; continue; }
+        if ((r = OPT("--mode")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_reference_mode_parse(v, &o->desc.mode))
+                return fv_cli_usage_error("reference", USAGE, "--mode: '%s' is not one of model, path", v);
+            continue;
+        }
+        if ((r = OPT("--view")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_reference_view_parse(v, &o->desc.view))
+                return fv_cli_usage_error("reference", USAGE,
+                                          "--view: '%s' is not one of color, direct, shadow, albedo, normal, depth", v);
+            continue;
+        }
+        if ((r = OPT("--spp")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            NUMBER("--spp", 1, FV_REFERENCE_MAX_SPP);
+            o->desc.spp = (uint32_t)n;
+            o->spp_set = true;
+            continue;
+        }
+        if ((r = OPT("--bounces")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            NUMBER("--bounces", 0, FV_REFERENCE_MAX_BOUNCES);
+            o->desc.bounces = (uint32_t)n;
+            continue;
+        }
+        if ((r = OPT("--seed")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            NUMBER("--seed", 0, INT64_MAX);
+            o->desc.seed = (uint64_t)n;
+            continue;
+        }
+        if ((r = OPT("--threads")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            NUMBER("--threads", 1, 1024);
+            o->desc.threads = (uint32_t)n;
+            continue;
+        }
+        if ((r = OPT("--eye-size")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_size(v, 8192, &o->desc.eye_width, &o->desc.eye_height))
+                return fv_cli_usage_error("reference", USAGE, "--eye-size: '%s' is not WxH with each in 1..8192", v);
+            continue;
+        }
+        if ((r = OPT("--time")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_f64(v, 0, 1e6, &o->time_s))
+                return fv_cli_usage_error("reference", USAGE, "--time: '%s' is not a number in 0..1e6", v);
+            continue;
+        }
+        if ((r = OPT("--out")) == -2) return FV_EXIT_USAGE;
+        else if (r) { o->out_dir = v; continue; }
+        if ((r = OPT("--cache")) == -2) return FV_EXIT_USAGE;
+        else if (r) { o->cache_dir = v; continue; }
+        if ((r = OPT("--layout")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (strcmp(v, "sbs") == 0) o->sbs = true;
+            else if (strcmp(v, "eyes") == 0) o->sbs = false;
+            else return fv_cli_usage_error("reference", USAGE, "--layout: '%s' is not one of sbs, eyes", v);
+            continue;
+        }
+#undef NUMBER
+#undef OPT
+        if (strcmp(a, "--aa") == 0) { o->desc.aa = true; continue; }
+        if (strcmp(a, "--json") == 0) { o->json = true; continue; }
+        return fv_cli_usage_error("reference", USAGE, "unknown option '%s'", a);
+    }
+    if (!o->spp_set) o->desc.spp = o->desc.mode == FV_REFERENCE_PATH ? 64 : 1;
+    return 0;
+}
+
+static int ensure_dir(const char *dir, const char *opt)
+{
+    if (mkdir(dir, 0755) == 0 || errno == EEXIST) {
+        struct stat st;
+        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
+    }
+    FV_ERROR(MOD, "%s %s: cannot create directory (%s)", opt, dir, strerror(errno ? errno : ENOTDIR));
+    return -1;
+}
+
+/* ---- progress (stderr, on a terminal) ------------------------------------------------------------------------ */
+
+typedef struct progress {
+    int64_t t_start_ns, t_last_ns;
+    bool shown;
+} progress;
+
+/* At most five lines a second, none in the first half second. */
+static void on_progress(void *user, uint64_t done, uint64_t total)
+{
+    progress *p = user;
+    int64_t now = fv_time_monotonic_ns();
+    if (now - p->t_start_ns < 500 * FV_NS_PER_MS || now - p->t_last_ns < 200 * FV_NS_PER_MS) return;
+    p->t_last_ns = now;
+    int pct = total ? (int)(100 * done / total) : 100;
+    double s = (double)(now - p->t_start_ns) / 1e9;
+    double left = done ? s * (double)(total - done) / (double)done : 0;
+    fprintf(stderr, "\rfovea reference: %3d%% (%.1f s, about %.0f s left)   ", pct, s, left);
+    p->shown = true;
+}
+
+/* ---- the cache key: the scene's content and every setting (FNV-1a, 64 bit) ----------------------------------- */
+
+typedef struct hasher { uint64_t h; } hasher;
+
+static void hash_bytes(hasher *k, const void *data, size_t n)
+{
+    const uint8_t *p = data;
+    for (size_t i = 0; i < n; i++) k->h = (k->h ^ p[i]) * 0x100000001b3ull;
+}
+#define HASH(k, v) hash_bytes((k), &(v), sizeof(v))
+
+static uint64_t cache_key(const fv_scene *s, const ref_opts *o)
+{
+    hasher k = {0xcbf29ce484222325ull};
+    static const char version[] = "fovea-reference-cache 1";
+    hash_bytes(&k, version, sizeof version);
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        const fv_mesh *m = &s->meshes[i];
+        HASH(&k, m->vertex_count);
+        HASH(&k, m->index_count);
+        HASH(&k, m->material);
+        if (m->positions) hash_bytes(&k, m->positions, m->vertex_count * sizeof *m->positions);
+        if (m->normals) hash_bytes(&k, m->normals, m->vertex_count * sizeof *m->normals);
+        if (m->texcoords) hash_bytes(&k, m->texcoords, m->vertex_count * sizeof *m->texcoords);
+        if (m->indices) hash_bytes(&k, m->indices, m->index_count * sizeof *m->indices);
+    }
+    for (uint32_t i = 0; i < s->node_count; i++) {
+        const fv_node *n = &s->nodes[i];
+        HASH(&k, n->mesh), HASH(&k, n->parent), HASH(&k, n->translation_m), HASH(&k, n->rotation);
+        HASH(&k, n->scale), HASH(&k, n->anim);
+    }
+    for (uint32_t i = 0; i < s->material_count; i++) {
+        HASH(&k, s->materials[i].base_color), HASH(&k, s->materials[i].base_color_texture);
+        HASH(&k, s->materials[i].emissive);
+    }
+    for (uint32_t i = 0; i < s->texture_count; i++) {
+        const fv_texture *t = &s->textures[i];
+        HASH(&k, t->width), HASH(&k, t->height);
+        if (t->rgba8) hash_bytes(&k, t->rgba8, (size_t)t->width * t->height * 4);
+    }
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        const fv_light *l = &s->lights[i];
+        HASH(&k, l->type), HASH(&k, l->position_m), HASH(&k, l->direction), HASH(&k, l->color);
+        HASH(&k, l->intensity), HASH(&k, l->range_m), HASH(&k, l->inner_cone_rad), HASH(&k, l->outer_cone_rad);
+    }
+    HASH(&k, s->head.position_m), HASH(&k, s->head.orientation), HASH(&k, s->head.ipd_mm), HASH(&k, s->ambient);
+    const fv_reference_desc *d = &o->desc;
+    HASH(&k, d->mode), HASH(&k, d->view), HASH(&k, d->spp), HASH(&k, d->bounces), HASH(&k, d->seed);
+    HASH(&k, d->eye_width), HASH(&k, d->eye_height), HASH(&k, d->aa), HASH(&k, d->shadow_light), HASH(&k, o->time_s);
+    return k.h;
+}
+
+/* ---- images -------------------------------------------------------------------------------------------------- */
+
+/* IEC 61966-2-1 encoding of a linear value clamped to [0,1], rounded to the nearest 8-bit code. */
+static uint8_t srgb8(float linear)
+{
+    double c = isfinite(linear) ? fmin(fmax(linear, 0.0), 1.0) : 0.0;
+    double e = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+    return (uint8_t)(e * 255.0 + 0.5);
+}
+
+/* Write one image (w x h linear RGB, rows top to bottom) as base.pfm and base.png. */
+static fv_result write_image(const char *base, const float *rgb, uint32_t w, uint32_t h)
+{
+    char path[1200];
+    fv_rgb_image img = {.width = w, .height = h, .kind = FV_IMAGE_KIND_LINEAR, .file_channels = 3,
+                        .rgb = (float *)rgb};
+    snprintf(path, sizeof path, "%s.pfm", base);
+    FV_TRY(fv_image_io_write_pfm(path, &img));
+    size_t n = (size_t)w * h * 3;
+    uint8_t *png = malloc(n);
+    if (!png) return FV_ERR_NO_MEMORY;
+    for (size_t i = 0; i < n; i++) png[i] = srgb8(rgb[i]);
+    snprintf(path, sizeof path, "%s.png", base);
+    int ok = stbi_write_png(path, (int)w, (int)h, 3, png, (int)(w * 3));
+    free(png);
+    if (!ok) {
+        FV_ERROR(MOD, "%s: cannot write PNG", path);
+        return FV_ERR_IO;
+    }
+    return FV_OK;
+}
+
+/* Both eyes side by side (2W x H) from the two eye images. */
+static void join_sbs(const float *left, const float *right, uint32_t w, uint32_t h, float *out)
+{
+    for (uint32_t y = 0; y < h; y++) {
+        memcpy(&out[((size_t)y * 2 * w) * 3], &left[(size_t)y * w * 3], (size_t)w * 3 * sizeof *out);
+        memcpy(&out[((size_t)y * 2 * w + w) * 3], &right[(size_t)y * w * 3], (size_t)w * 3 * sizeof *out);
+    }
+}
+
+static void split_sbs(const float *sbs, uint32_t w, uint32_t h, float *left, float *right)
+{
+    for (uint32_t y = 0; y < h; y++) {
+        memcpy(&left[(size_t)y * w * 3], &sbs[((size_t)y * 2 * w) * 3], (size_t)w * 3 * sizeof *left);
+        memcpy(&right[(size_t)y * w * 3], &sbs[((size_t)y * 2 * w + w) * 3], (size_t)w * 3 * sizeof *right);
+    }
+}
+
+/* A cached result for this key: true when it was read and has the right size. */
+static bool cache_load(const char *path, uint32_t w, uint32_t h, float *left, float *right)
+{
+    if (access(path, R_OK) != 0) return false;
+    fv_rgb_image img;
+    memset(&img, 0, sizeof img);
+    if (FV_FAILED(fv_image_io_read(path, &img))) return false;
+    bool ok = img.kind == FV_IMAGE_KIND_LINEAR && img.width == 2 * w && img.height == h;
+    if (ok) split_sbs(img.rgb, w, h, left, right);
+    else FV_WARN(MOD, "%s: cached image is %ux%u, not %ux%u; rendering again", path, img.width, img.height, 2 * w, h);
+    fv_rgb_image_fini(&img);
+    return ok;
+}
+
+int fv_cmd_reference(int argc, char **argv)
+{
+    ref_opts o;
+    int pr = parse_args(argc, argv, &o);
+    if (pr == -1) return FV_EXIT_OK;
+    if (pr != 0) return pr;
+
+    int exit_code = FV_EXIT_FAIL;
+    fv_scene *scene = NULL;
+    uint32_t w = o.desc.eye_width, h = o.desc.eye_height;
+    size_t eye_floats = (size_t)w * h * 3;
+    float *left = malloc(eye_floats * sizeof *left), *right = malloc(eye_floats * sizeof *right);
+    float *sbs = malloc(2 * eye_floats * sizeof *sbs);
+    char cache_path[1200] = "";
+    bool cached = false;
+    if (!left || !right || !sbs) {
+        FV_ERROR(MOD, "out of memory for %ux%u per eye", w, h);
+        goto done;
+    }
+    if (o.out_dir && ensure_dir(o.out_dir, "--out") != 0) goto done;
+    if (o.cache_dir && ensure_dir(o.cache_dir, "--cache") != 0) goto done;
+    if (FV_FAILED(fv_scene_load(o.scene, &scene))) {
+        fprintf(stderr, "fovea reference: cannot load scene '%s' (see the messages above)\n", o.scene);
+        goto done;
+    }
+
+    /* The views of `fovea run`'s frame 0 (fv_renderer_frame_input without a GPU): near/far from the bounds at
+     * load time, the scene's head, gaze ahead. */
+    fv_vec3 bmin, bmax;
+    float near_m = 0, far_m = 0;
+    if (fv_scene_world_bounds(scene, 0.0, &bmin, &bmax))
+        fv_frame_near_far_from_bounds(&scene->head, bmin, bmax, &near_m, &far_m);
+    fv_frame_input in;
+    fv_frame_input_from_head(&scene->head, near_m, far_m, w, h, 0, o.time_s, &in);
+
+    if (o.cache_dir) {
+        snprintf(cache_path, sizeof cache_path, "%s/reference_%016llx.pfm", o.cache_dir,
+                 (unsigned long long)cache_key(scene, &o));
+        cached = cache_load(cache_path, w, h, left, right);
+    }
+    progress prog = {.t_start_ns = fv_time_monotonic_ns()};
+    if (isatty(STDERR_FILENO)) {
+        o.desc.progress = on_progress;
+        o.desc.progress_user = &prog;
+    }
+    fv_reference_stats st;
+    memset(&st, 0, sizeof st);
+    int64_t t0 = fv_time_monotonic_ns();
+    if (!cached) {
+        fv_result res = fv_reference_render(scene, &in, &o.desc, left, right, &st);
+        if (prog.shown) fprintf(stderr, "\r%*s\r", 60, "");
+        if (FV_FAILED(res)) {
+            fprintf(stderr, "fovea reference: rendering failed: %s\n", fv_result_str(res));
+            goto done;
+        }
+    }
+    double seconds = (double)(fv_time_monotonic_ns() - t0) / 1e9;
+    join_sbs(left, right, w, h, sbs);
+    if (o.cache_dir && !cached) {
+        fv_rgb_image img = {.width = 2 * w, .height = h, .kind = FV_IMAGE_KIND_LINEAR, .file_channels = 3, .rgb = sbs};
+        if (FV_FAILED(fv_image_io_write_pfm(cache_path, &img))) FV_WARN(MOD, "%s: could not cache the result", cache_path);
+    }
+    if (o.out_dir) {
+        char base[1100];
+        if (o.sbs) {
+            snprintf(base, sizeof base, "%s/frame_00000", o.out_dir);
+            if (FV_FAILED(write_image(base, sbs, 2 * w, h))) goto done;
+        } else {
+            snprintf(base, sizeof base, "%s/frame_00000_left", o.out_dir);
+            if (FV_FAILED(write_image(base, left, w, h))) goto done;
+            snprintf(base, sizeof base, "%s/frame_00000_right", o.out_dir);
+            if (FV_FAILED(write_image(base, right, w, h))) goto done;
+        }
+    }
+    const char *name = scene->name[0] ? scene->name : o.scene;
+    if (o.json) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "scene", name);
+        cJSON_AddStringToObject(j, "source", scene->source);
+        cJSON_AddStringToObject(j, "mode", fv_reference_mode_name(o.desc.mode));
+        cJSON_AddStringToObject(j, "view", fv_reference_view_name(o.desc.view));
+        cJSON_AddNumberToObject(j, "spp", o.desc.spp);
+        cJSON_AddNumberToObject(j, "bounces", o.desc.bounces);
+        cJSON_AddNumberToObject(j, "seed", (double)o.desc.seed);
+        cJSON_AddBoolToObject(j, "aa", o.desc.aa);
+        cJSON_AddNumberToObject(j, "eye_width", w);
+        cJSON_AddNumberToObject(j, "eye_height", h);
+        cJSON_AddNumberToObject(j, "time_s", o.time_s);
+        cJSON_AddNumberToObject(j, "seconds", seconds);
+        cJSON_AddBoolToObject(j, "cached", cached);
+        cJSON_AddNumberToObject(j, "threads", st.threads);
+        cJSON_AddNumberToObject(j, "rays", (double)st.rays);
+        cJSON_AddNumberToObject(j, "primary_rays", (double)st.primary_rays);
+        cJSON_AddNumberToObject(j, "shadow_rays", (double)st.shadow_rays);
+        cJSON_AddNumberToObject(j, "bounce_rays", (double)st.bounce_rays);
+        cJSON_AddNumberToObject(j, "samples", (double)st.samples);
+        cJSON_AddNumberToObject(j, "nonfinite_samples", (double)st.nonfinite_samples);
+        cJSON_AddNumberToObject(j, "triangles", st.triangles);
+        cJSON_AddNumberToObject(j, "skipped_triangles", st.skipped_triangles);
+        cJSON_AddNumberToObject(j, "emissive_triangles", st.emissive_triangles);
+        cJSON_AddNumberToObject(j, "lights", scene->light_count);
+        if (o.out_dir) cJSON_AddStringToObject(j, "out", o.out_dir);
+        if (o.cache_dir) cJSON_AddStringToObject(j, "cache_file", cache_path);
+        char *text = cJSON_PrintUnformatted(j);
+        if (text) puts(text);
+        cJSON_free(text);
+        cJSON_Delete(j);
+    } else if (cached) {
+        printf("fovea reference: scene '%s', %s mode, %s view, %ux%u per eye: from the cache (%s)\n", name,
+               fv_reference_mode_name(o.desc.mode), fv_reference_view_name(o.desc.view), w, h, cache_path);
+    } else {
+        printf("fovea reference: scene '%s', %s mode, %s view, %u spp", name, fv_reference_mode_name(o.desc.mode),
+               fv_reference_view_name(o.desc.view), o.desc.spp);
+        if (o.desc.mode == FV_REFERENCE_PATH) printf(", %u bounces", o.desc.bounces);
+        printf(", seed %llu, %ux%u per eye, %u threads: %.2f s\n", (unsigned long long)o.desc.seed, w, h, st.threads,
+               seconds);
+        printf("  rays: %.3g (%.3g primary, %.3g shadow, %.3g bounce), %.2f Mrays/s; %u triangles (%u left out), "
+               "%u emissive\n",
+               (double)st.rays, (double)st.primary_rays, (double)st.shadow_rays, (double)st.bounce_rays,
+               seconds > 0 ? (double)st.rays / seconds / 1e6 : 0.0, st.triangles, st.skipped_triangles,
+               st.emissive_triangles);
+    }
+    if (o.out_dir && !o.json) printf("  images: %s/\n", o.out_dir);
+    exit_code = FV_EXIT_OK;
+done:
+    fv_scene_destroy(&scene);
+    free(left);
+    free(right);
+    free(sbs);
+    return exit_code;
+}
