@@ -53,6 +53,8 @@ typedef struct fv_target_files_desc {
     const char *dir;        /* existing directory the PNGs go to */
     bool side_by_side;      /* true: frame_NNNNN.png (2W x H); false: frame_NNNNN_left.png and _right.png */
     fv_target_files_save save;
+    bool linear_pfm;        /* also the linear colour (or view) as PFM, same name with .pfm (both eyes side by side
+                             * or one file per eye, as the PNGs) */
 } fv_target_files_desc;
 
 /** The files target: every frame (SAVE_EVERY) is written as PNG after its submit; with SAVE_LAST, only what

@@ -7,6 +7,8 @@
 
 #include <stb_image_write.h>
 
+#include "fv_image_io.h"
+
 #define MOD "target"
 
 fv_result fv_target_read_display(fv_images *images, uint32_t width, uint32_t height, bool sbs, int eye, uint8_t *out,
@@ -53,6 +55,28 @@ typedef struct files_target {
     fv_target_frame last; /* the last frame's hand-over (for SAVE_LAST): images, size, frame id */
 } files_target;
 
+/* The linear colour of one eye (eye >= 0) or both side by side (eye < 0) as a PFM. */
+static fv_result write_pfm(const fv_target_frame *f, int eye, const char *path)
+{
+    uint32_t w = f->width, h = f->height, eyes = eye < 0 ? 2u : 1u;
+    fv_rgb_image img;
+    FV_TRY(fv_rgb_image_init(&img, w * eyes, h, FV_IMAGE_KIND_LINEAR));
+    float *rgba = malloc((size_t)w * h * 4 * sizeof *rgba);
+    fv_result res = rgba ? FV_OK : FV_ERR_NO_MEMORY;
+    for (uint32_t e = 0; res == FV_OK && e < eyes; e++) {
+        uint32_t layer = eye < 0 ? e : (uint32_t)eye;
+        res = fv_images_read(f->images, FV_IMAGE_COLOR, layer, rgba, (size_t)w * h * 16, 0, (size_t)w * 16);
+        for (uint32_t y = 0; res == FV_OK && y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+                for (int c = 0; c < 3; c++)
+                    img.rgb[((size_t)y * w * eyes + e * w + x) * 3 + c] = rgba[((size_t)y * w + x) * 4 + c];
+    }
+    if (res == FV_OK) res = fv_image_io_write_pfm(path, &img);
+    free(rgba);
+    fv_rgb_image_fini(&img);
+    return res;
+}
+
 static fv_result write_frame(files_target *ft, const fv_target_frame *f)
 {
     size_t bytes = (size_t)f->width * 2 * f->height * 4;
@@ -67,6 +91,10 @@ static fv_result write_frame(files_target *ft, const fv_target_frame *f)
             FV_ERROR(MOD, "%s: cannot write PNG", path);
             res = FV_ERR_IO;
         }
+        if (res == FV_OK && ft->desc.linear_pfm) {
+            snprintf(path, sizeof path, "%s/frame_%05llu.pfm", ft->dir, (unsigned long long)f->frame_id);
+            res = write_pfm(f, -1, path);
+        }
     } else {
         static const char *names[2] = {"left", "right"};
         for (int eye = 0; eye < 2 && res == FV_OK; eye++) {
@@ -75,6 +103,11 @@ static fv_result write_frame(files_target *ft, const fv_target_frame *f)
             if (res == FV_OK && !stbi_write_png(path, (int)f->width, (int)f->height, 4, buf, (int)(f->width * 4))) {
                 FV_ERROR(MOD, "%s: cannot write PNG", path);
                 res = FV_ERR_IO;
+            }
+            if (res == FV_OK && ft->desc.linear_pfm) {
+                snprintf(path, sizeof path, "%s/frame_%05llu_%s.pfm", ft->dir, (unsigned long long)f->frame_id,
+                         names[eye]);
+                res = write_pfm(f, eye, path);
             }
         }
     }

@@ -26,7 +26,7 @@ static const char *USAGE_FMT =
     "usage: fovea run [--scene NAME|FILE] [--frames N] [--eye-size WxH] [--out DIR]\n"
     "                 [--save last|every|none] [--layout sbs|eyes] [--gaze URI [--hz HZ]]\n"
     "                 [--quality PRESET] [--set NAME=VALUE]...\n"
-    "                 [--view NAME] [--exposure X] [--explain] [--json]\n"
+    "                 [--view NAME] [--exposure X] [--float] [--explain] [--json]\n"
     "  --scene     built-in scene name (cornell, cornell-translucent) or a file: *.scene.json, .gltf/.glb, .obj, .ply\n"
     "              (default cornell)\n"
     "  --frames    frames to render (default 1; 1..1000000)\n"
@@ -45,6 +45,8 @@ static const char *USAGE_FMT =
     "              visibility), cascade (which of light 0's shadow maps), albedo, normal, depth (the G-buffer's),\n"
     "              gaze (each eye's predicted gaze as the GPU receives it)\n"
     "  --exposure  linear scale of the colour before tonemapping (default 1; 1e-6..1e6)\n"
+    "  --float     with --out, also write the linear colour (or --view) as PFM beside each PNG, to compare with\n"
+    "              `fovea reference` in linear units (`fovea compare`)\n"
     "  --explain   print the frame plan (which passes run and why)\n"
     "  --json      print the summary as one JSON object on stdout (and nothing else on stdout)\n";
 
@@ -71,7 +73,7 @@ typedef struct run_opts {
     float exposure;           /* --exposure and --view: view settings, not knobs */
     fv_debug_view debug_view;
     fv_quality quality;       /* the preset, the --set knobs, then the view settings */
-    bool explain, json;
+    bool explain, json, float_out;
 } run_opts;
 
 static int parse_args(int argc, char **argv, run_opts *o)
@@ -154,6 +156,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         if ((r = fv_tool_quality_option(&o->tq, argc, argv, &i, "run", USAGE)) == FV_EXIT_USAGE) return r;
         else if (r) continue;
         if (strcmp(a, "--explain") == 0) { o->explain = true; continue; }
+        if (strcmp(a, "--float") == 0) { o->float_out = true; continue; }
         if (strcmp(a, "--json") == 0) { o->json = true; continue; }
         return fv_cli_usage_error("run", USAGE, "unknown option '%s'", a);
     }
@@ -256,7 +259,7 @@ int fv_cmd_run(int argc, char **argv)
     bool saving = o.out_dir && o.save != SAVE_NONE;
     if (saving) {
         if (ensure_dir(o.out_dir) != 0) goto done;
-        fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.sbs,
+        fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.sbs, .linear_pfm = o.float_out,
                                    .save = o.save == SAVE_EVERY ? FV_TARGET_SAVE_EVERY : FV_TARGET_SAVE_LAST};
         if (FV_FAILED(fv_target_files_create(&fd, &files))) goto done;
     }
