@@ -8,24 +8,10 @@
 void fv_frame_near_far_from_bounds(const fv_head *head, fv_vec3 bounds_min, fv_vec3 bounds_max, float *out_near_m,
                                    float *out_far_m)
 {
-    float n = 0.0f, f = 0.0f;
-    if (head && fv_v3_isfinite(bounds_min) && fv_v3_isfinite(bounds_max) && fv_v3_isfinite(head->position_m)) {
-        fv_vec3 c = fv_v3_scale(fv_v3_add(bounds_min, bounds_max), 0.5f);
-        double r = 0.5 * fv_v3_len(fv_v3_sub(bounds_max, bounds_min));
-        double d = fv_v3_len(fv_v3_sub(c, head->position_m));
-        if (isfinite(r) && isfinite(d)) {
-            double ipd_m = isfinite(head->ipd_mm) ? fabs((double)head->ipd_mm) * 1e-3 : 0.0;
-            double fd = (d + r + ipd_m) * 1.05 + 1e-3;
-            /* Outside the bounding sphere: near just in front of it; inside: a small fraction of its size. */
-            double nd = d - r - ipd_m > 0.0 ? 0.9 * (d - r - ipd_m) : 0.005 * (r > 0 ? r : 1.0);
-            if (nd > fd * 0.5) nd = fd * 0.5;
-            n = (float)nd;
-            f = (float)fd;
-        }
-    }
-    fv_near_far_sanitize(&n, &f);
-    if (out_near_m) *out_near_m = n;
-    if (out_far_m) *out_far_m = f;
+    fv_head_pose pose = {.position_m = head ? head->position_m : fv_v3(NAN, NAN, NAN),
+                         .orientation = head ? head->orientation : fv_quat_identity(),
+                         .ipd_mm = head ? head->ipd_mm : FV_DEFAULT_IPD_MM};
+    fv_near_far_from_bounds(head ? &pose : NULL, bounds_min, bounds_max, out_near_m, out_far_m);
 }
 
 void fv_frame_input_from_head(const fv_head *head, float near_m, float far_m, uint32_t eye_width,

@@ -118,10 +118,30 @@ static void shadow_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     char what[FV_PASS_REASON_MAX];
     int n = 0;
     what[0] = '\0';
-    if (counts[FV_LIGHT_DIRECTIONAL])
-        n += snprintf(what + n, sizeof what - (size_t)n, "%u directional: up to %u split%s (lambda %.2g)%s",
-                      counts[FV_LIGHT_DIRECTIONAL], q->splits, plural(q->splits), (double)q->lambda,
-                      q->stereo_shared ? " shared by both eyes" : " per eye");
+    if (counts[FV_LIGHT_DIRECTIONAL]) {
+        /* How deep the scene is from the head: a shallow range deserves fewer splits (decided per frame too). */
+        fv_vec3 bmin, bmax;
+        uint32_t m = q->splits;
+        double dn = 0, df = 0;
+        if (fv_scene_world_bounds(s, 0.0, &bmin, &bmax)) {
+            fv_head_pose head = {.position_m = s->head.position_m, .orientation = s->head.orientation,
+                                 .ipd_mm = s->head.ipd_mm};
+            fv_eye_view eyes[2];
+            float near_m, far_m; /* the planes the renderer will use for this head (fv_renderer_frame_input) */
+            fv_near_far_from_bounds(&head, bmin, bmax, &near_m, &far_m);
+            fv_eye_views_build(&head, near_m, far_m, 0, 0, eyes);
+            if (fv_shadow_depth_range(&eyes[0].view, bmin, bmax, near_m, far_m, &dn, &df))
+                m = fv_shadow_splits_for_range(dn, df, q->splits);
+        }
+        if (m < q->splits)
+            n += snprintf(what + n, sizeof what - (size_t)n, "%u directional: %u of %u splits (depth %.2g-%.3g m is "
+                          "shallow), lambda %.2g%s", counts[FV_LIGHT_DIRECTIONAL], m, q->splits, dn, df,
+                          (double)q->lambda, q->stereo_shared ? ", shared by both eyes" : ", per eye");
+        else
+            n += snprintf(what + n, sizeof what - (size_t)n, "%u directional: %u split%s (lambda %.2g)%s",
+                          counts[FV_LIGHT_DIRECTIONAL], q->splits, plural(q->splits), (double)q->lambda,
+                          q->stereo_shared ? " shared by both eyes" : " per eye");
+    }
     if (counts[FV_LIGHT_SPOT] && n >= 0 && (size_t)n < sizeof what)
         n += snprintf(what + n, sizeof what - (size_t)n, "%s%u spot: one perspective map%s", n ? "; " : "",
                       counts[FV_LIGHT_SPOT], counts[FV_LIGHT_SPOT] == 1 ? "" : " each");

@@ -209,7 +209,7 @@ static void shadowed_scenes_report_their_splits(void **state)
     r = run("FOVEA_VALIDATION=1", "run --scene " FV_SOURCE_DIR "/scenes/sponza-sun.scene.json --frames 1 "
                                   "--eye-size 64x64 --explain");
     if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
-    assert_contains(r->out, "1 directional: up to 4 splits");
+    assert_contains(r->out, "1 directional: 4 splits (lambda 0.5) shared by both eyes");
     assert_contains(r->out, "validation messages: 0");
 }
 

@@ -34,7 +34,21 @@ static void plan_for_cornell_runs_gbuffer_shade_present_and_explains_the_rest(vo
     assert_int_equal(fv_scene_load("pillars", &s), FV_OK);
     fv_frame_plan_build(s, &p);
     assert_true(fv_frame_plan_find(&p, "shadow")->enabled);
-    assert_non_null(strstr(fv_frame_plan_find(&p, "shadow")->reason, "1 directional: up to 4 splits"));
+    assert_non_null(strstr(fv_frame_plan_find(&p, "shadow")->reason, "1 directional: 4 splits (lambda 0.5) shared by both eyes"));
+    fv_scene_destroy(&s);
+
+    /* A sun over the Cornell box: a shallow depth range from the head, so fewer splits, and the plan says why. */
+    assert_int_equal(fv_scene_load("cornell", &s), FV_OK);
+    fv_light sun;
+    memset(&sun, 0, sizeof sun);
+    sun.type = FV_LIGHT_DIRECTIONAL;
+    sun.direction = fv_v3(0.2f, -1.0f, 0.1f);
+    sun.color = fv_v3(1, 1, 1);
+    sun.intensity = 1.0f;
+    assert_int_equal(fv_scene_add_light(s, &sun, NULL), FV_OK);
+    fv_frame_plan_build(s, &p);
+    const char *why = fv_frame_plan_find(&p, "shadow")->reason;
+    if (!strstr(why, "of 4 splits (depth") || !strstr(why, "is shallow")) fail_msg("shadow reason: %s", why);
     fv_scene_destroy(&s);
 
     assert_int_equal(fv_scene_load("cornell-translucent", &s), FV_OK);

@@ -125,6 +125,11 @@ void fv_eye_views_build(const fv_head_pose *head, float near_m, float far_m, uin
  *  [1e-5, 5e8] m; far <= 0 or non-finite -> max(100 m, 1000 near), far <= 1e9 m and > 1.001 near. */
 void fv_near_far_sanitize(float *near_m, float *far_m);
 
+/** Near/far planes that hold the bounding sphere of [bounds_min, bounds_max] seen from the head (both eyes), with a
+ *  margin; finite and far > near for any input (NULL head or NaN bounds: 0.05 / 100 m). */
+void fv_near_far_from_bounds(const fv_head_pose *head, fv_vec3 bounds_min, fv_vec3 bounds_max, float *out_near_m,
+                             float *out_far_m);
+
 /** The largest IPD fv_eye_views_build accepts (mm). */
 #define FV_MAX_IPD_MM 100.0f
 /** The IPD used when none is known (mm). */
