@@ -86,17 +86,19 @@ struct fv_gpu_light {
 /** Shadows (set 2 of shading passes, fv_shade_inputs_interface.h): per shadowed light its maps in one 2D-array depth image. */
 #define FV_SHADOW_MAX_LIGHTS 4
 #define FV_SHADOW_MAX_SPLITS 8
-#define FV_SHADOW_MAX_MAPS 64 /* lights x (2 eyes) x splits */
+#define FV_SHADOW_MAX_MAPS 64 /* lights x (2 eyes) x splits, or 6 faces of a point light */
 #define FV_SHADOW_KIND_NONE 0
 #define FV_SHADOW_KIND_CASCADES 1    /* directional light: parallel-split shadow maps (orthographic per split) */
 #define FV_SHADOW_KIND_PERSPECTIVE 2 /* spot light: one perspective map */
+#define FV_SHADOW_KIND_CUBE 3        /* point light: six perspective faces, +x -x +y -y +z -z (the major axis of
+                                      * surface - light picks the face) */
 
 struct fv_gpu_shadow_light {
     FV_UVEC4 info;        /* x kind (FV_SHADOW_KIND_*), y first map, z splits (1 for spot), w maps per eye (0: both
                            * eyes share the maps; else eye e uses first + e * w) */
     FV_VEC4 split_far[2]; /* view depth (m) where each split ends, splits 0..7; a deeper pixel uses the last */
-    FV_VEC4 params;       /* x filter radius in texels (0: one tap, 1: 3x3, 2: 5x5), y 1 / resolution, z (spot) a
-                           * texel's world size per metre of distance from the light, w 0 */
+    FV_VEC4 params;       /* x filter radius in texels (0: one tap, 1: 3x3, 2: 5x5), y 1 / resolution, z (spot,
+                           * cube) a texel's world size per metre of distance from the light, w 0 */
     FV_VEC4 split_texel[2]; /* cascades: a texel's world size (m) in each split, for the receiver's normal offset */
 };
 

@@ -17,6 +17,14 @@ int fv_shadow_map_of(uint light, fv_surface s, out uint split)
     fv_gpu_shadow_light L = shadow.light[light];
     if (L.info.x == FV_SHADOW_KIND_NONE) return -1;
     uint eye = min(s.pixel.z, 1u);
+    if (L.info.x == FV_SHADOW_KIND_CUBE) {
+        // The face the surface lies in: the major axis of surface - light (+x -x +y -y +z -z).
+        vec3 v = s.pos_world - lights[light].position_range.xyz;
+        vec3 a = abs(v);
+        uint axis = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
+        split = axis * 2u + (v[axis] < 0.0 ? 1u : 0u);
+        return int(L.info.y + split);
+    }
     if (L.info.x == FV_SHADOW_KIND_CASCADES) {
         float d = (frame.view_proj[eye] * vec4(s.pos_world, 1.0)).w; // clip w = view depth for a perspective eye
         uint n = min(L.info.z, uint(FV_SHADOW_MAX_SPLITS));

@@ -47,6 +47,11 @@ fv_mat4 fv_shadow_crop_directional(const fv_mat4 *light_view, const fv_vec3 *pts
 /** View-projection of a spot light's perspective map: from pos along dir, half-angle outer_rad (+2%), far at the
  *  box's farthest corner, near = far / 1000. */
 fv_mat4 fv_shadow_spot(fv_vec3 pos, fv_vec3 dir, float outer_rad, fv_vec3 bmin, fv_vec3 bmax);
+/** View-projection of one face of a point light's cube map (face 0..5 = +x -x +y -y +z -z): 90 degrees (+2% so
+ *  filtering at face edges stays inside), far at the box's farthest corner, near = far / 1000. */
+fv_mat4 fv_shadow_cube_face(fv_vec3 pos, uint32_t face, fv_vec3 bmin, fv_vec3 bmax);
+/** A cube face's texel size per metre of distance from the light, for a res x res face. */
+double fv_shadow_cube_texel_per_m(uint32_t res);
 /** A spot map's texel size per metre of distance from the light, for a res x res map. */
 double fv_shadow_spot_texel_per_m(float outer_rad, uint32_t res);
 

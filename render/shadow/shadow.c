@@ -60,9 +60,26 @@ static const char *filter_name(fv_shadow_filter f)
     return f == FV_SHADOW_FILTER_PCF5 ? "pcf5" : (f == FV_SHADOW_FILTER_PCF3 ? "pcf3" : "no filter");
 }
 
-/* What the plan and init agree on: which scene lights get maps, of which kind, and how many layers. */
-static uint32_t layout_lights(const fv_scene *s, const fv_quality_shadow *q, light_entry *out, uint32_t *out_layers,
-                              uint32_t counts[3])
+/* The one rule the plan and init share: the maps a light of `type` (FV_LIGHT_* == FV_GPU_LIGHT_*) gets, appended
+ * after `*layers` while they fit. */
+static light_entry entry_for(uint32_t type, const fv_quality_shadow *q, uint32_t *layers)
+{
+    light_entry e = {.kind = FV_SHADOW_KIND_NONE};
+    uint32_t kind = type == FV_GPU_LIGHT_DIRECTIONAL ? FV_SHADOW_KIND_CASCADES
+                    : type == FV_GPU_LIGHT_SPOT      ? FV_SHADOW_KIND_PERSPECTIVE
+                                                     : FV_SHADOW_KIND_CUBE;
+    uint32_t want = kind == FV_SHADOW_KIND_CASCADES ? q->splits * (q->stereo_shared ? 1u : 2u)
+                    : kind == FV_SHADOW_KIND_PERSPECTIVE ? 1u
+                                                          : 6u;
+    if (*layers + want <= FV_SHADOW_MAX_MAPS) {
+        e = (light_entry){.kind = kind, .first_map = *layers, .max_maps = want};
+        *layers += want;
+    }
+    return e;
+}
+
+/* What the plan sees: how many lights of each type, and the layers their maps take. */
+static uint32_t layout_lights(const fv_scene *s, const fv_quality_shadow *q, uint32_t *out_layers, uint32_t counts[3])
 {
     uint32_t n = 0, layers = 0;
     counts[0] = counts[1] = counts[2] = 0;
@@ -71,15 +88,8 @@ static uint32_t layout_lights(const fv_scene *s, const fv_quality_shadow *q, lig
         fv_light_type t = s->lights[l].type;
         if ((unsigned)t < 3) counts[t]++;
         if (l >= FV_SHADOW_MAX_LIGHTS) continue;
-        light_entry e = {.kind = FV_SHADOW_KIND_NONE};
-        uint32_t want = t == FV_LIGHT_DIRECTIONAL ? q->splits * (q->stereo_shared ? 1u : 2u) : (t == FV_LIGHT_SPOT ? 1u : 0u);
-        if (want && layers + want <= FV_SHADOW_MAX_MAPS) {
-            e.kind = t == FV_LIGHT_DIRECTIONAL ? FV_SHADOW_KIND_CASCADES : FV_SHADOW_KIND_PERSPECTIVE;
-            e.first_map = layers;
-            e.max_maps = want;
-            layers += want;
-        }
-        out[n++] = e;
+        (void)entry_for((uint32_t)t, q, &layers);
+        n++;
     }
     *out_layers = layers;
     return n;
@@ -101,15 +111,8 @@ static void shadow_plan(const fv_plan_context *ctx, fv_plan_entry *out)
                  plural(lights));
         return;
     }
-    light_entry e[FV_SHADOW_MAX_LIGHTS];
     uint32_t layers = 0, counts[3];
-    layout_lights(s, q, e, &layers, counts);
-    if (!layers) {
-        out->enabled = false;
-        snprintf(out->reason, sizeof out->reason, "off — %u point light%s: no cube shadow maps yet, unshadowed",
-                 counts[FV_LIGHT_POINT], plural(counts[FV_LIGHT_POINT]));
-        return;
-    }
+    layout_lights(s, q, &layers, counts);
     out->enabled = true;
     /* Re-initialise when what the maps are made of changes (size, layers); the rest is read per frame. */
     uint32_t res_log2 = 0;
@@ -146,8 +149,8 @@ static void shadow_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         n += snprintf(what + n, sizeof what - (size_t)n, "%s%u spot: one perspective map%s", n ? "; " : "",
                       counts[FV_LIGHT_SPOT], counts[FV_LIGHT_SPOT] == 1 ? "" : " each");
     if (counts[FV_LIGHT_POINT] && n >= 0 && (size_t)n < sizeof what)
-        n += snprintf(what + n, sizeof what - (size_t)n, "%s%u point: no cube map yet", n ? "; " : "",
-                      counts[FV_LIGHT_POINT]);
+        n += snprintf(what + n, sizeof what - (size_t)n, "%s%u point: a cube map%s (6 faces)", n ? "; " : "",
+                      counts[FV_LIGHT_POINT], counts[FV_LIGHT_POINT] == 1 ? "" : " each");
     if (lights > FV_SHADOW_MAX_LIGHTS && n >= 0 && (size_t)n < sizeof what)
         snprintf(what + n, sizeof what - (size_t)n, "; lights past %d unshadowed", FV_SHADOW_MAX_LIGHTS);
     snprintf(out->reason, sizeof out->reason, "%s — %u map%s of %upx, %s", what, layers, plural(layers),
@@ -245,19 +248,8 @@ static fv_result shadow_init(const fv_pass_env *env, void **out_state)
     fv_result res = FV_OK;
     /* Which lights get maps: from the lights the scene uploaded (types only). */
     uint32_t layers = 0;
-    for (uint32_t l = 0; l < sh->scene->light_count && l < FV_SHADOW_MAX_LIGHTS; l++) {
-        uint32_t type = (uint32_t)(sh->scene->lights[l].direction_type.w + 0.5f);
-        light_entry e = {.kind = FV_SHADOW_KIND_NONE};
-        uint32_t want = type == FV_GPU_LIGHT_DIRECTIONAL ? q.splits * (q.stereo_shared ? 1u : 2u)
-                                                         : (type == FV_GPU_LIGHT_SPOT ? 1u : 0u);
-        if (want && layers + want <= FV_SHADOW_MAX_MAPS) {
-            e.kind = type == FV_GPU_LIGHT_DIRECTIONAL ? FV_SHADOW_KIND_CASCADES : FV_SHADOW_KIND_PERSPECTIVE;
-            e.first_map = layers;
-            e.max_maps = want;
-            layers += want;
-        }
-        sh->light[sh->light_count++] = e;
-    }
+    for (uint32_t l = 0; l < sh->scene->light_count && l < FV_SHADOW_MAX_LIGHTS; l++)
+        sh->light[sh->light_count++] = entry_for((uint32_t)(sh->scene->lights[l].direction_type.w + 0.5f), &q, &layers);
     sh->layers = layers ? layers : 1;
     fv_vk_image_desc d = {.width = sh->res, .height = sh->res, .layers = sh->layers, .array = true,
                           .format = VK_FORMAT_D32_SFLOAT,
@@ -316,6 +308,16 @@ static void shadow_prepare(void *state, const fv_pass_frame *f)
         const fv_gpu_light *L = &sh->scene->lights[l];
         fv_vec3 dir = fv_v3(L->direction_type.x, L->direction_type.y, L->direction_type.z);
         g->params = (fv_gpu_vec4){(float)radius, 1.0f / (float)sh->res, 0.0f, 0.0f};
+        if (e->kind == FV_SHADOW_KIND_CUBE) {
+            fv_vec3 pos = fv_v3(L->position_range.x, L->position_range.y, L->position_range.z);
+            for (uint32_t face = 0; face < 6; face++) {
+                sm->view_proj[e->first_map + face] = fv_shadow_cube_face(pos, face, bmin, bmax);
+                sm->used[e->first_map + face] = true;
+            }
+            g->params.z = (float)fv_shadow_cube_texel_per_m(sh->res);
+            g->info = (fv_gpu_uvec4){FV_SHADOW_KIND_CUBE, e->first_map, 6, 0};
+            continue;
+        }
         if (e->kind == FV_SHADOW_KIND_PERSPECTIVE) {
             fv_vec3 pos = fv_v3(L->position_range.x, L->position_range.y, L->position_range.z);
             float outer = acosf(fv_clampf(L->cone.y, -1.0f, 1.0f));

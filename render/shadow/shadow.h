@@ -2,8 +2,8 @@
  * (fv_scene_gpu_record_draws) into one 2D-array depth image of the table, bound as the shading inputs' shadow maps.
  * Directional lights: parallel-split shadow maps (Zhang et al. 2006) — the visible depth range split by the
  * practical scheme, one cropped orthographic map per split, shared by both eyes (fitted to the union of the two
- * frusta) or one set per eye (`shadow.stereo_shared`). Spot lights: one perspective map. Point lights: none yet
- * (the plan says so). Knobs: fv_quality.shadow. Layout of the map on exit: DEPTH_STENCIL_READ_ONLY_OPTIMAL, visible
+ * frusta) or one set per eye (`shadow.stereo_shared`). Spot lights: one perspective map. Point lights: a cube map
+ * (six 90-degree perspective faces). Knobs: fv_quality.shadow. Layout of the map on exit: DEPTH_STENCIL_READ_ONLY_OPTIMAL, visible
  * to compute and fragment reads (tracked in the image table). */
 #ifndef FV_SHADOW_H
 #define FV_SHADOW_H

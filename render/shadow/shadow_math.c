@@ -143,10 +143,10 @@ double fv_shadow_spot_texel_per_m(float outer_rad, uint32_t res)
     return 2.0 * tan(spot_half_angle(outer_rad)) / (res ? res : 1);
 }
 
-fv_mat4 fv_shadow_spot(fv_vec3 pos, fv_vec3 dir, float outer_rad, fv_vec3 bmin, fv_vec3 bmax)
+/* A square perspective map from pos along d with half-angle tangent t, far at the box's farthest corner. */
+static fv_mat4 perspective_map(fv_vec3 pos, fv_vec3 d, fv_vec3 up, float t, fv_vec3 bmin, fv_vec3 bmax)
 {
-    fv_vec3 d = fv_v3_normalize_or(dir, fv_v3(0, -1, 0));
-    fv_mat4 view = fv_mat4_look_at(pos, fv_v3_add(pos, d), fabsf(d.y) < 0.99f ? fv_v3(0, 1, 0) : fv_v3(1, 0, 0));
+    fv_mat4 view = fv_mat4_look_at(pos, fv_v3_add(pos, d), up);
     double far_m = 1e-3;
     for (int k = 0; k < 8; k++) {
         fv_vec3 p = fv_v3((k & 1) ? bmax.x : bmin.x, (k & 2) ? bmax.y : bmin.y, (k & 4) ? bmax.z : bmin.z);
@@ -154,7 +154,27 @@ fv_mat4 fv_shadow_spot(fv_vec3 pos, fv_vec3 dir, float outer_rad, fv_vec3 bmin, 
         if (isfinite(dist) && dist > far_m) far_m = dist;
     }
     far_m *= 1.01;
-    float t = (float)tan(spot_half_angle(outer_rad));
     fv_mat4 proj = fv_mat4_perspective_tan(-t, t, t, -t, (float)(far_m * 1e-3), (float)far_m);
     return fv_mat4_mul(&proj, &view);
 }
+
+fv_mat4 fv_shadow_spot(fv_vec3 pos, fv_vec3 dir, float outer_rad, fv_vec3 bmin, fv_vec3 bmax)
+{
+    fv_vec3 d = fv_v3_normalize_or(dir, fv_v3(0, -1, 0));
+    if (!fv_v3_isfinite(pos)) pos = fv_v3(0, 0, 0);
+    return perspective_map(pos, d, fabsf(d.y) < 0.99f ? fv_v3(0, 1, 0) : fv_v3(1, 0, 0),
+                           (float)tan(spot_half_angle(outer_rad)), bmin, bmax);
+}
+
+#define CUBE_TAN 1.02f
+
+fv_mat4 fv_shadow_cube_face(fv_vec3 pos, uint32_t face, fv_vec3 bmin, fv_vec3 bmax)
+{
+    static const fv_vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const fv_vec3 ups[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+    if (face > 5) face = 5;
+    if (!fv_v3_isfinite(pos)) pos = fv_v3(0, 0, 0);
+    return perspective_map(pos, dirs[face], ups[face], CUBE_TAN, bmin, bmax);
+}
+
+double fv_shadow_cube_texel_per_m(uint32_t res) { return 2.0 * CUBE_TAN / (res ? res : 1); }

@@ -199,6 +199,8 @@ static void add_sun(fv_scene *s)
     assert_int_equal(fv_scene_add_light(s, &l, NULL), FV_OK);
 }
 
+static void add_point(fv_scene *s);
+
 static void report(const char *what, counts c)
 {
     double f = c.plane ? (double)c.mismatched / c.plane : 1.0;
@@ -252,18 +254,19 @@ static void a_plane_alone_never_shadows_itself(void **state)
 {
     (void)state;
     NEED_GPU();
-    void (*adders[2])(fv_scene *) = {add_spot, add_sun};
-    void (*ends[2])(const double *, double *) = {spot_end, sun_end};
+    void (*adders[3])(fv_scene *) = {add_spot, add_sun, add_point};
+    void (*ends[3])(const double *, double *) = {spot_end, sun_end, spot_end};
     const fv_shadow_filter filters[3] = {FV_SHADOW_FILTER_NONE, FV_SHADOW_FILTER_PCF3, FV_SHADOW_FILTER_PCF5};
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < 3; k++) {
         fv_scene *s = plane_scene(false);
         adders[k](s);
         for (int f = 0; f < 3; f++) {
             fv_quality q = fv_quality_default();
             q.shadow.filter = filters[f];
             counts c = compare(s, &q, false, ends[k]);
-            if (c.mismatched) fail_msg("%s light, filter %d: %d of %d lit plane pixels shadowed (acne)",
-                                       k ? "directional" : "spot", f, c.mismatched, c.plane);
+            static const char *const kinds[3] = {"spot", "directional", "point"};
+            if (c.mismatched) fail_msg("%s light, filter %d: %d of %d lit plane pixels shadowed (acne)", kinds[k], f,
+                                       c.mismatched, c.plane);
             assert_true(c.plane > W * H / 4);
         }
         fv_scene_destroy(&s);
@@ -271,32 +274,71 @@ static void a_plane_alone_never_shadows_itself(void **state)
     assert_int_equal(fv_renderer_validation_messages(g_r), 0);
 }
 
-static void shadow_plan_explains_lights_without_maps(void **state)
+static void add_point(fv_scene *s)
 {
-    (void)state;
-    NEED_GPU();
-    fv_scene *s = plane_scene(false);
     fv_light l;
     memset(&l, 0, sizeof l);
     l.type = FV_LIGHT_POINT;
-    l.position_m = fv_v3(0, 1, 0);
+    l.position_m = spot_pos;
     l.color = fv_v3(1, 1, 1);
-    l.intensity = 1.0f;
+    l.intensity = 2.0f;
     assert_int_equal(fv_scene_add_light(s, &l, NULL), FV_OK);
-    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+}
+
+/* A point light's cube map: the plane sees the light through several faces (the box's shadow falls in the -y face,
+ * the plane's far parts in the side faces). */
+static void point_light_cube_map_matches_exact_visibility(void **state)
+{
+    (void)state;
+    NEED_GPU();
+    fv_scene *s = plane_scene(true);
+    add_point(s);
+    fv_quality q = fv_quality_default();
+    q.shadow.filter = FV_SHADOW_FILTER_NONE;
+    report("point, cube map of 2048px, no filter", compare(s, &q, true, spot_end));
     const fv_plan_entry *e = fv_frame_plan_find(fv_renderer_plan(g_r), "shadow");
     assert_non_null(e);
-    assert_false(e->enabled);
-    assert_non_null(strstr(e->reason, "point light"));
-    fv_frame_input in;
-    assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame++, 0.0, &in), FV_OK);
-    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    assert_true(e->enabled);
+    assert_non_null(strstr(e->reason, "1 point: a cube map (6 faces)"));
+    fv_render_stats st;
+    assert_int_equal(fv_renderer_stats(g_r, &st), FV_OK);
+    for (uint32_t i = 0; i < st.pass_count; i++)
+        if (strcmp(st.pass_name[i], "shadow") == 0) assert_int_equal(st.pass_counters[i].draws, 6 * 2); /* 6 faces */
+    /* The plane alone under the point light: no acne in any face. */
     fv_scene_destroy(&s);
+    s = plane_scene(false);
+    add_point(s);
+    counts c = compare(s, &q, false, spot_end);
+    assert_int_equal(c.mismatched, 0);
+    fv_scene_destroy(&s);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+}
+
+static void shadow_plan_says_why_it_is_off(void **state)
+{
+    (void)state;
+    NEED_GPU();
+    fv_scene *s = NULL;
     /* No lights at all: off, and why. */
     assert_int_equal(fv_scene_create("dark", &s), FV_OK);
     assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
-    e = fv_frame_plan_find(fv_renderer_plan(g_r), "shadow");
+    const fv_plan_entry *e = fv_frame_plan_find(fv_renderer_plan(g_r), "shadow");
+    assert_false(e->enabled);
     assert_non_null(strstr(e->reason, "off — no lights"));
+    fv_scene_destroy(&s);
+    /* The knob off: off, and why. */
+    s = plane_scene(false);
+    add_spot(s);
+    fv_quality q = fv_quality_default();
+    q.shadow.enabled = false;
+    assert_int_equal(fv_renderer_set_quality(g_r, &q), FV_OK);
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    e = fv_frame_plan_find(fv_renderer_plan(g_r), "shadow");
+    assert_false(e->enabled);
+    assert_non_null(strstr(e->reason, "shadow.enabled is false"));
+    q = fv_quality_default();
+    assert_int_equal(fv_renderer_set_quality(g_r, &q), FV_OK);
+    assert_true(fv_frame_plan_find(fv_renderer_plan(g_r), "shadow")->enabled);
     fv_scene_destroy(&s);
     assert_int_equal(fv_renderer_validation_messages(g_r), 0);
 }
@@ -307,7 +349,8 @@ int main(void)
         cmocka_unit_test(spot_shadow_matches_exact_visibility),
         cmocka_unit_test(directional_cascades_match_exact_visibility_shared_and_per_eye),
         cmocka_unit_test(a_plane_alone_never_shadows_itself),
-        cmocka_unit_test(shadow_plan_explains_lights_without_maps),
+        cmocka_unit_test(point_light_cube_map_matches_exact_visibility),
+        cmocka_unit_test(shadow_plan_says_why_it_is_off),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

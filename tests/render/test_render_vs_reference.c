@@ -49,14 +49,18 @@
  * pixels where both sides agree on light 0's visibility, is above 60 dB):
  * - cornell: the spot's shadow edges. Balanced (2048 px, pcf3): about 150 px lit on the GPU and black in the
  *   reference, off by about 0.45 in sRGB -> 32.2 dB; exact (4096 px, no filter): 33 px -> 36.0 dB.
- * - bunny, teapot: the loader's default light is a point light, for which the shadow pass draws no map (visibility
- *   1), while the reference traces its shadow rays: the 37 (bunny) and 34 (teapot) self-shadowed pixels are black in
- *   the reference only -> 38.2 and 45.0 dB whatever the preset.
+ * - bunny, teapot: the loader's default light is a point light, shadowed by a cube map (six 2048 px faces,
+ *   balanced; 4096 px exact): only the self-shadow edges differ -> bunny 42.1 dB (balanced) / 42.7 dB (exact),
+ *   teapot 46.1 / 45.9 dB. (Before cube maps the GPU left these shadows out: 38.2 and 45.0 dB.)
  * Bounds: 2 dB under each measurement (1.6x the squared error: 1.6x as many edge pixels). */
 #define PSNR_MIN_CORNELL_BALANCED 30.0
 #define PSNR_MIN_CORNELL_EXACT 34.0
-#define PSNR_MIN_BUNNY 36.0
-#define PSNR_MIN_TEAPOT 43.0
+#define PSNR_MIN_BUNNY 40.0
+#define PSNR_MIN_TEAPOT 44.0
+/* exact against balanced: exact's binary visibility can be a little further from the reference in PSNR than
+ * balanced's PCF, which spreads an edge's error over intermediate values (teapot: 45.9 against 46.1 dB); exact may
+ * not be worse by more than this. */
+#define EXACT_VS_BALANCED_SLACK_DB 0.5
 /* Over the pixels where the GPU's visibility equals the shadow rays' (both 0 or both 1): float shading against
  * double. Measured > 60 dB. */
 #define PSNR_MIN_AGREE 55.0
@@ -430,8 +434,8 @@ static void color_matches_reference_model_on_cornell_bunny_teapot(void **state)
         color_stats exact = color_vs_model(s, names[k], "exact", FV_DEBUG_VIEW_NONE);
         snprintf(what, sizeof what, "%s, exact colour", names[k]);
         assert_psnr_above(what, exact.all.psnr_db, min_exact[k]);
-        /* exact turns fovea's shortcuts off: never further from the reference than balanced */
-        if (!(exact.all.psnr_db >= bal.all.psnr_db))
+        /* exact turns fovea's shortcuts off: not further from the reference than balanced (but for PCF's blur) */
+        if (!(exact.all.psnr_db >= bal.all.psnr_db - EXACT_VS_BALANCED_SLACK_DB))
             fail_msg("%s: exact %.2f dB is further from the reference than balanced %.2f dB", names[k],
                      exact.all.psnr_db, bal.all.psnr_db);
         /* The direct view: no emission, no ambient (cornell's lamp goes black on both sides) */

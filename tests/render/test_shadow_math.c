@@ -176,6 +176,31 @@ static void spot_map_holds_the_cone_and_the_scene(void **state)
     assert_true(fv_shadow_spot_texel_per_m((float)fv_deg_to_rad(45.0), 1024) > 0.0);
 }
 
+static void cube_faces_cover_every_direction(void **state)
+{
+    (void)state;
+    fv_vec3 pos = fv_v3(0.5f, 1.0f, -0.25f);
+    /* Each direction's major axis picks a face; the point must project inside that face, in front of it. */
+    for (int i = 0; i < 500; i++) {
+        double a = i * 2.399963, z = 1.0 - 2.0 * (i + 0.5) / 500.0, r = sqrt(1.0 - z * z);
+        fv_vec3 d = fv_v3((float)(r * cos(a)), (float)z, (float)(r * sin(a)));
+        float ax = fabsf(d.x), ay = fabsf(d.y), az = fabsf(d.z);
+        uint32_t axis = ax >= ay && ax >= az ? 0u : (ay >= az ? 1u : 2u);
+        float comp = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
+        uint32_t face = axis * 2u + (comp < 0 ? 1u : 0u);
+        fv_mat4 vp = fv_shadow_cube_face(pos, face, fv_v3(-3, -3, -3), fv_v3(3, 3, 3));
+        fv_vec3 p = fv_v3_add(pos, fv_v3_scale(d, 2.0f));
+        fv_vec4 c = fv_mat4_mul_v4(&vp, (fv_vec4){p.x, p.y, p.z, 1.0f});
+        assert_true(c.w > 0);
+        assert_true(fabsf(c.x / c.w) <= 1.0f / 1.02f + 1e-4f && fabsf(c.y / c.w) <= 1.0f / 1.02f + 1e-4f);
+        assert_true(c.z / c.w > 0 && c.z / c.w < 1);
+    }
+    assert_true(fv_shadow_cube_texel_per_m(2048) > 0);
+    fv_mat4 e = fv_shadow_cube_face(fv_v3(NAN, 0, 0), 99, fv_v3(-1, -1, -1), fv_v3(1, 1, 1));
+    for (int i = 0; i < 4; i++)
+        for (int k = 0; k < 4; k++) assert_true(isfinite(e.m[i][k]));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -186,6 +211,7 @@ int main(void)
         cmocka_unit_test(depth_range_holds_the_box_and_the_clip_planes),
         cmocka_unit_test(crops_stay_on_the_texel_grid_as_the_head_moves),
         cmocka_unit_test(spot_map_holds_the_cone_and_the_scene),
+        cmocka_unit_test(cube_faces_cover_every_direction),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
