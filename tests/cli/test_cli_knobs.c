@@ -16,24 +16,14 @@ static fv_test_cmd *run(const char *env, const char *args)
     return &res;
 }
 
-/* The first line of s, into a static buffer. */
-static const char *first_line(const char *s)
-{
-    static char line[1024];
-    size_t n = strcspn(s, "\n");
-    if (n >= sizeof line) n = sizeof line - 1;
-    memcpy(line, s, n);
-    line[n] = '\0';
-    return line;
-}
-
 static void knobs_lists_every_knob_with_its_presets(void **state)
 {
     (void)state;
     fv_test_cmd *r = run(NULL, "knobs");
     if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
     const char *header[] = {"knob", "type", "range", "unit", "fast", "balanced", "high", "exact"};
-    for (size_t i = 0; i < sizeof header / sizeof header[0]; i++) fv_assert_contains(first_line(r->out), header[i]);
+    for (size_t i = 0; i < sizeof header / sizeof header[0]; i++)
+        fv_assert_contains(fv_test_first_line(r->out), header[i]);
     const char *rows[] = {"shadow.enabled", "shadow.splits", "shadow.lambda", "shadow.resolution", "shadow.filter",
                           "shadow.bias", "shadow.stereo_shared", "256..4096, powers of two", "none|pcf3|pcf5",
                           "texels", "exact: "};
@@ -43,7 +33,7 @@ static void knobs_lists_every_knob_with_its_presets(void **state)
     fv_assert_contains(r->out, "usage: fovea knobs");
     r = run(NULL, "knobs --bogus");
     assert_int_equal(r->exit_code, 2);
-    fv_assert_contains(first_line(r->err), "fovea knobs: unknown option '--bogus'");
+    fv_assert_contains(fv_test_first_line(r->err), "fovea knobs: unknown option '--bogus'");
     r = run(NULL, "--help");
     fv_assert_contains(r->out, "knobs");
 }
@@ -107,7 +97,7 @@ static void bad_quality_options_exit_2_with_one_line_naming_the_knob(void **stat
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         fv_test_cmd *r = run(NULL, bad[i][0]);
         if (r->exit_code != 2) fail_msg("'%s' exited %d, not 2; stderr:\n%s", bad[i][0], r->exit_code, r->err);
-        const char *line = first_line(r->err);
+        const char *line = fv_test_first_line(r->err);
         if (strncmp(line, "fovea run: ", 11) != 0) fail_msg("'%s': first line \"%s\"", bad[i][0], line);
         for (int s = 1; s < 4; s++)
             if (!strstr(line, bad[i][s])) fail_msg("'%s': \"%s\" is not in \"%s\"", bad[i][0], bad[i][s], line);

@@ -91,6 +91,16 @@ static void slurp(const char *path, char *buf, size_t cap)
     buf[n] = '\0';
 }
 
+const char *fv_test_first_line(const char *s)
+{
+    static char line[1024];
+    size_t n = strcspn(s, "\n");
+    if (n >= sizeof line) n = sizeof line - 1;
+    memcpy(line, s, n);
+    line[n] = '\0';
+    return line;
+}
+
 void fv_test_run_cmd(fv_test_cmd *res, const char *env, const char *program, const char *args)
 {
     char out_path[1024], err_path[1024], cmd[8192];

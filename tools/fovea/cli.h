@@ -6,6 +6,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+typedef struct cJSON cJSON;
+
 /** Exit codes of the fovea command. */
 enum {
     FV_EXIT_OK = 0,
@@ -22,6 +24,16 @@ bool fv_cli_parse_i64(const char *s, int64_t lo, int64_t hi, int64_t *out);
 bool fv_cli_parse_f64(const char *s, double lo, double hi, double *out);
 /** Parse "WxH" with each in [1, max]. */
 bool fv_cli_parse_size(const char *s, uint32_t max, uint32_t *out_w, uint32_t *out_h);
+/** Parse "A,B" as two finite numbers, each in [lo, hi]. */
+bool fv_cli_parse_f64_pair(const char *s, double lo, double hi, double out[2]);
+/** Create a directory and any missing parents (as mkdir -p); true when it exists as a directory afterwards. On
+ *  failure errno says why (ENOTDIR: a path component is a file). */
+bool fv_cli_make_dirs(const char *dir);
+/** Add a number to a JSON object, or null when it is not finite (JSON has no inf or NaN: an infinite PSNR, a metric
+ *  that does not apply). */
+void fv_cli_json_number(cJSON *obj, const char *key, double v);
+/** A number for a text table into buf: "-" for NaN (does not apply), "inf"/"-inf", else printf's `fmt`; returns buf. */
+const char *fv_cli_format_number(char *buf, size_t size, const char *fmt, double v);
 /** True when argv[i] is "--help" or "-h". */
 bool fv_cli_is_help(const char *arg);
 /** Option with a value, as "--opt VALUE" or "--opt=VALUE". Returns 0 when argv[*i] is not this option, 1 when it

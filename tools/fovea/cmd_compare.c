@@ -59,17 +59,6 @@ static void error_sink(void *user, fv_log_level level, const char *module, const
     if (level <= FV_LOG_LEVEL_WARN) fprintf(stderr, "fovea compare: %s\n", msg);
 }
 
-/* "A,B" as two finite numbers in [lo, hi]. */
-static bool parse_pair(const char *s, double lo, double hi, double out[2])
-{
-    const char *comma = strchr(s, ',');
-    char first[64];
-    if (!comma || (size_t)(comma - s) >= sizeof first) return false;
-    memcpy(first, s, (size_t)(comma - s));
-    first[comma - s] = '\0';
-    return fv_cli_parse_f64(first, lo, hi, &out[0]) && fv_cli_parse_f64(comma + 1, lo, hi, &out[1]);
-}
-
 static int parse_args(int argc, char **argv, compare_opts *o, bool *out_help)
 {
     *o = (compare_opts){.threshold = 0.0};
@@ -85,14 +74,14 @@ static int parse_args(int argc, char **argv, compare_opts *o, bool *out_help)
             o->json = true;
         } else if ((m = fv_cli_option(argc, argv, &i, "--gaze-deg", &v)) != 0) {
             if (o->gaze == GAZE_PIXEL) return fv_cli_usage_error("compare", g_usage, "--gaze and --gaze-deg exclude each other");
-            if (m < 0 || !parse_pair(v, -180.0, 180.0, o->gaze_v) || fabs(o->gaze_v[1]) > 90.0)
+            if (m < 0 || !fv_cli_parse_f64_pair(v, -180.0, 180.0, o->gaze_v) || fabs(o->gaze_v[1]) > 90.0)
                 return fv_cli_usage_error("compare", g_usage,
                                           "--gaze-deg: '%s' is not YAW,PITCH in degrees (yaw -180..180, pitch -90..90)",
                                           m < 0 ? "" : v);
             o->gaze = GAZE_DEG;
         } else if ((m = fv_cli_option(argc, argv, &i, "--gaze", &v)) != 0) {
             if (o->gaze == GAZE_DEG) return fv_cli_usage_error("compare", g_usage, "--gaze and --gaze-deg exclude each other");
-            if (m < 0 || !parse_pair(v, 0.0, (double)FV_IMAGE_MAX_SIDE_PX, o->gaze_v))
+            if (m < 0 || !fv_cli_parse_f64_pair(v, 0.0, (double)FV_IMAGE_MAX_SIDE_PX, o->gaze_v))
                 return fv_cli_usage_error("compare", g_usage, "--gaze: '%s' is not a pixel position X,Y",
                                           m < 0 ? "" : v);
             o->gaze = GAZE_PIXEL;
@@ -160,27 +149,21 @@ static int build_geometry(const compare_opts *o, const fv_rgb_image *a, geometry
 
 /* ---- output ---- */
 
-static void add_num(cJSON *o, const char *key, double v)
-{
-    if (isfinite(v)) cJSON_AddNumberToObject(o, key, v);
-    else cJSON_AddNullToObject(o, key);
-}
-
 static void stats_json(cJSON *o, const fv_metrics_stats *s, bool linear, double eps)
 {
     cJSON_AddNumberToObject(o, "pixels", (double)s->pixels);
-    add_num(o, "psnr_db", s->psnr_db);
+    fv_cli_json_number(o, "psnr_db", s->psnr_db);
     cJSON_AddBoolToObject(o, "psnr_infinite", isinf(s->psnr_db));
-    add_num(o, "ssim", s->ssim);
+    fv_cli_json_number(o, "ssim", s->ssim);
     cJSON_AddNumberToObject(o, "ssim_pixels", (double)s->ssim_pixels);
-    add_num(o, "mismatch", s->mismatch);
+    fv_cli_json_number(o, "mismatch", s->mismatch);
     cJSON_AddNumberToObject(o, "mismatch_pixels", (double)s->mismatch_pixels);
     if (!linear) return;
     cJSON *r = cJSON_AddObjectToObject(o, "rel_error");
     cJSON_AddNumberToObject(r, "eps", eps);
-    add_num(r, "mean", s->rel_mean);
-    add_num(r, "p99", s->rel_p99);
-    add_num(r, "max", s->rel_max);
+    fv_cli_json_number(r, "mean", s->rel_mean);
+    fv_cli_json_number(r, "p99", s->rel_p99);
+    fv_cli_json_number(r, "max", s->rel_max);
 }
 
 static int print_json(const compare_opts *o, const fv_rgb_image *a, const geometry *g, const fv_metrics_report *rep)
@@ -225,23 +208,16 @@ static int print_json(const compare_opts *o, const fv_rgb_image *a, const geomet
     return FV_EXIT_OK;
 }
 
-/* A number for the text table: "-" when it does not apply, "inf" for identical pixels. */
-static const char *fmt(char *buf, size_t cap, const char *f, double v)
-{
-    if (isnan(v)) snprintf(buf, cap, "-");
-    else if (isinf(v)) snprintf(buf, cap, "inf");
-    else snprintf(buf, cap, f, v);
-    return buf;
-}
-
 static void print_row(const char *label, const fv_metrics_stats *s, bool linear)
 {
     char p[32], q[32], m[32], r0[32], r1[32], r2[32];
-    printf("  %-9s %10llu %9s %9s %9s", label, (unsigned long long)s->pixels, fmt(p, sizeof p, "%.3f", s->psnr_db),
-           fmt(q, sizeof q, "%.5f", s->ssim), fmt(m, sizeof m, "%.4f", s->mismatch));
+    printf("  %-9s %10llu %9s %9s %9s", label, (unsigned long long)s->pixels,
+           fv_cli_format_number(p, sizeof p, "%.3f", s->psnr_db), fv_cli_format_number(q, sizeof q, "%.5f", s->ssim),
+           fv_cli_format_number(m, sizeof m, "%.4f", s->mismatch));
     if (linear)
-        printf(" %10s %10s %10s", fmt(r0, sizeof r0, "%.4g", s->rel_mean), fmt(r1, sizeof r1, "%.4g", s->rel_p99),
-               fmt(r2, sizeof r2, "%.4g", s->rel_max));
+        printf(" %10s %10s %10s", fv_cli_format_number(r0, sizeof r0, "%.4g", s->rel_mean),
+               fv_cli_format_number(r1, sizeof r1, "%.4g", s->rel_p99),
+               fv_cli_format_number(r2, sizeof r2, "%.4g", s->rel_max));
     printf("\n");
 }
 

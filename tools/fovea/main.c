@@ -23,6 +23,7 @@ int fv_cmd_latency(int argc, char **argv);
 int fv_cmd_compare(int argc, char **argv);
 int fv_cmd_reference(int argc, char **argv);
 int fv_cmd_knobs(int argc, char **argv);
+int fv_cmd_bench(int argc, char **argv);
 
 /* Every command, in `fovea --help` order. */
 static const command g_commands[] = {
@@ -37,6 +38,7 @@ static const command g_commands[] = {
     {"reference", "render a scene on the CPU: fovea's shading with exact shadows, or a path-traced ground truth",
      fv_cmd_reference},
     {"knobs", "list the speed/accuracy knobs: ranges, units, their values under each preset", fv_cmd_knobs},
+    {"bench", "sweep knobs: GPU time against error (vs exact and the CPU reference), Pareto plots", fv_cmd_bench},
     {NULL, NULL, NULL},
 };
 

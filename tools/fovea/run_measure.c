@@ -88,6 +88,12 @@ bool fv_measure_take(fv_measure *m, const fv_renderer *r)
     return true;
 }
 
+void fv_measure_skip(fv_measure *m, const fv_renderer *r)
+{
+    fv_render_stats newest;
+    if (fv_renderer_stats(r, &newest) == FV_OK) m->last_timed = newest.frame_id;
+}
+
 /* Percentile of a series (sorted in place: the order of a finished series does not matter). */
 static double pct(double *v, size_t n, double p) { return fv_percentile_f64(v, n, p); }
 

@@ -43,6 +43,8 @@ void fv_measure_wall(fv_measure *m, double ms);
 /** Take the GPU timings of every frame that completed since the last call, each once (frames complete in order;
  *  at most FV_RENDERER_STATS_HISTORY are kept by the renderer). false when out of memory. */
 bool fv_measure_take(fv_measure *m, const fv_renderer *r);
+/** Leave out every frame that completed so far (warm-up frames): later fv_measure_take calls start after them. */
+void fv_measure_skip(fv_measure *m, const fv_renderer *r);
 /** Add the summary (passes with median/p95 GPU ms and last-frame counters, frame GPU, CPU and wall percentiles,
  *  pixels shaded, peak device memory) to a JSON object. */
 void fv_measure_add_json(const fv_measure *m, cJSON *obj);

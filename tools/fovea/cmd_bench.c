@@ -1,0 +1,456 @@
+/* @brief `fovea bench`: the speed/accuracy trade as curves. For each point of the cross product of --sweep knobs,
+ * render N frames of the same views, take each pass's GPU time (median, p95) and measure the image against the exact
+ * preset on the GPU and against the CPU reference; write bench.json, bench.csv and one time-against-error plot per
+ * swept knob with its Pareto front. */
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "bench_report.h"
+#include "bench_sweep.h"
+#include "cli.h"
+#include "fv_clock.h"
+#include "fv_log.h"
+#include "fv_metrics.h"
+#include "fv_reference.h"
+#include "fv_renderer.h"
+#include "fv_scene.h"
+#include "fv_stats.h"
+#include "run_measure.h"
+#include "tool_knobs.h"
+
+#define MOD "bench"
+#define WARMUP_FRAMES 2u
+
+/* The usage; %s: the preset names, %d: the point cap. */
+static const char *USAGE_FMT =
+    "usage: fovea bench --sweep NAME=V1,V2,... [--sweep ...] [--scene NAME|FILE] [--quality PRESET]\n"
+    "                   [--set NAME=VALUE]... [--frames N] [--eye-size WxH] [--gaze-deg YAW,PITCH]\n"
+    "                   [--reference model|path|none] [--spp N] [--out DIR] [--json]\n"
+    "  --sweep     a knob and the values to try (repeatable); the points are the cross product of the sweeps\n"
+    "              (at most %d). NAME=VALUE is checked as --set checks it; `fovea knobs` lists the knobs.\n"
+    "              The pseudo-knob `preset` sweeps the presets: --sweep preset=%s\n"
+    "  --scene     as fovea run (default cornell)\n"
+    "  --quality   the preset every point starts from: %s (default balanced)\n"
+    "  --set       one knob after the preset (repeatable); each point's sweep values come last\n"
+    "  --frames    frames per point (default 10; 3..100000): the first 2 warm up and are not timed; every frame\n"
+    "              has the same views (scene time 0) and waits for the one before\n"
+    "  --eye-size  per-eye size (default 720x800; at least 11x11, the SSIM window)\n"
+    "  --gaze-deg  the gaze in the head frame, degrees (yaw positive right, pitch positive up): given to the\n"
+    "              renderer, and the errors are also given per eccentricity band around it\n"
+    "  --reference the CPU reference to measure against, rendered once: model (default: fovea's shading with\n"
+    "              exact visibility), path (path-traced ground truth, --spp samples, 8 bounces) or none\n"
+    "  --spp       samples per pixel of the path reference (default 64; 1..1048576)\n"
+    "  --out       where bench.json, bench.csv and pareto_<knob>.png go (default out/bench; created)\n"
+    "  --json      print bench.json as one JSON object on stdout (and nothing else there)\n"
+    "  Every point is also measured against the `exact` preset on the GPU (same scene, views and size). Errors:\n"
+    "  psnr_db and ssim on the sRGB values (as fovea compare), rel_mean on the linear values; both eyes side by\n"
+    "  side. The plots show frame time against 1 - SSIM vs the reference (vs exact with --reference none).\n";
+
+static const char *usage_text(void)
+{
+    static char text[4096];
+    if (!text[0]) {
+        char names[128];
+        snprintf(names, sizeof names, "%s", fv_quality_preset_names());
+        for (char *c = names; *c; c++) /* "fast, balanced" -> "fast,balanced" for the example */
+            if (*c == ' ') memmove(c, c + 1, strlen(c));
+        snprintf(text, sizeof text, USAGE_FMT, FV_BENCH_MAX_POINTS, names, fv_quality_preset_names());
+    }
+    return text;
+}
+#define USAGE usage_text()
+
+typedef enum ref_kind { REF_MODEL, REF_PATH, REF_NONE } ref_kind;
+
+typedef struct bench_opts {
+    const char *scene;
+    fv_bench_plan plan;
+    fv_quality base;      /* --quality then --set: what is_preset compares with */
+    int64_t frames;
+    uint32_t eye_w, eye_h;
+    bool has_gaze;
+    double gaze_deg[2];
+    ref_kind ref;
+    int64_t spp;
+    const char *out_dir;
+    bool json;
+} bench_opts;
+
+static int parse_args(int argc, char **argv, bench_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->scene = "cornell";
+    o->frames = 10;
+    o->eye_w = 720, o->eye_h = 800;
+    o->ref = REF_MODEL;
+    o->spp = 64;
+    o->out_dir = "out/bench";
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = NULL;
+        int r;
+        if (fv_cli_is_help(a)) {
+            fputs(USAGE, stdout);
+            fv_tool_knobs_help(stdout);
+            return -1;
+        }
+#define OPT(name)                                                                                                      \
+    ((r = fv_cli_option(argc, argv, &i, name, &v)) < 0                                                                 \
+         ? (fv_cli_usage_error("bench", USAGE, "option %s needs a value", name), -2)                                   \
+         : r)
+        if ((r = OPT("--sweep")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            char err[512];
+            if (FV_FAILED(fv_bench_plan_add(&o->plan, v, err, sizeof err)))
+                return fv_cli_usage_error("bench", USAGE, "--sweep: %s", err);
+            continue;
+        }
+        if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;
+        else if (r) { o->scene = v; continue; }
+        if ((r = OPT("--frames")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_i64(v, WARMUP_FRAMES + 1, 100000, &o->frames))
+                return fv_cli_usage_error("bench", USAGE, "--frames: '%s' is not a whole number in %u..100000", v,
+                                          WARMUP_FRAMES + 1);
+            continue;
+        }
+        if ((r = OPT("--eye-size")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_size(v, 8192, &o->eye_w, &o->eye_h) || o->eye_w < FV_METRICS_SSIM_WIN ||
+                o->eye_h < FV_METRICS_SSIM_WIN)
+                return fv_cli_usage_error("bench", USAGE, "--eye-size: '%s' is not WxH with each in %d..8192", v,
+                                          FV_METRICS_SSIM_WIN);
+            continue;
+        }
+        if ((r = OPT("--gaze-deg")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_f64_pair(v, -180.0, 180.0, o->gaze_deg) || fabs(o->gaze_deg[1]) > 90.0)
+                return fv_cli_usage_error("bench", USAGE,
+                                          "--gaze-deg: '%s' is not YAW,PITCH in degrees (yaw -180..180, pitch -90..90)",
+                                          v);
+            o->has_gaze = true;
+            continue;
+        }
+        if ((r = OPT("--reference")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (strcmp(v, "model") == 0) o->ref = REF_MODEL;
+            else if (strcmp(v, "path") == 0) o->ref = REF_PATH;
+            else if (strcmp(v, "none") == 0) o->ref = REF_NONE;
+            else return fv_cli_usage_error("bench", USAGE, "--reference: '%s' is not one of model, path, none", v);
+            continue;
+        }
+        if ((r = OPT("--spp")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_i64(v, 1, FV_REFERENCE_MAX_SPP, &o->spp))
+                return fv_cli_usage_error("bench", USAGE, "--spp: '%s' is not a whole number in 1..%u", v,
+                                          FV_REFERENCE_MAX_SPP);
+            continue;
+        }
+        if ((r = OPT("--out")) == -2) return FV_EXIT_USAGE;
+        else if (r) { o->out_dir = v; continue; }
+#undef OPT
+        if ((r = fv_tool_quality_option(&o->plan.tq, argc, argv, &i, "bench", USAGE)) == FV_EXIT_USAGE) return r;
+        else if (r) continue;
+        if (strcmp(a, "--json") == 0) { o->json = true; continue; }
+        return fv_cli_usage_error("bench", USAGE, "unknown option '%s'", a);
+    }
+    if (o->plan.sweep_count == 0)
+        return fv_cli_usage_error("bench", USAGE,
+                                  "needs at least one --sweep NAME=V1,V2,... (e.g. shadow.splits=1,2,4)");
+    size_t n = fv_bench_plan_points(&o->plan);
+    if (n > FV_BENCH_MAX_POINTS) {
+        if (n == SIZE_MAX)
+            return fv_cli_usage_error("bench", USAGE, "--sweep: the sweeps make more than %d points",
+                                      FV_BENCH_MAX_POINTS);
+        return fv_cli_usage_error("bench", USAGE,
+                                  "--sweep: the sweeps make %zu points, more than %d; sweep fewer values", n,
+                                  FV_BENCH_MAX_POINTS);
+    }
+    return fv_tool_quality_build(&o->plan.tq, "bench", USAGE, &o->base);
+}
+
+/* ---- rendering ----------------------------------------------------------------------------------------------- */
+
+typedef struct bench_state {
+    const bench_opts *o;
+    fv_renderer *r;
+    fv_frame_input views; /* frame 0's views and gaze: every frame draws these */
+    uint64_t next_frame;  /* frame ids rise over the whole run */
+    float *rgba;          /* one eye's read-back */
+    bool tty;
+    int64_t t_start_ns;
+} bench_state;
+
+/* Median and p95 of a finished series (sorted in place). */
+static fv_bench_ms summarise(double *ms, size_t n)
+{
+    return (fv_bench_ms){fv_percentile_f64(ms, n, 50), fv_percentile_f64(ms, n, 95)};
+}
+
+/* Render the point's frames and read its last image (both eyes side by side, linear) into img. */
+static fv_result bench_point(bench_state *st, const fv_quality *q, fv_bench_point *out, fv_rgb_image *img)
+{
+    const bench_opts *o = st->o;
+    fv_measure m;
+    FV_TRY(fv_measure_init(&m, (size_t)o->frames));
+    fv_result res = fv_renderer_set_quality(st->r, q);
+    for (int64_t f = 0; f < o->frames && !FV_FAILED(res); f++) {
+        fv_frame_input in = st->views;
+        in.frame_id = st->next_frame++;
+        in.quality = *q;
+        res = fv_renderer_draw(st->r, &in);
+        if (!FV_FAILED(res)) res = fv_renderer_finish(st->r); /* frames do not overlap: each is timed alone */
+        if (FV_FAILED(res)) break;
+        if ((uint64_t)f + 1 == WARMUP_FRAMES) fv_measure_skip(&m, st->r);
+        else if ((uint64_t)f >= WARMUP_FRAMES && !fv_measure_take(&m, st->r)) res = FV_ERR_NO_MEMORY;
+    }
+    if (!FV_FAILED(res)) {
+        out->pass_count = m.pass_count;
+        for (uint32_t p = 0; p < m.pass_count; p++) {
+            snprintf(out->pass_name[p], sizeof out->pass_name[p], "%s", m.passes[p].name);
+            out->pass[p] = summarise(m.passes[p].ms, m.passes[p].n);
+        }
+        out->frame = summarise(m.frame_gpu_ms, m.measured);
+        out->frames_timed = m.measured;
+    }
+    fv_measure_fini(&m);
+    uint32_t w = o->eye_w, h = o->eye_h;
+    for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++) {
+        res = fv_renderer_read_linear(st->r, eye, st->rgba, (size_t)w * h * 4);
+        for (uint32_t y = 0; y < h && !FV_FAILED(res); y++)
+            for (uint32_t x = 0; x < w; x++) {
+                const float *s = &st->rgba[((size_t)y * w + x) * 4];
+                float *d = &img->rgb[((size_t)y * 2 * w + (size_t)eye * w + x) * 3];
+                d[0] = s[0], d[1] = s[1], d[2] = s[2];
+            }
+    }
+    return res;
+}
+
+/* The CPU reference of frame 0's views, both eyes side by side, into img; *out_s: its wall time. */
+static fv_result render_reference(const bench_opts *o, const fv_scene *scene, const fv_frame_input *in,
+                                  fv_rgb_image *img, double *out_s, uint32_t *out_spp, uint32_t *out_bounces)
+{
+    uint32_t w = o->eye_w, h = o->eye_h;
+    fv_reference_desc d = {.mode = o->ref == REF_PATH ? FV_REFERENCE_PATH : FV_REFERENCE_MODEL,
+                           .view = FV_REFERENCE_VIEW_COLOR, .spp = o->ref == REF_PATH ? (uint32_t)o->spp : 1,
+                           .bounces = 8, .seed = 1, .eye_width = w, .eye_height = h};
+    *out_spp = d.spp;
+    *out_bounces = d.bounces;
+    float *eyes = malloc((size_t)w * h * 3 * 2 * sizeof *eyes);
+    if (!eyes) return FV_ERR_NO_MEMORY;
+    if (isatty(STDERR_FILENO)) fprintf(stderr, "\rfovea bench: CPU reference (%s)...", fv_reference_mode_name(d.mode));
+    int64_t t0 = fv_time_monotonic_ns();
+    fv_result res = fv_reference_render(scene, in, &d, eyes, eyes + (size_t)w * h * 3, NULL);
+    *out_s = (double)(fv_time_monotonic_ns() - t0) / 1e9;
+    if (isatty(STDERR_FILENO)) fprintf(stderr, "\r%*s\r", 60, "");
+    for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++)
+        for (uint32_t y = 0; y < h; y++)
+            memcpy(&img->rgb[((size_t)y * 2 * w + (size_t)eye * w) * 3], &eyes[((size_t)eye * h + y) * w * 3],
+                   (size_t)w * 3 * sizeof *eyes);
+    free(eyes);
+    return res;
+}
+
+static void progress(bench_state *st, size_t i, size_t n, const fv_bench_plan *plan, const fv_bench_point *p)
+{
+    if (!st->tty) return;
+    char line[512];
+    int len = snprintf(line, sizeof line, "fovea bench: point %zu/%zu", i + 1, n);
+    for (size_t s = 0; s < plan->sweep_count && len > 0 && (size_t)len < sizeof line; s++)
+        len += snprintf(line + len, sizeof line - (size_t)len, " %s=%s", plan->sweeps[s].name,
+                        plan->sweeps[s].values[p->value_index[s]]);
+    double t = (double)(fv_time_monotonic_ns() - st->t_start_ns) / 1e9;
+    fprintf(stderr, "\r%-100.100s %6.1f s", line, t);
+}
+
+/* ---- output -------------------------------------------------------------------------------------------------- */
+
+static void print_table(const fv_bench_result *res, const char *out_dir, size_t plots)
+{
+    const fv_bench_plan *plan = res->plan;
+    printf("fovea bench: scene '%s' on %s, %ux%u per eye, preset %s, %zu point%s of %u frames (%u warm-up)\n",
+           res->scene, res->device, res->eye_width, res->eye_height, res->preset, res->point_count,
+           res->point_count == 1 ? "" : "s", res->frames, res->warmup_frames);
+    if (res->has_reference)
+        printf("  reference: %s, %u spp, %.2f s; exact preset on the GPU: %.3f ms median, %.2f dB and SSIM %.5f vs "
+               "the reference\n", res->reference_mode, res->reference_spp, res->reference_s, res->exact.frame.median_ms,
+               res->exact.vs_reference.all.psnr_db, res->exact.vs_reference.all.ssim);
+    else
+        printf("  reference: none; exact preset on the GPU: %.3f ms median\n", res->exact.frame.median_ms);
+    for (size_t s = 0; s < plan->sweep_count; s++)
+        printf("  %-*s", (int)strlen(plan->sweeps[s].name), plan->sweeps[s].name);
+    printf("  %9s %9s  %9s %9s", "frame ms", "p95 ms", "exact dB", "ssim");
+    if (res->has_reference) printf("  %9s %9s %9s", "ref dB", "ssim", "rel mean");
+    printf("\n");
+    for (size_t i = 0; i < res->point_count; i++) {
+        const fv_bench_point *p = &res->points[i];
+        for (size_t s = 0; s < plan->sweep_count; s++)
+            printf("  %-*s", (int)strlen(plan->sweeps[s].name), plan->sweeps[s].values[p->value_index[s]]);
+        char a[32], b[32], c[32], d[32], e[32];
+        printf("  %9.3f %9.3f  %9s %9s", p->frame.median_ms, p->frame.p95_ms,
+               fv_cli_format_number(a, sizeof a, "%.2f", p->vs_exact.all.psnr_db),
+               fv_cli_format_number(b, sizeof b, "%.5f", p->vs_exact.all.ssim));
+        if (res->has_reference)
+            printf("  %9s %9s %9s", fv_cli_format_number(c, sizeof c, "%.2f", p->vs_reference.all.psnr_db),
+                   fv_cli_format_number(d, sizeof d, "%.5f", p->vs_reference.all.ssim),
+                   fv_cli_format_number(e, sizeof e, "%.4g", p->vs_reference.all.rel_mean));
+        printf("%s\n", p->is_preset ? "   <- the preset's own values" : "");
+    }
+    printf("  files: %s/bench.json, %s/bench.csv", out_dir, out_dir);
+    if (plots) printf(", %zu plot%s (pareto_<knob>.png)", plots, plots == 1 ? "" : "s");
+    printf("\n");
+}
+
+static fv_result write_json_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (!f || fputs(text, f) < 0 || fputc('\n', f) < 0) {
+        if (f) fclose(f);
+        FV_ERROR(MOD, "%s: cannot write (%s)", path, strerror(errno));
+        return FV_ERR_IO;
+    }
+    if (fclose(f) != 0) {
+        FV_ERROR(MOD, "%s: cannot write (%s)", path, strerror(errno));
+        return FV_ERR_IO;
+    }
+    return FV_OK;
+}
+
+int fv_cmd_bench(int argc, char **argv)
+{
+    bench_opts o;
+    int pr = parse_args(argc, argv, &o);
+    if (pr == -1) return FV_EXIT_OK;
+    if (pr != 0) return pr;
+
+    int exit_code = FV_EXIT_FAIL;
+    size_t n = fv_bench_plan_points(&o.plan);
+    uint32_t w = o.eye_w, h = o.eye_h;
+    fv_scene *scene = NULL;
+    fv_renderer *r = NULL;
+    fv_bench_point *points = calloc(n, sizeof *points);
+    fv_rgb_image exact_img = {0}, ref_img = {0}, img = {0};
+    float *ecc = NULL;
+    bench_state st = {.o = &o, .tty = isatty(STDERR_FILENO), .t_start_ns = fv_time_monotonic_ns()};
+    st.rgba = malloc((size_t)w * h * 4 * sizeof *st.rgba);
+    char err[512];
+    if (!points || !st.rgba || FV_FAILED(fv_rgb_image_init(&exact_img, 2 * w, h, FV_IMAGE_KIND_LINEAR)) ||
+        FV_FAILED(fv_rgb_image_init(&img, 2 * w, h, FV_IMAGE_KIND_LINEAR))) {
+        FV_ERROR(MOD, "out of memory for %zu points at %ux%u per eye", n, w, h);
+        goto done;
+    }
+    if (!fv_cli_make_dirs(o.out_dir)) {
+        FV_ERROR(MOD, "--out %s: cannot create directory (%s)", o.out_dir, strerror(errno));
+        goto done;
+    }
+    if (FV_FAILED(fv_scene_load(o.scene, &scene))) {
+        fprintf(stderr, "fovea bench: cannot load scene '%s' (see the messages above)\n", o.scene);
+        goto done;
+    }
+    fv_renderer_desc desc = {.eye_width = w, .eye_height = h};
+    if (FV_FAILED(fv_renderer_create(&desc, &r))) {
+        fprintf(stderr, "fovea bench: cannot create the renderer (see the messages above)\n");
+        goto done;
+    }
+    st.r = r;
+    fv_quality exact;
+    if (FV_FAILED(fv_quality_preset("exact", &exact, err, sizeof err)) || FV_FAILED(fv_renderer_set_quality(r, &exact)))
+        goto done;
+    if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
+        fprintf(stderr, "fovea bench: cannot upload scene '%s'\n", o.scene);
+        goto done;
+    }
+    /* Frame 0's views (scene time 0), as `fovea run` and `fovea reference` see them; the gaze as given. */
+    if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &st.views))) goto done;
+    fv_vec3 gaze_dir = fv_metrics_gaze_dir_from_deg(o.gaze_deg[0], o.gaze_deg[1]);
+    if (o.has_gaze) {
+        for (int e = 0; e < 2; e++) st.views.gaze[e] = (fv_eye_gaze){.valid = true, .dir_eye = gaze_dir};
+        ecc = malloc((size_t)2 * w * h * sizeof *ecc);
+        if (!ecc) goto done;
+        /* Each eye's view space turns with the head, so the head-frame direction holds in both. */
+        for (int e = 0; e < 2; e++)
+            fv_metrics_eccentricity_deg(&st.views.eye[e], gaze_dir, w, h, ecc + (size_t)e * w, 2 * w);
+    }
+
+    fv_bench_result res = {.scene = scene->name[0] ? scene->name : o.scene, .device = fv_renderer_device_name(r),
+                           .preset = fv_tool_quality_preset(&o.plan.tq), .eye_width = w, .eye_height = h,
+                           .frames = (uint32_t)o.frames, .warmup_frames = WARMUP_FRAMES, .has_gaze = o.has_gaze,
+                           .gaze_deg = {o.gaze_deg[0], o.gaze_deg[1]}, .has_reference = o.ref != REF_NONE,
+                           .reference_mode = o.ref == REF_MODEL ? "model" : o.ref == REF_PATH ? "path" : "none",
+                           .plan = &o.plan, .points = points, .point_count = n};
+    res.exact.quality = exact;
+    res.exact.preset = "exact";
+    if (FV_FAILED(bench_point(&st, &exact, &res.exact, &exact_img))) {
+        fprintf(stderr, "fovea bench: rendering the exact preset failed (see the messages above)\n");
+        goto done;
+    }
+    if (res.has_reference) {
+        if (FV_FAILED(fv_rgb_image_init(&ref_img, 2 * w, h, FV_IMAGE_KIND_LINEAR))) goto done;
+        fv_result rr = render_reference(&o, scene, &st.views, &ref_img, &res.reference_s, &res.reference_spp,
+                                        &res.reference_bounces);
+        if (FV_FAILED(rr)) {
+            fprintf(stderr, "fovea bench: the CPU reference failed: %s\n", fv_result_str(rr));
+            goto done;
+        }
+    }
+    fv_metrics_desc md = {.name_a = "point", .name_b = "reference", .ecc_deg = ecc, .eyes = 2};
+    if (res.has_reference && FV_FAILED(fv_metrics_compare(&exact_img, &ref_img, &md, &res.exact.vs_reference)))
+        goto done;
+    for (size_t i = 0; i < n; i++) {
+        fv_bench_point *p = &points[i];
+        fv_bench_point_values(&o.plan, i, p->value_index);
+        if (FV_FAILED(fv_bench_point_quality(&o.plan, i, &p->quality, &p->preset, err, sizeof err))) {
+            fprintf(stderr, "fovea bench: point %zu: %s\n", i + 1, err);
+            goto done;
+        }
+        p->is_preset = fv_quality_equal(&p->quality, &o.base);
+        progress(&st, i, n, &o.plan, p);
+        if (FV_FAILED(bench_point(&st, &p->quality, p, &img))) {
+            fprintf(stderr, "\nfovea bench: point %zu failed (see the messages above)\n", i + 1);
+            goto done;
+        }
+        md.name_b = "exact";
+        if (FV_FAILED(fv_metrics_compare(&img, &exact_img, &md, &p->vs_exact))) goto done;
+        md.name_b = "reference";
+        if (res.has_reference && FV_FAILED(fv_metrics_compare(&img, &ref_img, &md, &p->vs_reference))) goto done;
+    }
+    if (st.tty) fprintf(stderr, "\r%*s\r", 110, "");
+    res.validation_messages = fv_renderer_validation_messages(r);
+
+    char path[1200];
+    cJSON *j = fv_bench_json(&res);
+    char *pretty = j ? cJSON_Print(j) : NULL, *flat = j && o.json ? cJSON_PrintUnformatted(j) : NULL;
+    cJSON_Delete(j);
+    snprintf(path, sizeof path, "%s/bench.json", o.out_dir);
+    fv_result wr = pretty && (!o.json || flat) ? write_json_file(path, pretty) : FV_ERR_NO_MEMORY;
+    if (!FV_FAILED(wr) && o.json) puts(flat);
+    cJSON_free(pretty);
+    cJSON_free(flat);
+    if (FV_FAILED(wr)) goto done;
+    snprintf(path, sizeof path, "%s/bench.csv", o.out_dir);
+    if (FV_FAILED(fv_bench_write_csv(&res, path))) goto done;
+    size_t plots = 0;
+    if (FV_FAILED(fv_bench_plot(&res, o.out_dir, &plots))) { /* warned; bench.json and bench.csv stand */ }
+    if (!o.json) print_table(&res, o.out_dir, plots);
+    if (res.validation_messages > 0) {
+        fprintf(stderr, "fovea bench: %u Vulkan validation message%s (see above)\n", res.validation_messages,
+                res.validation_messages == 1 ? "" : "s");
+        goto done;
+    }
+    exit_code = FV_EXIT_OK;
+done:
+    fv_renderer_destroy(&r);
+    fv_scene_destroy(&scene);
+    fv_rgb_image_fini(&exact_img);
+    fv_rgb_image_fini(&ref_img);
+    fv_rgb_image_fini(&img);
+    free(ecc);
+    free(st.rgba);
+    free(points);
+    return exit_code;
+}
