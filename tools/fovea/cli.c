@@ -1,6 +1,8 @@
 /* @brief Shared command-line helpers for the fovea subcommands. */
 #include "cli.h"
 
+#include "fv_log.h"
+
 #include <cjson/cJSON.h>
 #include <errno.h>
 #include <math.h>
@@ -111,6 +113,13 @@ const char *fv_cli_format_number(char *buf, size_t size, const char *fmt, double
     else if (isinf(v)) snprintf(buf, size, v > 0 ? "inf" : "-inf");
     else snprintf(buf, size, fmt, v);
     return buf;
+}
+
+bool fv_cli_output_dir(const char *cmd, const char *opt, const char *dir)
+{
+    if (fv_cli_make_dirs(dir)) return true;
+    FV_ERROR(cmd, "%s %s: cannot create directory (%s)", opt, dir, strerror(errno ? errno : ENOTDIR));
+    return false;
 }
 
 bool fv_cli_is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }

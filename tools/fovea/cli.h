@@ -34,6 +34,15 @@ bool fv_cli_make_dirs(const char *dir);
 void fv_cli_json_number(cJSON *obj, const char *key, double v);
 /** A number for a text table into buf: "-" for NaN (does not apply), "inf"/"-inf", else printf's `fmt`; returns buf. */
 const char *fv_cli_format_number(char *buf, size_t size, const char *fmt, double v);
+/** Inside an option loop (argc, argv, int i, int r and const char *v in scope): whether argv[i] is option NAME with
+ *  a value (1, value in v), not this option (0), or this option without its value (-2, after printing the usage
+ *  error for command CMD). */
+#define FV_CLI_OPT(cmd, usage, name)                                                                                   \
+    ((r = fv_cli_option(argc, argv, &i, name, &v)) < 0                                                                 \
+         ? (fv_cli_usage_error(cmd, usage, "option %s needs a value", name), -2)                                       \
+         : r)
+/** Create an output directory (and its parents) for option OPT of command CMD; false after logging why. */
+bool fv_cli_output_dir(const char *cmd, const char *opt, const char *dir);
 /** True when argv[i] is "--help" or "-h". */
 bool fv_cli_is_help(const char *arg);
 /** Option with a value, as "--opt VALUE" or "--opt=VALUE". Returns 0 when argv[*i] is not this option, 1 when it

@@ -98,10 +98,7 @@ static int parse_args(int argc, char **argv, bench_opts *o)
             fv_tool_knobs_help(stdout);
             return -1;
         }
-#define OPT(name)                                                                                                      \
-    ((r = fv_cli_option(argc, argv, &i, name, &v)) < 0                                                                 \
-         ? (fv_cli_usage_error("bench", USAGE, "option %s needs a value", name), -2)                                   \
-         : r)
+#define OPT(name) FV_CLI_OPT("bench", USAGE, name)
         if ((r = OPT("--sweep")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             char err[512];

@@ -66,10 +66,7 @@ static int parse_args(int argc, char **argv, ref_opts *o)
             fputs(USAGE, stdout);
             return -1;
         }
-#define OPT(name)                                                                                                      \
-    ((r = fv_cli_option(argc, argv, &i, name, &v)) < 0                                                                 \
-         ? (fv_cli_usage_error("reference", USAGE, "option %s needs a value", name), -2)                               \
-         : r)
+#define OPT(name) FV_CLI_OPT("reference", USAGE, name)
 #define NUMBER(name, lo, hi)                                                                                           \
     if (!fv_cli_parse_i64(v, lo, hi, &n))                                                                              \
         return fv_cli_usage_error("reference", USAGE, "%s: '%s' is not a whole number in %lld..%lld", name, v,      \
@@ -145,16 +142,6 @@ static int parse_args(int argc, char **argv, ref_opts *o)
     }
     if (!o->spp_set) o->desc.spp = o->desc.mode == FV_REFERENCE_PATH ? 64 : 1;
     return 0;
-}
-
-static int ensure_dir(const char *dir, const char *opt)
-{
-    if (mkdir(dir, 0755) == 0 || errno == EEXIST) {
-        struct stat st;
-        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
-    }
-    FV_ERROR(MOD, "%s %s: cannot create directory (%s)", opt, dir, strerror(errno ? errno : ENOTDIR));
-    return -1;
 }
 
 /* ---- progress (stderr, on a terminal) ------------------------------------------------------------------------ */
@@ -312,8 +299,8 @@ int fv_cmd_reference(int argc, char **argv)
         FV_ERROR(MOD, "out of memory for %ux%u per eye", w, h);
         goto done;
     }
-    if (o.out_dir && ensure_dir(o.out_dir, "--out") != 0) goto done;
-    if (o.cache_dir && ensure_dir(o.cache_dir, "--cache") != 0) goto done;
+    if (o.out_dir && !fv_cli_output_dir("reference", "--out", o.out_dir)) goto done;
+    if (o.cache_dir && !fv_cli_output_dir("reference", "--cache", o.cache_dir)) goto done;
     if (FV_FAILED(fv_scene_load(o.scene, &scene))) {
         fprintf(stderr, "fovea reference: cannot load scene '%s' (see the messages above)\n", o.scene);
         goto done;

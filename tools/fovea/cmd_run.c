@@ -90,10 +90,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
             fv_tool_knobs_help(stdout);
             return -1;
         }
-#define OPT(name)                                                                                                      \
-    ((r = fv_cli_option(argc, argv, &i, name, &v)) < 0                                                                 \
-         ? (fv_cli_usage_error("run", USAGE, "option %s needs a value", name), -2)                                     \
-         : r)
+#define OPT(name) FV_CLI_OPT("run", USAGE, name)
         if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->scene = v; continue; }
         if ((r = OPT("--frames")) == -2) return FV_EXIT_USAGE;
@@ -166,16 +163,6 @@ static int parse_args(int argc, char **argv, run_opts *o)
     o->quality.exposure = o->exposure;
     o->quality.debug_view = o->debug_view;
     return 0;
-}
-
-static int ensure_dir(const char *dir)
-{
-    if (mkdir(dir, 0755) == 0 || errno == EEXIST) {
-        struct stat st;
-        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
-    }
-    FV_ERROR("run", "--out %s: cannot create directory (%s)", dir, strerror(errno ? errno : ENOTDIR));
-    return -1;
 }
 
 static void print_plan(FILE *f, const fv_frame_plan *plan)
@@ -259,7 +246,7 @@ int fv_cmd_run(int argc, char **argv)
     }
     bool saving = o.out_dir && o.save != SAVE_NONE;
     if (saving) {
-        if (ensure_dir(o.out_dir) != 0) goto done;
+        if (!fv_cli_output_dir("run", "--out", o.out_dir)) goto done;
         fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.sbs, .linear_pfm = o.float_out,
                                    .save = o.save == SAVE_EVERY ? FV_TARGET_SAVE_EVERY : FV_TARGET_SAVE_LAST};
         if (FV_FAILED(fv_target_files_create(&fd, &files))) goto done;
