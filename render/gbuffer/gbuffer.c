@@ -60,18 +60,7 @@ static fv_result create_render_pass(gbuffer *gb)
 {
     fv_vk *vk = gb->vk;
     VkAttachmentDescription att[TARGETS];
-    for (int i = 0; i < TARGETS; i++) {
-        att[i] = (VkAttachmentDescription){
-            .format = gb->img[i]->format,
-            .samples = VK_SAMPLE_COUNT_1_BIT,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT,
-        };
-    }
+    for (int i = 0; i < TARGETS; i++) att[i] = fv_vk_attachment_cleared(gb->img[i]->format, i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT);
     VkAttachmentReference depth_ref = {0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
     VkAttachmentReference color_refs[TARGETS - 1];
     for (uint32_t i = 0; i < TARGETS - 1; i++)

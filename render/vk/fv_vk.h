@@ -265,6 +265,10 @@ typedef struct fv_vk_graphics_desc {
     const char *name;
 } fv_vk_graphics_desc;
 
+/** An attachment cleared at the start of its render pass and stored at its end, its old contents discarded
+ *  (initial layout UNDEFINED), left in final_layout. */
+VkAttachmentDescription fv_vk_attachment_cleared(VkFormat format, VkImageLayout final_layout);
+
 /** A triangle-list graphics pipeline with dynamic viewport/scissor, no blending. */
 FV_MUST_CHECK fv_result fv_vk_graphics_pipeline(fv_vk *vk, const fv_vk_graphics_desc *desc, VkPipeline *out);
 

@@ -154,6 +154,20 @@ fv_result fv_vk_graphics_pipeline(fv_vk *vk, const fv_vk_graphics_desc *d, VkPip
     return FV_OK;
 }
 
+VkAttachmentDescription fv_vk_attachment_cleared(VkFormat format, VkImageLayout final_layout)
+{
+    return (VkAttachmentDescription){
+        .format = format,
+        .samples = VK_SAMPLE_COUNT_1_BIT,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .finalLayout = final_layout,
+    };
+}
+
 fv_result fv_vk_descriptor_pool(fv_vk *vk, const VkDescriptorPoolSize *sizes, uint32_t size_count, uint32_t max_sets,
                                 const char *name, VkDescriptorPool *out)
 {
