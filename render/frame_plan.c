@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "debug.h"
+#include "fovea.h"
 #include "fv_passes.h"
 #include "fv_renderer.h"
 #include "gbuffer.h"
@@ -69,23 +70,16 @@ static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         say(out, false, "off — no translucent material");
 }
 
-static void fovea_plan(const fv_plan_context *ctx, fv_plan_entry *out)
-{
-    (void)ctx;
-    say(out, false, "not implemented yet - every pixel shaded at full resolution");
-}
-
 static const fv_pass motion_entry = {.id = "motion", .plan = motion_plan};
 static const fv_pass gi_entry = {.id = "gi", .plan = gi_plan};
 static const fv_pass sss_entry = {.id = "sss", .plan = sss_plan};
-static const fv_pass fovea_entry = {.id = "fovea", .plan = fovea_plan};
 
 /* ---- the table ------------------------------------------------------------------------------------------------ */
 
 /* Frame order. A new pass: its folder under render/, and one line here. */
 static const fv_pass *const table[] = {
-    &fv_gbuffer_pass, &motion_entry, &fv_shadow_pass, &gi_entry, &sss_entry, &fovea_entry,
-    &fv_shade_pass,   &fv_debug_pass, &fv_present_pass,
+    &fv_gbuffer_pass, &motion_entry, &fv_shadow_pass, &gi_entry,        &sss_entry,
+    &fv_fovea_pass,   &fv_shade_pass, &fv_reconstruct_pass, &fv_debug_pass, &fv_present_pass,
 };
 _Static_assert(sizeof table / sizeof table[0] <= FV_MAX_PASSES, "FV_MAX_PASSES holds the table");
 

@@ -71,6 +71,10 @@ FV_MUST_CHECK fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *
  *  previous object transforms). Zero where nothing was drawn, and everywhere in the first frame after a scene load.
  *  Stored as half floats (RG16F) and widened here. out_rg must hold W * H * 2 floats. Waits for the GPU. */
 FV_MUST_CHECK fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t out_floats);
+/** Read one eye of a pass's image of the renderer's table by its name (e.g. "fovea prob": R32F), texel_bytes per
+ *  texel, rows tightly packed (waits for the GPU). FV_ERR_NOT_FOUND when no such image exists (the pass is off). */
+FV_MUST_CHECK fv_result fv_renderer_read_image(fv_renderer *r, const char *name, int eye, void *out, size_t out_size,
+                                               size_t texel_bytes);
 /** What a running pass decided for the last frame, as named numbers (e.g. the shadow pass: per shadowed light its
  *  near_m, far_m and splits_m); 0 when the pass is off or has nothing to say. */
 uint32_t fv_renderer_pass_details(const fv_renderer *r, const char *pass, fv_pass_detail *out, uint32_t cap);

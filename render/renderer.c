@@ -27,6 +27,7 @@ typedef struct frame_slot {
     uint64_t seq;                        /* submission number (caller frame ids need not increase) */
     uint64_t frame_id;
     fv_pass_counters counters[FV_MAX_PASSES]; /* per timed pass, in timer order */
+    bool sampled;                        /* a pass filled the frame sample list: its count is read back at retire */
     uint32_t counter_count;
 } frame_slot;
 
@@ -36,6 +37,7 @@ struct fv_renderer {
     fv_images images;
     fv_scene_gpu scene;
     fv_shade_inputs shade_inputs;
+    fv_frame_samples samples; /* the frame sample list (fv_frame_samples.h) */
     fv_vk_timer timer;
     fv_target *target;
     frame_slot slots[FV_MAX_FRAMES_IN_FLIGHT];
@@ -92,6 +94,12 @@ static fv_quality quality_sanitized(const fv_quality *q)
     if (r < 256 || r > 4096 || (r & (r - 1))) s->resolution_px = d.shadow.resolution_px;
     if ((unsigned)s->filter > FV_SHADOW_FILTER_PCF5) s->filter = d.shadow.filter;
     if (!(s->bias_texels >= 0.0f && s->bias_texels <= 10.0f)) s->bias_texels = d.shadow.bias_texels;
+    fv_quality_fovea *f = &o.fovea;
+    if (!(f->mar_slope >= 0.0f && f->mar_slope <= 1.0f)) f->mar_slope = d.fovea.mar_slope;
+    if (!(f->mar_w0_deg >= 0.001f && f->mar_w0_deg <= 1.0f)) f->mar_w0_deg = d.fovea.mar_w0_deg;
+    if (!(f->min_prob >= 0.01f && f->min_prob <= 1.0f)) f->min_prob = d.fovea.min_prob;
+    if (f->block < 2 || f->block > 16) f->block = d.fovea.block;
+    if ((unsigned)f->recon > FV_FOVEA_RECON_NEAREST) f->recon = d.fovea.recon;
     return o;
 }
 
@@ -103,7 +111,7 @@ static void pass_env(fv_renderer *r, uint32_t i, fv_pass_env *env)
     *env = (fv_pass_env){.vk = r->vk, .scene = &r->scene, .images = &r->images, .shade_inputs = &r->shade_inputs,
                          .width = r->desc.eye_width,
                          .height = r->desc.eye_height, .slots = r->slot_count, .multiview = r->multiview,
-                         .plan = &r->plan.entries[i]};
+                         .plan = &r->plan.entries[i], .samples = &r->samples};
 }
 
 static void fini_pass(fv_renderer *r, uint32_t i)
@@ -222,6 +230,7 @@ fv_result fv_renderer_create(const fv_renderer_desc *desc_in, fv_renderer **out_
     if (res != FV_OK) goto fail;
     r->multiview = fv_vk_multiview_trusted(&r->vk->info, r->multiview_why, sizeof r->multiview_why);
     res = fv_images_init(&r->images, r->vk, desc.eye_width, desc.eye_height);
+    if (res == FV_OK) fv_frame_samples_init(&r->samples, r->vk, r->slot_count, 2u * desc.eye_width * desc.eye_height);
     if (res == FV_OK) res = fv_scene_gpu_init(&r->scene, r->vk, r->slot_count);
     if (res == FV_OK) res = fv_shade_inputs_init(&r->shade_inputs, r->vk, r->slot_count);
     if (res == FV_OK) res = fv_vk_timer_init(&r->timer, r->vk, r->slot_count);
@@ -275,6 +284,7 @@ void fv_renderer_destroy(fv_renderer **pr)
         fv_vk_timer_fini(&r->timer, r->vk);
         fv_scene_gpu_fini(&r->scene);
         fv_shade_inputs_fini(&r->shade_inputs);
+        fv_frame_samples_fini(&r->samples);
         fv_images_fini(&r->images);
         fv_vk_destroy(&r->vk);
     }
@@ -298,6 +308,9 @@ static fv_result retire(fv_renderer *r, uint32_t slot)
     double ms[FV_MAX_PASSES];
     st->pass_count = fv_vk_timer_collect(&r->timer, r->vk, slot, ms, names, FV_MAX_PASSES, &st->frame_gpu_ms);
     st->pixels_shaded = 0;
+    /* A list the GPU made (foveation): its size, read back now that the fence passed, is what its shader shaded. */
+    uint64_t gpu_count = s->sampled ? fv_frame_samples_count(&r->samples, slot) : 0;
+    for (uint32_t i = 0; i < s->counter_count; i++) s->counters[i].pixels_shaded += s->counters[i].gpu_lists * gpu_count;
     for (uint32_t i = 0; i < st->pass_count; i++) {
         memcpy(st->pass_name[i], names[i], sizeof st->pass_name[i]); /* both 24 bytes, terminated */
         st->pass_name[i][sizeof st->pass_name[i] - 1] = '\0';
@@ -466,24 +479,35 @@ static fv_result prepare_passes(fv_renderer *r, uint32_t slot, const fv_frame_in
     return fv_shade_inputs_end_frame(&r->shade_inputs, slot);
 }
 
-/* Record the enabled passes (only those that replay on a pixel list when `pixels` is set), each in its own
- * timestamp range when `timed`. */
+/* Record the enabled passes (only those that replay on a pixel list when `replay` is set), each in its own
+ * timestamp range when `timed`. A whole frame (replay NULL) hands the frame sample list, once a pass filled it, to
+ * the passes after that one as their `pixels`. */
 static void record_passes(fv_renderer *r, VkCommandBuffer cmd, uint32_t slot, const fv_frame_input *in,
-                          const fv_pixel_list *pixels, bool timed, frame_slot *s)
+                          const fv_pixel_list *replay, bool timed, frame_slot *s)
 {
     if (s) s->counter_count = 0;
+    if (s) s->sampled = false;
+    r->samples.active = false;
+    fv_pixel_list sampled = {0};
+    const fv_pixel_list *pixels = replay;
     for (uint32_t i = 0; i < r->pass_count; i++) {
         const fv_pass *p = r->table[i];
         if (!r->plan.entries[i].enabled || !r->pass_state[i] || !p->record) continue;
-        if (pixels && !(p->flags & FV_PASS_REPLAYS_ON_PIXELS)) continue;
+        if (replay && !(p->flags & FV_PASS_REPLAYS_ON_PIXELS)) continue;
         fv_pass_counters scratch = {0};
         int t = timed ? fv_vk_timer_begin(&r->timer, cmd, slot, p->id) : -1;
         fv_pass_counters *counters = s && t >= 0 && (uint32_t)t < FV_MAX_PASSES ? &s->counters[t] : &scratch;
         *counters = (fv_pass_counters){0};
         fv_pass_frame f = {.cmd = cmd, .slot = slot, .input = in, .images = &r->images, .scene = &r->scene,
                            .scene_set = fv_scene_gpu_set(&r->scene, slot), .shade_inputs = &r->shade_inputs,
-                           .pixels = pixels, .counters = counters};
+                           .pixels = pixels, .counters = counters, .samples = replay ? NULL : &r->samples};
         p->record(r->pass_state[i], &f);
+        if (!replay && !pixels && r->samples.active) {
+            sampled = (fv_pixel_list){.buffer = r->samples.list[slot].buffer, .range = VK_WHOLE_SIZE,
+                                      .indirect = r->samples.indirect[slot].buffer, .count_on_gpu = true};
+            pixels = &sampled;
+            if (s) s->sampled = true;
+        }
         if (t >= 0) {
             fv_vk_timer_end(&r->timer, cmd, slot, t);
             if (s && (uint32_t)t + 1 > s->counter_count) s->counter_count = (uint32_t)t + 1;
@@ -720,6 +744,25 @@ uint32_t fv_renderer_pass_details(const fv_renderer *r, const char *pass, fv_pas
         if (strcmp(r->table[i]->id, pass) == 0 && r->pass_state[i] && r->table[i]->details)
             return r->table[i]->details(r->pass_state[i], out, cap);
     return 0;
+}
+
+fv_result fv_renderer_read_image(fv_renderer *r, const char *name, int eye, void *out, size_t out_size,
+                                 size_t texel_bytes)
+{
+    if (!r || !name || !out || eye < 0 || eye > 1 || !texel_bytes) return FV_ERR_INVALID_ARG;
+    FV_TRY(need_frame(r, "read_image"));
+    fv_image_id id;
+    if (fv_images_find(&r->images, name, &id) != FV_OK) {
+        FV_ERROR(MOD, "read_image: no image named %s", name);
+        return FV_ERR_NOT_FOUND;
+    }
+    size_t pitch = (size_t)r->desc.eye_width * texel_bytes;
+    if (out_size < pitch * r->desc.eye_height) {
+        FV_ERROR(MOD, "read_image %s needs %zu bytes, got %zu", name, pitch * r->desc.eye_height, out_size);
+        return FV_ERR_INVALID_ARG;
+    }
+    FV_TRY(fv_renderer_finish(r));
+    return fv_images_read(&r->images, id, (uint32_t)eye, out, out_size, 0, pitch);
 }
 
 uint32_t fv_renderer_validation_messages(const fv_renderer *r) { return r ? fv_vk_validation_messages(r->vk) : 0; }

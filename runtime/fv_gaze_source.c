@@ -20,6 +20,7 @@ struct fv_gaze_source {
     fv_gaze_source_mode mode;
     const fv_clock *clock; /* inline: injected; thread: monotonic */
     size_t batch;
+    size_t poll_max;
     int timeout_ms;
     int64_t retry_min_ns, retry_max_ns;
 
@@ -33,7 +34,9 @@ struct fv_gaze_source {
 
     /* shared: written by the reader side, read by anyone */
     _Atomic int state;
-    _Atomic uint64_t samples, losses, reopens, open_failures;
+    _Atomic uint64_t samples, losses, reopens, open_failures, poll_limited;
+    _Atomic uint64_t delivered; /* written by the consumer */
+    bool warned_poll_limit;      /* reader side */
     _Atomic int last_error;
 
     /* thread mode */
@@ -235,6 +238,7 @@ fv_result fv_gaze_source_create(const fv_gaze_source_desc *desc, fv_gaze_source 
     s->mode = desc->mode;
     s->clock = desc->mode == FV_GAZE_SOURCE_INLINE ? desc->clock : fv_clock_monotonic();
     s->timeout_ms = desc->read_timeout_ms ? desc->read_timeout_ms : 10;
+    s->poll_max = desc->poll_max_samples;
     s->retry_min_ns = desc->retry_min_ns ? desc->retry_min_ns : 50 * FV_NS_PER_MS;
     s->retry_max_ns = desc->retry_max_ns ? desc->retry_max_ns : 2 * FV_NS_PER_S;
     if (s->retry_max_ns < s->retry_min_ns) s->retry_max_ns = s->retry_min_ns;
@@ -243,11 +247,14 @@ fv_result fv_gaze_source_create(const fv_gaze_source_desc *desc, fv_gaze_source 
     atomic_init(&s->losses, 0);
     atomic_init(&s->reopens, 0);
     atomic_init(&s->open_failures, 0);
+    atomic_init(&s->poll_limited, 0);
+    atomic_init(&s->delivered, 0);
     atomic_init(&s->last_error, FV_OK);
     atomic_init(&s->stop, false);
     r = fv_ring_create(sizeof(fv_gaze_sample), desc->ring_capacity ? desc->ring_capacity : 512,
                        desc->overrun_policy, &s->ring);
     if (FV_FAILED(r)) goto fail;
+    if (!s->poll_max) s->poll_max = 64 * fv_ring_capacity(s->ring);
 
     if (given) {
         s->dev = given;
@@ -330,10 +337,20 @@ void fv_gaze_source_poll(fv_gaze_source *s)
     } else if (get_state(s) == FV_GAZE_SOURCE_LOST && now >= s->next_retry_ns) {
         try_reopen(s, now);
     }
-    /* Bounded: at most one ring's worth per poll, so a device that floods cannot keep the frame loop here. */
-    size_t budget = fv_ring_capacity(s->ring);
+    /* Read until the device has nothing more: what stays in the driver would reach a later frame older and older
+     * (a source faster than a ring per frame backs up without bound). The ring keeps the newest and counts what it
+     * drops. A device that never runs dry cannot keep the frame loop here: the poll stops at poll_max. */
     size_t got = 0;
-    while (get_state(s) == FV_GAZE_SOURCE_CONNECTED && got < budget) {
+    while (get_state(s) == FV_GAZE_SOURCE_CONNECTED) {
+        if (got >= s->poll_max) {
+            atomic_fetch_add_explicit(&s->poll_limited, 1, memory_order_relaxed);
+            if (!s->warned_poll_limit) {
+                FV_WARN("devices", "%s: still delivering after %zu samples in one poll; the rest waits for the next "
+                        "frame (counted as poll_limited; reported once)", s->uri, got);
+                s->warned_poll_limit = true;
+            }
+            break;
+        }
         long n = read_once(s, 0, now);
         if (n < 0) break;
         got += (size_t)n;
@@ -351,7 +368,9 @@ void fv_gaze_source_reprobe(fv_gaze_source *s)
 
 fv_result fv_gaze_source_pop(fv_gaze_source *s, fv_gaze_sample *out_sample)
 {
-    return fv_ring_pop(s->ring, out_sample);
+    fv_result r = fv_ring_pop(s->ring, out_sample);
+    if (r == FV_OK) atomic_fetch_add_explicit(&s->delivered, 1, memory_order_relaxed);
+    return r;
 }
 
 void fv_gaze_source_get_status(const fv_gaze_source *source, fv_gaze_source_status *out)
@@ -360,7 +379,10 @@ void fv_gaze_source_get_status(const fv_gaze_source *source, fv_gaze_source_stat
     memset(out, 0, sizeof *out);
     out->state = get_state(s);
     out->samples = atomic_load_explicit(&s->samples, memory_order_relaxed);
+    out->delivered = atomic_load_explicit(&s->delivered, memory_order_relaxed);
     out->overruns = fv_ring_overruns(s->ring);
+    out->queued = fv_ring_count(s->ring);
+    out->poll_limited = atomic_load_explicit(&s->poll_limited, memory_order_relaxed);
     out->losses = atomic_load(&s->losses);
     out->reopens = atomic_load(&s->reopens);
     out->open_failures = atomic_load(&s->open_failures);

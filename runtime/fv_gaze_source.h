@@ -6,8 +6,13 @@
  * the device, reports it lost and re-opens the URI with exponential backoff until it is back.
  *
  * Inline mode (simulated clock, replay): no thread; the frame loop calls fv_gaze_source_poll once per frame, which
- * reads with timeout 0 (at most one ring's worth) and runs the same loss/re-open logic on the injected clock, so
- * tests and `fovea latency` are deterministic. Only for devices whose read does not block at timeout 0. */
+ * reads with timeout 0 until the device has nothing more (everything due is read, so nothing waits in the driver
+ * and latency stays bounded whatever the rate; what the ring cannot hold is dropped oldest first and counted) and
+ * runs the same loss/re-open logic on the injected clock, so tests and `fovea latency` are deterministic. Only for
+ * devices whose read does not block at timeout 0.
+ *
+ * Either way every sample read is delivered (popped), dropped as stale (an overrun: the ring was full, the newest
+ * kept) or still queued: samples == delivered + overruns + queued. */
 #ifndef FV_GAZE_SOURCE_H
 #define FV_GAZE_SOURCE_H
 
@@ -50,6 +55,9 @@ typedef struct fv_gaze_source_desc {
     size_t ring_capacity;            /* samples; 0 = 512 */
     fv_ring_policy overrun_policy;   /* 0 = drop the oldest */
     size_t read_batch;               /* samples per read call; 0 = 32, at most 256 */
+    size_t poll_max_samples;         /* inline mode: a poll stops after this many samples even if the device still
+                                        has more (one that never runs dry; counted in poll_limited); 0 = 64 ring
+                                        capacities */
     int read_timeout_ms;             /* thread mode: per read; 0 = 10 */
     int64_t retry_min_ns;            /* first re-open delay; 0 = 50 ms */
     int64_t retry_max_ns;            /* backoff cap; 0 = 2 s */
@@ -64,8 +72,8 @@ FV_MUST_CHECK fv_result fv_gaze_source_create(const fv_gaze_source_desc *desc, f
  *  whose read ignores its timeout delays this by as long as it blocks. */
 void fv_gaze_source_destroy(fv_gaze_source **source);
 
-/** Inline mode: read what the device has now, handle loss and re-open on the injected clock. Thread mode: no-op.
- *  Consumer thread only. */
+/** Inline mode: read everything the device has now (up to poll_max_samples), handle loss and re-open on the injected
+ *  clock. Thread mode: no-op. Consumer thread only. */
 void fv_gaze_source_poll(fv_gaze_source *source);
 /** Any thread: when the device is LOST, re-open it now instead of waiting out the backoff (and restart the backoff
  *  from its minimum). Called when USB hotplug reports a tracker arriving. No effect in other states. */
@@ -76,7 +84,10 @@ FV_MUST_CHECK fv_result fv_gaze_source_pop(fv_gaze_source *source, fv_gaze_sampl
 typedef struct fv_gaze_source_status {
     fv_gaze_source_state state;
     uint64_t samples;        /* samples read from the device (all opens) */
-    uint64_t overruns;       /* samples lost to a full ring */
+    uint64_t delivered;      /* samples popped by the consumer */
+    uint64_t overruns;       /* samples dropped as stale: the ring was full, the oldest went (newest kept) */
+    uint64_t queued;         /* samples in the ring now (a snapshot) */
+    uint64_t poll_limited;   /* inline polls that stopped at poll_max_samples with the device still delivering */
     uint64_t losses;         /* times the device was lost */
     uint64_t reopens;        /* successful re-opens after a loss */
     uint64_t open_failures;  /* failed re-open attempts */

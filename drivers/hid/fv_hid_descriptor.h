@@ -149,5 +149,9 @@ const char *fv_hid_collection_type_name(uint8_t type);
  *  first bad character; FV_ERR_RANGE when more than cap bytes. `what` names the source in the message. */
 FV_MUST_CHECK fv_result fv_hid_hex_decode(const char *what, const char *text, size_t len, uint8_t *out, size_t cap,
                                           size_t *out_len);
+/** fv_hid_hex_decode of text that starts at line `first_line`, column `first_col` (1-based) of the file `what`
+ *  (one line of a longer file): messages read "what:LINE:COL", counted in the file. */
+FV_MUST_CHECK fv_result fv_hid_hex_decode_at(const char *what, size_t first_line, size_t first_col, const char *text,
+                                             size_t len, uint8_t *out, size_t cap, size_t *out_len);
 
 #endif

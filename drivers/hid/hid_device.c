@@ -52,12 +52,14 @@ static bool handle_report(hid_device *h, const uint8_t *rep, size_t len, fv_gaze
             log_malformed(h, "tracking report did not decode");
             return false;
         }
-        if (h->unwrap_on) {
-            /* A timestamp narrower than 64 bits wraps: unwrap the raw count (decode gave raw * tick). */
-            int64_t tick = h->unwrap.tick_ns > 0 ? h->unwrap.tick_ns : 1;
-            out->t_device_ns = fv_gaze_unwrap_push(&h->unwrap, (uint64_t)(out->t_device_ns / tick));
-        }
         out->t_host_ns = fv_clock_now_ns(h->clock);
+        if (h->unwrap_on) {
+            /* A timestamp narrower than 64 bits wraps: unwrap the raw count (decode gave raw * tick), checked
+             * against the receipt time so a counter that wraps between reports is detected, not misread. */
+            int64_t tick = h->unwrap.tick_ns > 0 ? h->unwrap.tick_ns : 1;
+            out->t_device_ns =
+                fv_gaze_unwrap_push_host(&h->unwrap, (uint64_t)(out->t_device_ns / tick), out->t_host_ns);
+        }
         out->flags |= FV_GAZE_HOST_TIME_VALID;
         out->seq = ++h->seq;
         h->stats.samples++;
@@ -216,6 +218,7 @@ fv_result fv_hid_device_open_transport(fv_hid_transport *t, const fv_hid_device_
         int64_t tick = fv_hid_unit_time_to_ns(tf->unit, tf->unit_exponent, &k) && k >= 1.0 ? (int64_t)llround(k) : 1000;
         r = fv_gaze_unwrap_init(&h->unwrap, (unsigned)ts_bits, tick);
         if (FV_FAILED(r)) goto fail;
+        h->unwrap.label = h->base.info.uri;
         h->unwrap_on = true;
     }
 

@@ -2,13 +2,15 @@
  * reaches their recorded time (relative to the first read), divided by the speed; with a simulated clock the
  * replay is stepped deterministically (a read with a timeout jumps the clock to the next sample). t_host_ns is the
  * sample's due time on that clock; t_device_ns is the recorded time, scaled by the speed and continued across loops
- * so that it never goes back. */
+ * so that it never goes back. Every time difference and sum saturates (fv_stats.h): a file can put its timestamps
+ * anywhere in int64, and a replay clock can be anywhere too. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fv_log.h"
+#include "fv_stats.h"
 #include "fv_trace.h"
 #include "fv_trace_driver.h"
 
@@ -31,6 +33,8 @@ typedef struct trace_device {
     fv_gaze_sample pending;
     bool have_pending;
     int64_t pending_due_ns;
+    int64_t last_rel_ns;   /* replay time of the latest sample: never goes back */
+    int64_t last_device_ns; /* t_device_ns handed out last: never goes back */
 } trace_device;
 
 static int cmp_i64(const void *a, const void *b)
@@ -49,7 +53,8 @@ static fv_result next_file_sample(trace_device *d, fv_gaze_sample *out)
     fv_result r = fv_trace_reader_next(d->reader, out);
     if (r == FV_END_OF_STREAM && d->loop && d->have_first) {
         FV_TRY(fv_trace_reader_rewind(d->reader));
-        d->loop_offset_ns += (d->last_file_ns - d->first_file_ns) + d->period_ns;
+        d->loop_offset_ns = fv_i64_add_sat(
+            d->loop_offset_ns, fv_i64_add_sat(fv_i64_sub_sat(d->last_file_ns, d->first_file_ns), d->period_ns));
         r = fv_trace_reader_next(d->reader, out); /* file time; fetch() applies the loop offset */
     }
     return r;
@@ -65,14 +70,22 @@ static fv_result fetch(trace_device *d)
         d->have_first = true;
     }
     d->last_file_ns = s.t_device_ns;
-    /* file time since the first sample, across loops */
-    double elapsed = (double)(s.t_device_ns - d->first_file_ns) + (double)d->loop_offset_ns;
-    double scaled = elapsed / d->speed;
-    if (!(scaled < 9.0e18)) scaled = 9.0e18; /* bounded: a pathological trace cannot overflow the timeline */
-    int64_t rel = (int64_t)llround(scaled);
-    s.t_device_ns = d->first_file_ns + rel;
+    /* file time since the first sample, across loops, at the replay speed */
+    int64_t rel = fv_i64_add_sat(fv_i64_sub_sat(s.t_device_ns, d->first_file_ns), d->loop_offset_ns);
+    if (d->speed != 1.0) {
+        double scaled = (double)rel / d->speed;
+        rel = scaled >= 9.2e18 ? INT64_MAX : (scaled <= -9.2e18 ? INT64_MIN : (int64_t)llround(scaled));
+    }
+    if (rel < d->last_rel_ns) rel = d->last_rel_ns; /* the reader never goes back; nor does the replay */
+    d->last_rel_ns = rel;
+    /* at speed 1 the file's own time (plus the loops): exact even where rel saturated */
+    int64_t dev = d->speed == 1.0 ? fv_i64_add_sat(s.t_device_ns, d->loop_offset_ns)
+                                  : fv_i64_add_sat(d->first_file_ns, rel);
+    if (dev < d->last_device_ns) dev = d->last_device_ns;
+    d->last_device_ns = dev;
+    s.t_device_ns = dev;
     d->pending = s;
-    d->pending_due_ns = d->t0_host_ns + rel;
+    d->pending_due_ns = fv_i64_add_sat(d->t0_host_ns, rel);
     d->have_pending = true;
     return FV_OK;
 }
@@ -88,7 +101,7 @@ static fv_result trace_read(fv_device *dev, fv_gaze_sample *out, size_t cap, siz
         d->started = true;
         d->t0_host_ns = now;
     }
-    int64_t deadline = now + (timeout_ms > 0 ? (int64_t)timeout_ms * FV_NS_PER_MS : 0);
+    int64_t deadline = fv_i64_add_sat(now, timeout_ms > 0 ? (int64_t)timeout_ms * FV_NS_PER_MS : 0);
     size_t n = 0;
     for (;;) {
         if (!d->have_pending) {
@@ -226,35 +239,33 @@ static fv_result parse_uri(const char *uri, trace_uri *u)
     return FV_OK;
 }
 
-static fv_result trace_open(const char *uri, const fv_device_open_desc *desc, fv_device **out_dev)
+fv_result fv_trace_replay_open(fv_trace_reader *reader, const fv_trace_replay_desc *desc, fv_device **out_dev)
 {
-    if (!uri || !out_dev) return FV_ERR_INVALID_ARG;
-    *out_dev = NULL;
-    trace_uri *u = malloc(sizeof *u);
-    if (!u) return FV_ERR_NO_MEMORY;
-    fv_result res = parse_uri(uri, u);
-    trace_device *d = NULL;
-    if (res != FV_OK) goto fail;
-    fv_trace_reader_desc rd = {0};
-    if (u->format[0] && fv_trace_format_parse(u->format, &rd.format) != FV_OK) {
-        FV_ERROR("trace", "'%s': unknown format '%s' (known: fovea, pupil-core, pupil-cloud, sranipal, tobii-g3, "
-                          "pico)", uri, u->format);
-        res = FV_ERR_INVALID_ARG;
-        goto fail;
+    if (out_dev) *out_dev = NULL;
+    if (!reader || !out_dev) {
+        fv_trace_reader_destroy(&reader);
+        return FV_ERR_INVALID_ARG;
     }
-    if (u->have_blinks) rd.blinks_path = u->blinks;
-    if (u->have_min_confidence) rd.min_confidence = u->min_confidence == 0.0 ? -1e-9f : (float)u->min_confidence;
-    d = calloc(1, sizeof *d);
+    static const fv_trace_replay_desc zero;
+    if (!desc) desc = &zero;
+    double speed = desc->speed == 0.0 ? 1.0 : desc->speed;
+    if (!(speed > 0.0 && speed <= 1000.0)) {
+        FV_ERROR("trace", "%s: speed %g must be in (0, 1000]", fv_trace_reader_name(reader), speed);
+        fv_trace_reader_destroy(&reader);
+        return FV_ERR_INVALID_ARG;
+    }
+    fv_result res = FV_OK;
+    trace_device *d = calloc(1, sizeof *d);
     if (!d) {
-        res = FV_ERR_NO_MEMORY;
-        goto fail;
+        fv_trace_reader_destroy(&reader);
+        return FV_ERR_NO_MEMORY;
     }
     d->base.ops = &g_ops;
-    d->clock = (desc && desc->clock) ? desc->clock : fv_clock_monotonic();
-    d->speed = u->speed;
-    d->loop = u->loop;
-    res = fv_trace_reader_create(u->path, &rd, &d->reader);
-    if (res != FV_OK) goto fail;
+    d->reader = reader;
+    d->clock = desc->clock ? desc->clock : fv_clock_monotonic();
+    d->speed = speed;
+    d->loop = desc->loop != 0;
+    d->last_device_ns = INT64_MIN;
 
     /* read ahead to learn the rate (and to fail early on a file with no samples at all) */
     int64_t dts[PRE_N];
@@ -266,27 +277,54 @@ static fv_result trace_open(const char *uri, const fv_device_open_desc *desc, fv
             res = r;
             goto fail;
         }
-        if (d->pre_n > 0) dts[ndt++] = d->pre[d->pre_n].t_device_ns - d->pre[d->pre_n - 1].t_device_ns;
+        if (d->pre_n > 0) dts[ndt++] = fv_i64_sub_sat(d->pre[d->pre_n].t_device_ns, d->pre[d->pre_n - 1].t_device_ns);
         d->pre_n++;
     }
-    if (d->pre_n == 0) FV_WARN("trace", "%s: no samples in the file", u->path);
+    const char *name = fv_trace_reader_name(d->reader);
+    if (d->pre_n == 0) FV_WARN("trace", "%s: no samples in the file", name);
     if (ndt > 0) {
         qsort(dts, ndt, sizeof dts[0], cmp_i64);
         d->period_ns = dts[ndt / 2];
     }
     if (d->period_ns <= 0) d->period_ns = FV_NS_PER_MS;
     d->base.nominal_rate_hz = ndt ? 1e9 / (double)d->period_ns * d->speed : 0.0;
-    snprintf(d->base.info.uri, sizeof d->base.info.uri, "%.255s", uri);
-    const char *base = strrchr(u->path, '/');
-    snprintf(d->base.info.name, sizeof d->base.info.name, "recorded gaze %.100s", base ? base + 1 : u->path);
+    snprintf(d->base.info.uri, sizeof d->base.info.uri, "%.255s", desc->uri ? desc->uri : name);
+    const char *base = strrchr(name, '/');
+    snprintf(d->base.info.name, sizeof d->base.info.name, "recorded gaze %.100s", base ? base + 1 : name);
     snprintf(d->base.info.driver, sizeof d->base.info.driver, "trace");
     snprintf(d->base.info.detail, sizeof d->base.info.detail, "format %s, speed %g%s",
              fv_trace_format_name(fv_trace_reader_format(d->reader)), d->speed, d->loop ? ", loop" : "");
-    free(u);
     *out_dev = &d->base;
     return FV_OK;
 fail:
-    if (d) trace_close(&d->base);
+    trace_close(&d->base);
+    return res;
+}
+
+static fv_result trace_open(const char *uri, const fv_device_open_desc *desc, fv_device **out_dev)
+{
+    if (!uri || !out_dev) return FV_ERR_INVALID_ARG;
+    *out_dev = NULL;
+    trace_uri *u = malloc(sizeof *u);
+    if (!u) return FV_ERR_NO_MEMORY;
+    fv_result res = parse_uri(uri, u);
+    if (res != FV_OK) goto done;
+    fv_trace_reader_desc rd = {0};
+    if (u->format[0] && fv_trace_format_parse(u->format, &rd.format) != FV_OK) {
+        FV_ERROR("trace", "'%s': unknown format '%s' (known: fovea, pupil-core, pupil-cloud, sranipal, tobii-g3, "
+                          "pico)", uri, u->format);
+        res = FV_ERR_INVALID_ARG;
+        goto done;
+    }
+    if (u->have_blinks) rd.blinks_path = u->blinks;
+    if (u->have_min_confidence) rd.min_confidence = u->min_confidence == 0.0 ? -1e-9f : (float)u->min_confidence;
+    fv_trace_reader *reader = NULL;
+    res = fv_trace_reader_create(u->path, &rd, &reader);
+    if (res != FV_OK) goto done;
+    fv_trace_replay_desc rp = {
+        .speed = u->speed, .loop = u->loop, .clock = desc ? desc->clock : NULL, .uri = uri};
+    res = fv_trace_replay_open(reader, &rp, out_dev); /* owns the reader from here on */
+done:
     free(u);
     return res;
 }

@@ -52,6 +52,11 @@ static fv_result begin(fv_trace_reader *r, char *line, size_t len)
             FV_ERROR(TRACE_MOD, "%s: no column header line after the metadata", r->name);
             return FV_ERR_PARSE;
         }
+        if (r->lines.bytes > TRACE_MAX_SKIP) { /* endless metadata or blank lines */
+            FV_ERROR(TRACE_MOD, "%s:%llu: no column header line in the first %u MiB", r->name,
+                     (unsigned long long)r->lines.line_no, TRACE_MAX_SKIP >> 20);
+            return FV_ERR_PARSE;
+        }
         if (n == 0 || too_long) continue;
         if (l[0] == '#') {
             double v;

@@ -71,15 +71,6 @@ static int opt_vec3(fv_trace_reader *r, int n, int slot, const char *const *name
     return 1;
 }
 
-static void invalidate_all(fv_gaze_sample *s, bool blink)
-{
-    fv_eye_sample *eyes[3] = {&s->eye[0], &s->eye[1], &s->combined};
-    for (int i = 0; i < 3; i++) {
-        trace_eye_invalidate(eyes[i]);
-        if (blink) eyes[i]->flags |= FV_EYE_BLINK;
-    }
-}
-
 static fv_result core_row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample *s)
 {
     (void)len;
@@ -140,13 +131,8 @@ static fv_result core_row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sa
         }
     }
 
-    uint64_t blink = trace_blinks_at(r, s->t_device_ns);
-    if (blink) {
-        invalidate_all(s, true);
-        trace_count_blink_event(r, blink);
-    } else if (r->min_confidence >= 0.0f && !(conf >= (double)r->min_confidence)) {
-        invalidate_all(s, false);
-    }
+    /* blinks.csv is applied by the reader once the row passes the time checks */
+    if (r->min_confidence >= 0.0f && !(conf >= (double)r->min_confidence)) trace_sample_invalidate(s, false);
     return FV_OK;
 }
 
@@ -220,13 +206,12 @@ static fv_result cloud_row(fv_trace_reader *r, char *line, size_t len, fv_gaze_s
         blink = (uint64_t)id;
     }
     /* Events are counted by blinks.csv interval when that file is there (it covers every blink id and a few edge
-     * samples more), else by the blink id column. */
-    uint64_t iv = trace_blinks_at(r, s->t_device_ns);
-    if (blink || iv) {
-        invalidate_all(s, true);
-        trace_count_blink_event(r, r->blinks.active ? iv : blink);
+     * samples more; the reader applies it once the row passes the time checks), else by the blink id column. */
+    if (blink) {
+        trace_sample_invalidate(s, true);
+        if (!r->blinks.active) trace_count_blink_event(r, blink);
     } else if (worn == 0) {
-        invalidate_all(s, false);
+        trace_sample_invalidate(s, false);
     }
     return FV_OK;
 }

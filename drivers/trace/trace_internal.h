@@ -15,8 +15,16 @@
 #define TRACE_MOD "trace"
 #define TRACE_CHUNK (64u * 1024u)       /* bytes read (or inflated) at a time */
 #define TRACE_MAX_LINE (1024u * 1024u)  /* longer lines are skipped as bad rows */
+#define TRACE_MAX_SKIP (16u * 1024u * 1024u) /* bytes read for nothing (no header, sample, blink) before giving up */
 #define TRACE_MAX_FIELDS 256u           /* fields beyond this are ignored */
 #define TRACE_MAX_COLS 64               /* columns one format looks up */
+/* Isolated outliers in time (docs/trace-format.md, "Time checks"): a step "far" ahead is more than
+ * TRACE_JUMP_FACTOR running median intervals (the median of the last TRACE_DT_WINDOW intervals; every step counts
+ * while fewer than TRACE_DT_MIN_KNOWN are known) and more than TRACE_JUMP_MIN_NS. */
+#define TRACE_DT_WINDOW 15
+#define TRACE_DT_MIN_KNOWN 3
+#define TRACE_JUMP_FACTOR 20
+#define TRACE_JUMP_MIN_NS INT64_C(10000000) /* 10 ms */
 
 /* ---- line source ---- */
 
@@ -35,6 +43,8 @@ typedef struct trace_lines {
     char *line;                /* assembled line when it spans chunks */
     size_t line_len, line_cap;
     uint64_t line_no;          /* 1-based number of the line last returned */
+    uint64_t bytes;            /* bytes consumed since the open or the last rewind (decompressed) */
+    bool in_long_line;         /* the rest of an over-long line is still unread */
     char err[160];             /* why the source failed (read error, corrupt gzip) */
 } trace_lines;
 
@@ -42,7 +52,10 @@ typedef struct trace_lines {
 fv_result trace_lines_open_file(trace_lines *l, const char *path, const char *name);
 fv_result trace_lines_open_mem(trace_lines *l, const void *data, size_t size, const char *name);
 /** Next line without its "\n" / "\r\n", NUL-terminated, writable until the next call. 1 = a line; 0 = end;
- *  <0 = error (l->err says why). *out_too_long set when the line was cut at TRACE_MAX_LINE (the rest is dropped). */
+ *  <0 = error (l->err says why). A line longer than TRACE_MAX_LINE comes back as soon as the limit is passed, empty,
+ *  with *out_too_long set; its rest is dropped by the following calls, at most TRACE_MAX_LINE bytes each: a call
+ *  that drops that much without reaching the newline hands the same line (same line_no) back again, too long. So
+ *  one call reads at most about 2 x TRACE_MAX_LINE bytes, whatever the input. */
 int trace_lines_next(trace_lines *l, char **out_line, size_t *out_len, bool *out_too_long);
 fv_result trace_lines_rewind(trace_lines *l);
 void trace_lines_close(trace_lines *l);
@@ -58,7 +71,15 @@ typedef struct blink_cursor {
     int64_t start_ns, end_ns;
     uint64_t index;            /* 1-based index of the current interval */
     bool done;
+    uint64_t long_line_no;     /* over-long line already reported */
 } blink_cursor;
+
+/* A parsed row waiting for the reader's time checks (the look-ahead of fv_trace_reader_next). */
+typedef struct trace_row {
+    fv_gaze_sample s;
+    uint64_t line_no;
+    uint64_t blink_id;         /* the row parser's source blink event id (0 none) */
+} trace_row;
 
 typedef struct trace_format_ops {
     fv_trace_format format;
@@ -81,8 +102,15 @@ struct fv_trace_reader {
     uint32_t max_warnings;
     uint32_t pass;             /* 0 on the first pass through the file */
     uint64_t data_start_line;  /* lines consumed by the header (re-skipped on rewind) */
-    int64_t last_t_ns;
+    int64_t last_t_ns;         /* time of the last sample handed out (this pass) */
     bool have_last_t;
+    trace_row ahead[3];        /* parsed rows not yet handed out: the time checks look at up to three */
+    int n_ahead;
+    bool ahead_done;           /* no more rows: ahead_res says why (FV_END_OF_STREAM or an error) */
+    fv_result ahead_res;
+    int64_t dt_ns[TRACE_DT_WINDOW]; /* the last intervals between samples handed out (a ring) */
+    uint32_t dt_n;
+    uint64_t long_line_no;     /* over-long line already reported (its rest comes back too long, same number) */
     char *fields[TRACE_MAX_FIELDS];
     int col[TRACE_MAX_COLS];   /* column indices (format-specific meaning), -1 when absent */
     int ncols_needed;          /* fields a row needs (1 + highest required index) */
@@ -110,9 +138,9 @@ const char *trace_col(const fv_trace_reader *r, int nfields, int slot);
 
 /** Pupil formats: open blinks.csv (beside the gaze file, or from desc); columns in seconds or ns. */
 fv_result trace_blinks_open(fv_trace_reader *r, const char *start_col, const char *end_col, double scale_to_ns);
-/** 1-based blink event index covering t (0 = none). Advances the cursor; blinks must be sorted by start. */
-uint64_t trace_blinks_at(fv_trace_reader *r, int64_t t_ns);
-void trace_blinks_rewind(fv_trace_reader *r);
+/* The reader applies the blinks file to each sample it hands out, after the time checks (so a skipped row, an
+ * outlier far in the future above all, never moves the cursor): a sample inside an interval becomes invalid with
+ * FV_EYE_BLINK, and its blink event is the interval's index. Row parsers do not look at blinks.csv. */
 /** Count a blink event id for the reader stats (first pass): a new id != previous and != 0 counts once. */
 void trace_count_blink_event(fv_trace_reader *r, uint64_t id);
 

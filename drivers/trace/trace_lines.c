@@ -1,10 +1,15 @@
 /* @brief Line source for the trace readers: a file through zlib's gz streaming API (plain files are read
  * transparently) or a memory buffer (plain, or gzip inflated in chunks). Memory is bounded: one chunk plus one line
- * of at most TRACE_MAX_LINE bytes, whatever the input length. */
+ * of at most TRACE_MAX_LINE bytes, whatever the input length; so is the work of one call (an over-long line is
+ * handed back as soon as it passes the limit, and its rest is dropped at most TRACE_MAX_LINE bytes a call), so an
+ * endless input without newlines cannot stall the caller. Only regular files and FIFOs are opened. */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "fv_log.h"
 #include "trace_internal.h"
@@ -28,12 +33,27 @@ fv_result trace_lines_open_file(trace_lines *l, const char *path, const char *na
 {
     memset(l, 0, sizeof *l);
     set_name(l, name ? name : path);
+    /* open, then look at what was opened (no race with a rename): a device such as /dev/zero, a directory or a
+     * socket is refused with the scene loader's wording, before a byte is read */
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        int e = errno;
+        FV_ERROR(TRACE_MOD, "%s: cannot open: %s", l->name, strerror(e));
+        return e == ENOENT ? FV_ERR_NOT_FOUND : FV_ERR_IO;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !(S_ISREG(st.st_mode) || S_ISFIFO(st.st_mode))) {
+        FV_ERROR(TRACE_MOD, "%s: not a regular file or a FIFO", l->name);
+        close(fd);
+        return FV_ERR_IO;
+    }
     errno = 0;
-    l->gz = gzopen(path, "rb");
+    l->gz = gzdopen(fd, "rb");
     if (!l->gz) {
         int e = errno;
+        close(fd);
         FV_ERROR(TRACE_MOD, "%s: cannot open: %s", l->name, e ? strerror(e) : "out of memory");
-        return e == ENOENT ? FV_ERR_NOT_FOUND : FV_ERR_IO;
+        return FV_ERR_IO;
     }
     gzbuffer(l->gz, 128u * 1024u);
     fv_result r = alloc_chunk(l);
@@ -147,65 +167,106 @@ static int fill(trace_lines *l)
     return 0;
 }
 
-static void append(trace_lines *l, const uint8_t *p, size_t n, bool *too_long)
+static fv_result keep(trace_lines *l, const uint8_t *p, size_t n)
 {
-    if (*too_long) return;
-    if (l->line_len + n > TRACE_MAX_LINE) {
-        n = TRACE_MAX_LINE - l->line_len;
-        *too_long = true;
-    }
     if (l->line_len + n + 1 > l->line_cap) {
         size_t cap = l->line_cap ? l->line_cap : 4096;
         while (cap < l->line_len + n + 1) cap *= 2;
         char *nl = realloc(l->line, cap);
-        if (!nl) { /* treat as an over-long line: the row is skipped */
-            *too_long = true;
-            return;
+        if (!nl) {
+            snprintf(l->err, sizeof l->err, "out of memory");
+            return FV_ERR_NO_MEMORY;
         }
         l->line = nl;
         l->line_cap = cap;
     }
     memcpy(l->line + l->line_len, p, n);
     l->line_len += n;
+    return FV_OK;
+}
+
+/* Make chunk bytes available: 1 = some, 0 = end of input, -1 = error. */
+static int avail(trace_lines *l)
+{
+    if (l->chunk_pos < l->chunk_len) return 1;
+    if (l->eof) return 0;
+    if (fill(l) < 0) return -1;
+    return l->chunk_len > 0 ? 1 : 0;
+}
+
+/* Hand out an over-long line: empty text, too long, the rest of it still unread. */
+static int too_long_line(trace_lines *l, char **out_line, size_t *out_len, bool *out_too_long)
+{
+    l->line_len = 0;
+    if (keep(l, (const uint8_t *)"", 0) != FV_OK) return -1;
+    l->line[0] = '\0';
+    *out_line = l->line;
+    *out_len = 0;
+    if (out_too_long) *out_too_long = true;
+    return 1;
 }
 
 int trace_lines_next(trace_lines *l, char **out_line, size_t *out_len, bool *out_too_long)
 {
-    bool too_long = false, any = false;
+    bool any = false;
     char *line = NULL;
     size_t len = 0;
     l->line_len = 0;
-    for (;;) {
-        if (l->chunk_pos >= l->chunk_len) {
-            if (l->eof) break;
-            if (fill(l) < 0) return -1;
-            if (l->chunk_len == 0) break;
+    if (l->in_long_line) {
+        /* the rest of an over-long line: dropped up to its newline, at most TRACE_MAX_LINE bytes a call */
+        size_t dropped = 0;
+        while (l->in_long_line) {
+            int a = avail(l);
+            if (a < 0) return -1;
+            if (a == 0) {
+                l->in_long_line = false;
+                return 0;
+            }
+            uint8_t *start = l->chunk + l->chunk_pos;
+            size_t n = l->chunk_len - l->chunk_pos;
+            if (n > TRACE_MAX_LINE - dropped) n = TRACE_MAX_LINE - dropped;
+            uint8_t *nl = memchr(start, '\n', n);
+            size_t seg = nl ? (size_t)(nl - start) + 1 : n;
+            l->chunk_pos += seg;
+            l->bytes += seg;
+            dropped += seg;
+            if (nl) l->in_long_line = false;
+            else if (dropped >= TRACE_MAX_LINE) return too_long_line(l, out_line, out_len, out_too_long);
         }
+    }
+    for (;;) {
+        int a = avail(l);
+        if (a < 0) return -1;
+        if (a == 0) break;
         uint8_t *start = l->chunk + l->chunk_pos;
-        size_t avail = l->chunk_len - l->chunk_pos;
-        uint8_t *nl = memchr(start, '\n', avail);
-        size_t seg = nl ? (size_t)(nl - start) : avail;
+        size_t n = l->chunk_len - l->chunk_pos;
+        uint8_t *nl = memchr(start, '\n', n);
+        size_t seg = nl ? (size_t)(nl - start) : n;
         any = true;
-        if (nl && l->line_len == 0 && !too_long) { /* whole line inside the chunk: hand it out in place */
+        if (l->line_len + seg > TRACE_MAX_LINE) {
+            /* rejected as soon as the limit is passed: the rest is dropped by the next calls, never buffered */
+            size_t take = TRACE_MAX_LINE - l->line_len;
+            l->chunk_pos += take;
+            l->bytes += take;
+            l->in_long_line = true;
+            l->line_no++;
+            return too_long_line(l, out_line, out_len, out_too_long);
+        }
+        if (nl && l->line_len == 0) { /* whole line inside the chunk: hand it out in place */
             *nl = '\0';
             l->chunk_pos += seg + 1;
+            l->bytes += seg + 1;
             line = (char *)start;
             len = seg;
             goto done;
         }
-        append(l, start, seg, &too_long);
+        if (keep(l, start, seg) != FV_OK) return -1;
         l->chunk_pos += seg + (nl ? 1 : 0);
+        l->bytes += seg + (nl ? 1 : 0);
         if (nl) break;
     }
     if (!any) return 0;
-    if (!l->line) { /* a line cut so early that nothing was kept: give an empty buffer */
-        l->line = malloc(1);
-        if (!l->line) {
-            snprintf(l->err, sizeof l->err, "out of memory");
-            return -1;
-        }
-        l->line_cap = 1;
-    }
+    if (keep(l, (const uint8_t *)"", 0) != FV_OK) return -1; /* room for the terminator */
     l->line[l->line_len] = '\0';
     line = l->line;
     len = l->line_len;
@@ -214,7 +275,7 @@ done:
     if (len > 0 && line[len - 1] == '\r') line[--len] = '\0';
     *out_line = line;
     *out_len = len;
-    if (out_too_long) *out_too_long = too_long;
+    if (out_too_long) *out_too_long = false;
     return 1;
 }
 
@@ -223,6 +284,9 @@ fv_result trace_lines_rewind(trace_lines *l)
     l->chunk_len = l->chunk_pos = 0;
     l->eof = false;
     l->line_no = 0;
+    l->bytes = 0;
+    l->in_long_line = false;
+    l->line_len = 0;
     l->err[0] = '\0';
     if (l->gz) {
         if (gzrewind(l->gz) != 0) {

@@ -1,6 +1,8 @@
 /* @brief The trace reader: opens a recording, detects its format by content, and hands rows to the per-format
- * parser; skips bad rows with a rate-limited warning (file:line and why); follows a blinks file in step with the
- * gaze rows (both streamed). */
+ * parser; skips bad rows with a rate-limited warning (file:line and why); checks time (a row going back, an isolated
+ * outlier far ahead: docs/trace-format.md, "Time checks") with a look-ahead of at most two rows; follows a blinks
+ * file in step with the samples it hands out (both streamed). Every call does bounded work: TRACE_MAX_SKIP bytes
+ * read without a result end the read with an error, so an endless input cannot stall the caller. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -9,6 +11,7 @@
 #include <unistd.h>
 
 #include "fv_log.h"
+#include "fv_stats.h" /* saturating time arithmetic: a file can put its timestamps anywhere */
 #include "trace_internal.h"
 
 static const char *const g_names[FV_TRACE_FORMAT_COUNT_] = {
@@ -227,13 +230,25 @@ fv_result trace_blinks_open(fv_trace_reader *r, const char *start_col, const cha
     return blinks_header(r, start_col, end_col);
 }
 
-uint64_t trace_blinks_at(fv_trace_reader *r, int64_t t_ns)
+/* 1-based index of the blink interval covering t (0 = none). Advances the cursor; blinks must be sorted by start.
+ * At most TRACE_MAX_SKIP bytes are read in one call: more than that without reaching t ends the blinks, with a
+ * warning (a blinks file has one short row per blink). */
+static uint64_t blinks_at(fv_trace_reader *r, int64_t t_ns)
 {
     blink_cursor *c = &r->blinks;
     if (!c->active) return 0;
+    const uint64_t start = c->lines.bytes;
     for (;;) {
         if (c->have && t_ns <= c->end_ns) return t_ns >= c->start_ns ? c->index : 0;
         if (c->done) return 0;
+        if (c->lines.bytes - start > TRACE_MAX_SKIP) {
+            if (r->pass == 0)
+                FV_WARN(TRACE_MOD, "%s:%llu: %u MiB read without a blink interval reaching %lld ns; no further blinks",
+                        c->lines.name, (unsigned long long)c->lines.line_no, TRACE_MAX_SKIP >> 20, (long long)t_ns);
+            c->done = true;
+            c->have = false;
+            return 0;
+        }
         char *line;
         size_t len;
         bool too_long;
@@ -244,7 +259,9 @@ uint64_t trace_blinks_at(fv_trace_reader *r, int64_t t_ns)
             c->have = false;
             return 0;
         }
-        if (len == 0) continue;
+        if (too_long && c->lines.line_no == c->long_line_no) continue; /* the rest of a line already reported */
+        if (too_long) c->long_line_no = c->lines.line_no;
+        if (len == 0 && !too_long) continue;
         char *f[64];
         int n = too_long ? -1 : trace_csv_split(line, ',', f, 64);
         int64_t t[2] = {0, 0};
@@ -272,13 +289,14 @@ uint64_t trace_blinks_at(fv_trace_reader *r, int64_t t_ns)
     }
 }
 
-void trace_blinks_rewind(fv_trace_reader *r)
+static void blinks_rewind(fv_trace_reader *r)
 {
     blink_cursor *c = &r->blinks;
     if (!c->active) return;
     c->have = false;
     c->done = false;
     c->index = 0;
+    c->long_line_no = 0;
     char *line;
     size_t len;
     if (trace_lines_rewind(&c->lines) != FV_OK || trace_lines_next(&c->lines, &line, &len, NULL) <= 0) c->done = true;
@@ -311,9 +329,16 @@ fv_result fv_trace_reader_create(const char *path, const fv_trace_reader_desc *d
     size_t len = 0;
     bool too_long = false;
     int rc;
-    do {
+    for (;;) { /* blank lines before the header, but not endless ones */
         rc = trace_lines_next(&r->lines, &line, &len, &too_long);
-    } while (rc > 0 && len == 0);
+        if (rc <= 0 || len > 0 || too_long) break;
+        if (r->lines.bytes > TRACE_MAX_SKIP) {
+            FV_ERROR(TRACE_MOD, "%s: %llu empty lines and no header line in the first %u MiB", r->name,
+                     (unsigned long long)r->lines.line_no, TRACE_MAX_SKIP >> 20);
+            res = FV_ERR_PARSE;
+            goto fail;
+        }
+    }
     if (rc < 0) {
         FV_ERROR(TRACE_MOD, "%s: %s", r->name, r->lines.err);
         res = FV_ERR_IO;
@@ -321,6 +346,12 @@ fv_result fv_trace_reader_create(const char *path, const fv_trace_reader_desc *d
     }
     if (rc == 0) {
         FV_ERROR(TRACE_MOD, "%s: empty file: no header line", r->name);
+        res = FV_ERR_PARSE;
+        goto fail;
+    }
+    if (too_long) {
+        FV_ERROR(TRACE_MOD, "%s:%llu: header line longer than %u bytes", r->name,
+                 (unsigned long long)r->lines.line_no, TRACE_MAX_LINE);
         res = FV_ERR_PARSE;
         goto fail;
     }
@@ -346,12 +377,6 @@ fv_result fv_trace_reader_create(const char *path, const fv_trace_reader_desc *d
         res = FV_ERR_INVALID_ARG;
         goto fail;
     }
-    if (too_long) {
-        FV_ERROR(TRACE_MOD, "%s:%llu: header line longer than %u bytes", r->name,
-                 (unsigned long long)r->lines.line_no, TRACE_MAX_LINE);
-        res = FV_ERR_PARSE;
-        goto fail;
-    }
     res = r->ops->begin(r, line, len);
     if (res != FV_OK) goto fail;
     r->data_start_line = r->lines.line_no;
@@ -367,9 +392,17 @@ fail:
     return res;
 }
 
-fv_result fv_trace_reader_next(fv_trace_reader *r, fv_gaze_sample *out)
+/* The next row that parses, as it is in the file (no time checks). At most TRACE_MAX_SKIP bytes are read since
+ * `start` (the byte count when the caller's fv_trace_reader_next began): more without a sample is an error. */
+static fv_result parse_next(fv_trace_reader *r, uint64_t start, trace_row *out)
 {
     for (;;) {
+        if (r->lines.bytes - start > TRACE_MAX_SKIP) {
+            FV_ERROR(TRACE_MOD, "%s:%llu: %u MiB read without a sample; giving up (this does not look like a %s "
+                                "recording)", r->name, (unsigned long long)r->lines.line_no, TRACE_MAX_SKIP >> 20,
+                     fv_trace_format_name(r->ops->format));
+            return FV_ERR_PARSE;
+        }
         char *line;
         size_t len;
         bool too_long;
@@ -383,6 +416,8 @@ fv_result fv_trace_reader_next(fv_trace_reader *r, fv_gaze_sample *out)
         if (r->pass == 0) r->stats.lines = r->lines.line_no;
         uint64_t ln = r->lines.line_no;
         if (too_long) {
+            if (ln == r->long_line_no) continue; /* the rest of a line already reported */
+            r->long_line_no = ln;
             trace_why(r, "line longer than %u bytes", TRACE_MAX_LINE);
             trace_reader_bad_row(r, ln, r->why);
             continue;
@@ -394,37 +429,159 @@ fv_result fv_trace_reader_next(fv_trace_reader *r, fv_gaze_sample *out)
             trace_reader_bad_row(r, ln, "line contains a NUL byte");
             continue;
         }
-        fv_gaze_sample_init_invalid(out, 0, 0);
+        fv_gaze_sample_init_invalid(&out->s, 0, 0);
         r->why[0] = '\0';
         r->row_blink_id = 0;
-        fv_result res = r->ops->row(r, line, len, out);
+        fv_result res = r->ops->row(r, line, len, &out->s);
         if (res == FV_NO_NEW_DATA) continue;
         if (res != FV_OK) {
             trace_reader_bad_row(r, ln, r->why[0] ? r->why : "malformed row");
             continue;
         }
-        if (r->have_last_t && out->t_device_ns < r->last_t_ns) {
-            trace_why(r, "timestamp %lld ns goes back in time (previous row %lld ns)", (long long)out->t_device_ns,
-                      (long long)r->last_t_ns);
-            trace_reader_bad_row(r, ln, r->why);
-            continue;
+        out->line_no = ln;
+        out->blink_id = r->row_blink_id;
+        return FV_OK;
+    }
+}
+
+/* Have at least n rows ahead, unless the file ends (or fails) first: then r->ahead_res says why. */
+static void look_ahead(fv_trace_reader *r, int n, uint64_t start)
+{
+    while (r->n_ahead < n && !r->ahead_done) {
+        fv_result res = parse_next(r, start, &r->ahead[r->n_ahead]);
+        if (res == FV_OK) {
+            r->n_ahead++;
+        } else {
+            r->ahead_done = true;
+            r->ahead_res = res;
         }
-        r->last_t_ns = out->t_device_ns;
-        r->have_last_t = true;
-        if (r->ops->format != FV_TRACE_FORMAT_FOVEA) out->seq = ln;
-        if (r->pass == 0) {
-            r->stats.samples++;
-            bool blink = ((out->eye[0].flags | out->eye[1].flags | out->combined.flags) & FV_EYE_BLINK) != 0;
-            if (blink) {
-                if (r->row_blink_id) {
-                    if (r->row_blink_id != r->last_blink_event) r->stats.blink_events++;
-                    r->last_blink_event = r->row_blink_id;
-                } else if (!r->in_blink_run) {
-                    r->stats.blink_events++;
+    }
+}
+
+static void drop_ahead(fv_trace_reader *r, int i)
+{
+    for (int k = i; k + 1 < r->n_ahead; k++) r->ahead[k] = r->ahead[k + 1];
+    r->n_ahead--;
+}
+
+static int cmp_i64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median of the last intervals, or -1 while fewer than TRACE_DT_MIN_KNOWN are known. */
+static int64_t running_median(const fv_trace_reader *r)
+{
+    uint32_t n = r->dt_n < TRACE_DT_WINDOW ? r->dt_n : TRACE_DT_WINDOW;
+    if (n < TRACE_DT_MIN_KNOWN) return -1;
+    int64_t v[TRACE_DT_WINDOW];
+    memcpy(v, r->dt_ns, n * sizeof v[0]);
+    qsort(v, n, sizeof v[0], cmp_i64);
+    return v[n / 2];
+}
+
+/* A step far beyond the interval (median < 0: unknown, every step past the minimum counts). */
+static bool far_ahead(int64_t dt_ns, int64_t median_ns)
+{
+    return dt_ns > TRACE_JUMP_MIN_NS && (median_ns < 0 || dt_ns > fv_i64_mul_sat(TRACE_JUMP_FACTOR, median_ns));
+}
+
+static void skip_ahead(fv_trace_reader *r, int i) /* report ahead[i] with r->why and drop it */
+{
+    trace_reader_bad_row(r, r->ahead[i].line_no, r->why);
+    drop_ahead(r, i);
+}
+
+/* Hand out ahead[0]: blinks.csv, the interval window, the counters. */
+static void emit(fv_trace_reader *r, fv_gaze_sample *out)
+{
+    trace_row *c = &r->ahead[0];
+    if (r->blinks.active) {
+        uint64_t iv = blinks_at(r, c->s.t_device_ns);
+        if (iv) trace_sample_invalidate(&c->s, true);
+        c->blink_id = iv;
+    }
+    if (r->have_last_t) r->dt_ns[r->dt_n++ % TRACE_DT_WINDOW] = fv_i64_sub_sat(c->s.t_device_ns, r->last_t_ns);
+    r->last_t_ns = c->s.t_device_ns;
+    r->have_last_t = true;
+    if (r->ops->format != FV_TRACE_FORMAT_FOVEA) c->s.seq = c->line_no;
+    if (r->pass == 0) {
+        r->stats.samples++;
+        bool blink = ((c->s.eye[0].flags | c->s.eye[1].flags | c->s.combined.flags) & FV_EYE_BLINK) != 0;
+        if (blink) {
+            if (c->blink_id) {
+                if (c->blink_id != r->last_blink_event) r->stats.blink_events++;
+                r->last_blink_event = c->blink_id;
+            } else if (!r->in_blink_run) {
+                r->stats.blink_events++;
+            }
+        }
+        r->in_blink_run = blink;
+    }
+    *out = c->s;
+    drop_ahead(r, 0);
+}
+
+fv_result fv_trace_reader_next(fv_trace_reader *r, fv_gaze_sample *out)
+{
+    const uint64_t start = r->lines.bytes;
+    for (;;) {
+        look_ahead(r, 1, start);
+        if (r->n_ahead == 0) return r->ahead_res;
+        const int64_t t = r->ahead[0].s.t_device_ns;
+        if (!r->have_last_t) {
+            /* The first row has no sample before it: it is an outlier when the next two rows both lie before it,
+             * in order, and it is far ahead of them (measured by their interval). */
+            look_ahead(r, 2, start);
+            if (r->n_ahead >= 2 && r->ahead[1].s.t_device_ns < t) look_ahead(r, 3, start);
+            if (r->n_ahead >= 3) {
+                int64_t t1 = r->ahead[1].s.t_device_ns, t2 = r->ahead[2].s.t_device_ns;
+                if (t1 < t && t1 <= t2 && t2 < t && far_ahead(fv_i64_sub_sat(t, t2), fv_i64_sub_sat(t2, t1))) {
+                    trace_why(r, "timestamp %lld ns is %.6g s ahead of the next two rows (lines %llu and %llu), "
+                                 "which agree: an isolated outlier in time", (long long)t,
+                              (double)fv_i64_sub_sat(t, t2) / 1e9, (unsigned long long)r->ahead[1].line_no,
+                              (unsigned long long)r->ahead[2].line_no);
+                    skip_ahead(r, 0);
+                    continue;
                 }
             }
-            r->in_blink_run = blink;
+            emit(r, out);
+            return FV_OK;
         }
+        if (t < r->last_t_ns) {
+            trace_why(r, "timestamp %lld ns goes back in time (previous row %lld ns)", (long long)t,
+                      (long long)r->last_t_ns);
+            skip_ahead(r, 0);
+            continue;
+        }
+        const int64_t dt = fv_i64_sub_sat(t, r->last_t_ns), median = running_median(r);
+        if (far_ahead(dt, median)) {
+            /* A jump: the next row decides. Followed (at or after it): a real gap, kept. Back between the previous
+             * sample and it: an isolated outlier, skipped. Before the previous sample: that next row is the bad
+             * one (it goes back in time on either count). */
+            look_ahead(r, 2, start);
+            if (r->n_ahead >= 2) {
+                const int64_t t1 = r->ahead[1].s.t_device_ns;
+                if (t1 < r->last_t_ns) {
+                    trace_why(r, "timestamp %lld ns goes back in time (previous row %lld ns)", (long long)t1,
+                              (long long)r->last_t_ns);
+                    skip_ahead(r, 1);
+                    continue;
+                }
+                if (t1 < t) {
+                    char med[48];
+                    if (median >= 0) snprintf(med, sizeof med, "%.6g ms", (double)median / 1e6);
+                    else snprintf(med, sizeof med, "not known yet");
+                    trace_why(r, "timestamp %lld ns is %.6g s after the previous row (median interval %s) and the "
+                                 "next row (line %llu) does not follow it: an isolated outlier in time", (long long)t,
+                              (double)dt / 1e9, med, (unsigned long long)r->ahead[1].line_no);
+                    skip_ahead(r, 0);
+                    continue;
+                }
+            }
+        }
+        emit(r, out);
         return FV_OK;
     }
 }
@@ -432,7 +589,7 @@ fv_result fv_trace_reader_next(fv_trace_reader *r, fv_gaze_sample *out)
 fv_result fv_trace_reader_rewind(fv_trace_reader *r)
 {
     FV_TRY(trace_lines_rewind(&r->lines));
-    for (uint64_t i = 0; i < r->data_start_line; i++) {
+    while (r->lines.line_no < r->data_start_line) { /* the header again (it read in bounded time the first time) */
         char *line;
         size_t len;
         if (trace_lines_next(&r->lines, &line, &len, NULL) <= 0) {
@@ -440,9 +597,14 @@ fv_result fv_trace_reader_rewind(fv_trace_reader *r)
             return FV_ERR_IO;
         }
     }
-    trace_blinks_rewind(r);
+    blinks_rewind(r);
     r->pass++;
     r->have_last_t = false;
+    r->n_ahead = 0;
+    r->ahead_done = false;
+    r->ahead_res = FV_OK;
+    r->dt_n = 0;
+    r->long_line_no = 0;
     return FV_OK;
 }
 

@@ -174,6 +174,15 @@ void trace_eye_invalidate(fv_eye_sample *e)
     e->flags &= FV_EYE_BLINK;
 }
 
+void trace_sample_invalidate(fv_gaze_sample *s, bool blink)
+{
+    fv_eye_sample *eyes[3] = {&s->eye[0], &s->eye[1], &s->combined};
+    for (int i = 0; i < 3; i++) {
+        trace_eye_invalidate(eyes[i]);
+        if (blink) eyes[i]->flags |= FV_EYE_BLINK;
+    }
+}
+
 void trace_combine_eyes(fv_gaze_sample *s)
 {
     const fv_eye_sample *l = &s->eye[FV_EYE_LEFT], *r = &s->eye[FV_EYE_RIGHT];

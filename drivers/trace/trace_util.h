@@ -38,6 +38,8 @@ void trace_eye_set_pupil(fv_eye_sample *e, double mm);
 void trace_eye_set_openness(fv_eye_sample *e, double v);
 /** Clear every value of an eye (NaN) and its validity flags; FV_EYE_BLINK is kept. */
 void trace_eye_invalidate(fv_eye_sample *e);
+/** Invalidate both eyes and the combined ray (trace_eye_invalidate); with blink, also set FV_EYE_BLINK on all three. */
+void trace_sample_invalidate(fv_gaze_sample *s, bool blink);
 /** Combined ray from the eyes when the source gives none: both valid → mean origin and normalised sum of directions;
  *  one → that eye's direction, origin unknown. */
 void trace_combine_eyes(fv_gaze_sample *s);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "debug_comp.spv.h"
+#include "debug_fovea_comp.spv.h"
 #include "debug_interface.h"
 #include "fv_shade_inputs_interface.h"
 
@@ -16,21 +17,30 @@ typedef struct debug {
     uint32_t width, height;
     fv_vk_compute cs;
     VkSampler nearest;
+    bool fovea;                 /* a foveation view (debug_fovea.comp) */
+    fv_image_id prob, mask;     /* its images, made by the fovea pass */
 } debug;
 
 static void debug_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 {
     static const char *const what[FV_DEBUG_VIEW_COUNT] = {
         "", "the G-buffer normal", "the predicted gaze", "direct light only", "light 0's visibility",
-        "which of light 0's shadow maps holds each pixel", "the G-buffer albedo", "the G-buffer depth"};
+        "which of light 0's shadow maps holds each pixel", "the G-buffer albedo", "the G-buffer depth",
+        "foveation's sample mask (blue ring: the gaze)", "foveation's sampling probability"};
     fv_debug_view v = ctx->quality->debug_view;
     if (v == FV_DEBUG_VIEW_NONE || (unsigned)v >= FV_DEBUG_VIEW_COUNT) {
         out->enabled = false;
         snprintf(out->reason, sizeof out->reason, "off — no debug view asked for");
         return;
     }
-    _Static_assert(FV_DEBUG_VIEW_DEPTH == FV_GPU_DEBUG_VIEW_DEPTH && FV_DEBUG_VIEW_GAZE == FV_GPU_DEBUG_VIEW_GAZE,
+    _Static_assert(FV_DEBUG_VIEW_DEPTH == FV_GPU_DEBUG_VIEW_DEPTH && FV_DEBUG_VIEW_GAZE == FV_GPU_DEBUG_VIEW_GAZE &&
+                       FV_DEBUG_VIEW_SAMPLES == FV_GPU_DEBUG_VIEW_SAMPLES && FV_DEBUG_VIEW_PROB == FV_GPU_DEBUG_VIEW_PROB,
                    "view numbers agree between C and GLSL");
+    if ((v == FV_DEBUG_VIEW_SAMPLES || v == FV_DEBUG_VIEW_PROB) && !ctx->quality->fovea.enabled) {
+        out->enabled = false;
+        snprintf(out->reason, sizeof out->reason, "off — debug view '%s' needs fovea.enabled", fv_debug_view_name(v));
+        return;
+    }
     out->enabled = true;
     out->variant = (uint32_t)v;
     snprintf(out->reason, sizeof out->reason, "debug view '%s': %s replaces the shading", fv_debug_view_name(v), what[v]);
@@ -66,6 +76,36 @@ static fv_result debug_init(const fv_pass_env *env, void **out_state)
         {FV_DEBUG_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
     };
     uint32_t view = env->plan ? env->plan->variant : FV_GPU_DEBUG_VIEW_NORMAL;
+    if (view == FV_GPU_DEBUG_VIEW_SAMPLES || view == FV_GPU_DEBUG_VIEW_PROB) {
+        d->fovea = true;
+        if (res == FV_OK) res = fv_images_find(env->images, "fovea prob", &d->prob); /* the fovea pass runs earlier */
+        if (res == FV_OK) res = fv_images_find(env->images, "fovea mask", &d->mask);
+        VkDescriptorSetLayoutBinding fb[FV_DEBUG_FOVEA_BINDING_COUNT] = {
+            {FV_DEBUG_FOVEA_BINDING_PROB, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+            {FV_DEBUG_FOVEA_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+            {FV_DEBUG_FOVEA_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+        };
+        VkDescriptorSetLayout scene_only[1] = {env->scene->set_layout};
+        fv_vk_compute_desc fd = {.name = "debug view (fovea)", .code = fv_spv_debug_fovea_comp,
+                                 .code_size = sizeof fv_spv_debug_fovea_comp, .shared_sets = scene_only,
+                                 .shared_set_count = 1, .bindings = fb, .binding_count = FV_DEBUG_FOVEA_BINDING_COUNT,
+                                 .set_count = 1, .spec = &view, .spec_count = 1};
+        if (res == FV_OK) res = fv_vk_compute_init(env->vk, &fd, &d->cs);
+        if (res != FV_OK) {
+            FV_ERROR(MOD, "debug view pass could not be created: %s", fv_result_str(res));
+            debug_fini(d);
+            return res;
+        }
+        VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_FOVEA_BINDING_PROB, si,
+                          fv_images_image(env->images, d->prob)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_FOVEA_BINDING_MASK, si,
+                          fv_images_image(env->images, d->mask)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_FOVEA_BINDING_COLOR, si, color->view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
+        *out_state = d;
+        return FV_OK;
+    }
     VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
     _Static_assert(FV_SCENE_SET == 0 && FV_SHADE_INPUTS_SET == 1 && FV_DEBUG_SET == 2, "debug's set order");
     fv_vk_compute_desc cd = {.name = "debug view", .code = fv_spv_debug_comp, .code_size = sizeof fv_spv_debug_comp,
@@ -90,6 +130,18 @@ static void debug_record(void *state, const fv_pass_frame *f)
     VkCommandBuffer cmd = f->cmd;
     fv_vk_label_begin(d->vk, cmd, "debug view");
     VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    if (d->fovea) {
+        fv_images_use(f->images, cmd, d->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_READ_BIT});
+        fv_images_use(f->images, cmd, d->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_READ_BIT});
+        fv_images_use(f->images, cmd, FV_IMAGE_COLOR,
+                      (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
+        fv_vk_compute_bind(&d->cs, cmd, 0, &f->scene_set, 1, 0, NULL);
+        vkCmdDispatch(cmd, (d->width + FV_DEBUG_GROUP_X - 1) / FV_DEBUG_GROUP_X,
+                      (d->height + FV_DEBUG_GROUP_Y - 1) / FV_DEBUG_GROUP_Y, 2);
+        f->counters->dispatches++;
+        fv_vk_label_end(d->vk, cmd);
+        return;
+    }
     fv_images_use_gbuffer(f->images, cmd, cs);
     fv_shade_inputs_use(f->shade_inputs, f->images, cmd, cs);
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});

@@ -56,6 +56,8 @@ struct fv_gpu_frame {
 #define FV_GPU_DEBUG_VIEW_CASCADE 5 /* which of light 0's maps holds the pixel, as a colour (black: none) */
 #define FV_GPU_DEBUG_VIEW_ALBEDO 6  /* linear albedo */
 #define FV_GPU_DEBUG_VIEW_DEPTH 7   /* Vulkan depth 0..1 of the eye's projection, grey (1 where nothing is drawn) */
+#define FV_GPU_DEBUG_VIEW_SAMPLES 8 /* foveation's sample mask: r = g = 1 where shaded; b = 1 on a ring at the gaze */
+#define FV_GPU_DEBUG_VIEW_PROB 9    /* foveation's sampling probability, grey */
 
 /** One drawn node (storage buffer, indexed by a push constant). */
 struct fv_gpu_draw {

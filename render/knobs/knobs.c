@@ -25,6 +25,8 @@ static const char *const g_filter_names[] = {"none", "pcf3", "pcf5"};
 
 /* The table. Presets: fast, high and exact here; balanced is fv_quality_default() (fv_frame_input.h). Split scheme
  * and its lambda: parallel-split shadow maps, ../shared/papers/README.md §2. */
+static const char *const g_recon_names[] = {"nearest"};
+
 static const fv_knob g_knobs[] = {
     {.name = "shadow.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(shadow.enabled),
      .fast = B(true), .high = B(true), .exact = B(true),
@@ -56,6 +58,30 @@ static const fv_knob g_knobs[] = {
      .fast = B(true), .high = B(true), .exact = B(false),
      .doc = "one set of splits for both eyes, fitted to the union of their frusta (off: one set per eye, twice the "
             "shadow draws)"},
+    {.name = "fovea.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.enabled),
+     .fast = B(false), .high = B(false), .exact = B(false),
+     .doc = "foveated rendering (experimental, off in every preset: on lavapipe its map and compaction still cost "
+            "more than the shading they save): shade a gaze-driven subset of the pixels, fill the rest from the "
+            "nearest sample (off: every pixel shaded)"},
+    {.name = "fovea.mar_slope", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "deg/deg", AT(fovea.mar_slope),
+     .fast = F(0.03f), .high = F(0.016f), .exact = F(0.022f),
+     .doc = "slope m of the linear minimum angle of resolution w = m e + w0 (e: eccentricity from the gaze)"},
+    {.name = "fovea.mar_w0_deg", .type = FV_KNOB_FLOAT, .min = 0.001, .max = 1, .unit = "deg", AT(fovea.mar_w0_deg),
+     .fast = F(1.0f / 40.0f), .high = F(1.0f / 60.0f), .exact = F(1.0f / 48.0f),
+     .doc = "w0, the minimum angle of resolution at the gaze (also w_min of the sampling probability)"},
+    {.name = "fovea.min_prob", .type = FV_KNOB_FLOAT, .min = 0.01, .max = 1, .unit = "", AT(fovea.min_prob),
+     .fast = F(0.03f), .high = F(0.1f), .exact = F(1.0f),
+     .doc = "xi, the smallest sampling probability (the far periphery); 1 samples every pixel"},
+    {.name = "fovea.block", .type = FV_KNOB_INT, .min = 2, .max = 16, .unit = "px", AT(fovea.block),
+     .fast = I(4), .high = I(4), .exact = I(2),
+     .doc = "side of the square blocks that each hold at least one sample (bounds the gap reconstruction fills)"},
+    {.name = "fovea.uncertainty", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.uncertainty),
+     .fast = B(false), .high = B(true), .exact = B(true),
+     .doc = "widen the fovea by the predicted gaze's uncertainty (eccentricity e' = max(0, e - u))"},
+    {.name = "fovea.recon", .type = FV_KNOB_ENUM, .min = 0, .max = 0, .unit = "", .choices = g_recon_names,
+     .choice_count = 1, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_NEAREST), .high = I(FV_FOVEA_RECON_NEAREST),
+     .exact = I(FV_FOVEA_RECON_NEAREST),
+     .doc = "how unshaded pixels are filled: nearest (the nearest sample's colour by jump flooding)"},
 };
 
 #define KNOB_COUNT (sizeof g_knobs / sizeof g_knobs[0])

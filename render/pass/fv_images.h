@@ -56,6 +56,8 @@ FV_MUST_CHECK fv_result fv_images_get(fv_images *t, fv_image_id id, const fv_vk_
 FV_MUST_CHECK fv_result fv_images_scratch(fv_images *t, const fv_vk_image_desc *desc, fv_image_id *out_id);
 /** Destroy a scratch image and free its slot for the next fv_images_scratch (the GPU must be done with it). */
 void fv_images_release(fv_images *t, fv_image_id id);
+/** The id of the created image named `name` (a scratch image's desc name), or FV_ERR_NOT_FOUND. */
+FV_MUST_CHECK fv_result fv_images_find(const fv_images *t, const char *name, fv_image_id *out_id);
 /** The image as created (NULL before fv_images_get created it). */
 const fv_vk_image *fv_images_image(const fv_images *t, fv_image_id id);
 

@@ -8,6 +8,7 @@
 #define FV_PASS_H
 
 #include "fovea/fv_frame_input.h"
+#include "fv_frame_samples.h"
 #include "fv_images.h"
 #include "fv_plan.h"
 #include "fv_scene.h"
@@ -35,6 +36,7 @@ typedef struct fv_pass_env {
     uint32_t slots;             /* frames in flight */
     bool multiview;
     const fv_plan_entry *plan;  /* this pass's decision */
+    fv_frame_samples *samples;  /* the renderer's frame sample list (a producer reserves it at init) */
 } fv_pass_env;
 
 /** A list of packed pixels to re-shade (fv_gpu.h: FV_GPU_LIST_*), its indirect dispatch arguments, and the count
@@ -45,6 +47,8 @@ typedef struct fv_pixel_list {
     VkBuffer indirect;
     VkDeviceSize indirect_offset;
     uint32_t host_count;
+    bool count_on_gpu; /* the GPU wrote the count (host_count is 0): count the list in counters->gpu_lists; the
+                        * renderer adds its size to pixels_shaded after the frame */
 } fv_pixel_list;
 
 /** What record gets, per frame. */
@@ -58,6 +62,8 @@ typedef struct fv_pass_frame {
     fv_shade_inputs *shade_inputs; /* the slot's set: fv_shade_inputs_set(shade_inputs, slot) */
     const fv_pixel_list *pixels; /* NULL: a whole frame; else the renderer re-shades these pixels only */
     fv_pass_counters *counters;  /* zeroed before record; the pass adds what it did */
+    fv_frame_samples *samples;   /* record: a producer fills the slot's list and sets samples->active; the passes
+                                  * after it then get it as `pixels` */
 } fv_pass_frame;
 
 /** Flags of a pass entry. */

@@ -29,6 +29,7 @@ typedef struct fv_pass_counters {
     uint64_t triangles;     /* triangles submitted (per view) x views */
     uint64_t pixels_shaded; /* pixels the shading function ran for */
     uint64_t dispatches;    /* compute dispatches (direct or indirect) */
+    uint64_t gpu_lists;     /* pixel lists shaded whose size only the GPU knew (already added to pixels_shaded) */
 } fv_pass_counters;
 
 /** A named list of numbers a pass reports about its last frame (e.g. "light0.splits_m"), for --explain --json. */

@@ -106,6 +106,17 @@ void fv_images_release(fv_images *t, fv_image_id id)
     memset(s, 0, sizeof *s);
 }
 
+fv_result fv_images_find(const fv_images *t, const char *name, fv_image_id *out_id)
+{
+    if (!t || !name || !out_id) return FV_ERR_INVALID_ARG;
+    for (uint32_t k = 0; k < t->count; k++)
+        if (t->slot[k].created && strcmp(t->slot[k].name, name) == 0) {
+            *out_id = (fv_image_id)k;
+            return FV_OK;
+        }
+    return FV_ERR_NOT_FOUND;
+}
+
 const fv_vk_image *fv_images_image(const fv_images *t, fv_image_id id)
 {
     return t && (uint32_t)id < t->count && t->slot[id].created ? &t->slot[id].img : NULL;

@@ -1,8 +1,9 @@
 /* @brief Model files through assimp's C API (glTF 2.0 .gltf/.glb with KHR_lights_punctual, OBJ+MTL, PLY, ...):
  * triangulated meshes, node hierarchy, materials (base colour, emissive, base colour texture via stb_image or
  * assimp's embedded textures), lights and the first camera. Units guessed (millimetres when the bounds exceed 50
- * units). Hostile files: a PLY header is checked before assimp sees it (element counts against the file size and
- * the FV_SCENE_MAX_* limits) and every mesh is checked again here (indices, finite positions, counts). */
+ * units). Hostile files: scene_precheck.c checks what a PLY, OBJ or OFF file declares (element counts, list
+ * lengths) against its size and the FV_SCENE_MAX_* limits before assimp sees it, and every mesh is checked again
+ * here (indices, finite positions, counts). */
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -43,61 +44,6 @@ static bool has_ext(const char *path, const char *ext)
 }
 
 /* ---- pre-checks ------------------------------------------------------------------------------------------- */
-
-/* Read up to cap-1 bytes of the file head, NUL-terminated. */
-static size_t read_head(const char *path, char *buf, size_t cap)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return 0;
-    size_t n = fread(buf, 1, cap - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    return n;
-}
-
-/* PLY: "element NAME COUNT" lines. Reject counts no file of this size could hold (every element takes at least one
- * byte), and counts over the scene limits, before assimp allocates for them. */
-static fv_result ply_precheck(const char *path, uint64_t file_size)
-{
-    char head[8192];
-    size_t n = read_head(path, head, sizeof head);
-    if (n < 4 || strncmp(head, "ply", 3) != 0) return FV_OK; /* assimp reports what it is */
-    int line = 1;
-    for (char *p = head; *p;) {
-        char *eol = strchr(p, '\n');
-        if (eol) *eol = '\0';
-        if (!strncmp(p, "end_header", 10)) break;
-        char name[64];
-        char count[32];
-        if (sscanf(p, "element %63s %31s", name, count) == 2) {
-            char *end = NULL;
-            errno = 0;
-            unsigned long long c = strtoull(count, &end, 10);
-            if (errno || end == count || (*end && *end != '\r' && *end != ' ') || count[0] == '-') {
-                FV_ERROR("scene", "%s: PLY header line %d: element '%s' count '%s' is not a number", path, line, name,
-                         count);
-                return FV_ERR_PARSE;
-            }
-            if (c > file_size) {
-                FV_ERROR("scene", "%s: PLY header line %d: element '%s' claims %llu items but the file has only %llu "
-                         "bytes", path, line, name, c, (unsigned long long)file_size);
-                return FV_ERR_PARSE;
-            }
-            uint64_t limit = !strcmp(name, "vertex") ? FV_SCENE_MAX_VERTICES
-                             : !strcmp(name, "face") ? FV_SCENE_MAX_INDICES / 3u
-                                                     : FV_SCENE_MAX_INDICES;
-            if (c > limit) {
-                FV_ERROR("scene", "%s: PLY header line %d: element '%s' count %llu exceeds the limit %llu", path,
-                         line, name, c, (unsigned long long)limit);
-                return FV_ERR_RANGE;
-            }
-        }
-        if (!eol) break;
-        p = eol + 1;
-        line++;
-    }
-    return FV_OK;
-}
 
 /* glTF: assimp silently drops a texture whose image is missing; say so (the material keeps its base colour). */
 static void gltf_check_json(const char *path, const cJSON *root)
@@ -212,6 +158,12 @@ static int32_t load_texture(import_ctx *c, const char *ref, const char *mat_name
         }
         int32_t have = find_texture(c->s, source);
         if (have >= 0) return have;
+        struct stat st;
+        if (stat(source, &st) == 0 && !S_ISREG(st.st_mode)) { /* a FIFO or device would block or never end */
+            FV_WARN("scene", "%s: material '%s': texture '%s' is not a regular file; using the base colour", c->path,
+                    mat_name, source);
+            return -1;
+        }
         if (!stbi_info(source, &w, &h, &comp)) {
             FV_WARN("scene", "%s: material '%s': texture '%s' cannot be read (%s); using the base colour", c->path,
                     mat_name, source, stbi_failure_reason() ? stbi_failure_reason() : "unknown");
@@ -684,7 +636,18 @@ fv_result fv_scene_import(const char *path, float unit_scale_m, fv_scene **out_s
     return fv_scene_import_ex(path, unit_scale_m, true, out_scene);
 }
 
+static fv_result import_file(const char *path, float unit_scale_m, bool default_lights, fv_scene **out_scene);
+
 fv_result fv_scene_import_ex(const char *path, float unit_scale_m, bool default_lights, fv_scene **out_scene)
+{
+    fv_log_budget budget; /* a file that fails the same way a million times says so a few times */
+    fv_log_budget_begin(&budget, path ? path : "", 0);
+    fv_result r = import_file(path, unit_scale_m, default_lights, out_scene);
+    fv_log_budget_end(&budget);
+    return r;
+}
+
+static fv_result import_file(const char *path, float unit_scale_m, bool default_lights, fv_scene **out_scene)
 {
     if (!out_scene) return FV_ERR_INVALID_ARG;
     *out_scene = NULL;
@@ -705,7 +668,7 @@ fv_result fv_scene_import_ex(const char *path, float unit_scale_m, bool default_
         FV_ERROR("scene", "%s: unit scale %g must be >= 0", path, (double)unit_scale_m);
         return FV_ERR_RANGE;
     }
-    if (has_ext(path, ".ply")) FV_TRY(ply_precheck(path, (uint64_t)st.st_size));
+    FV_TRY(fv_scene_precheck_file(path, (uint64_t)st.st_size));
     bool is_gltf = has_ext(path, ".gltf") || has_ext(path, ".glb");
     if (is_gltf) gltf_precheck(path, (uint64_t)st.st_size);
 

@@ -2,11 +2,13 @@
 #ifndef FV_SCENE_INTERNAL_H
 #define FV_SCENE_INTERNAL_H
 
+#include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "fv_scene.h"
 
-/** Copy a NUL-terminated string into a fixed buffer, truncating. */
+/** Copy a NUL-terminated string into a fixed buffer, truncating before a UTF-8 character that does not fit whole. */
 void fv_scene_copy_name(char *dst, size_t cap, const char *src);
 /** Quaternion of the rotation whose columns are the local +x, +y, +z axes in world space (orthonormal). */
 fv_quat fv_scene_quat_from_basis(fv_vec3 right, fv_vec3 up, fv_vec3 back);
@@ -35,5 +37,27 @@ FV_MUST_CHECK fv_result fv_scene_add_default_lights(fv_scene *s, const char *ori
 /** Scene-file parser; allow_model_files false refuses every non-builtin model (the fuzzer uses this). */
 FV_MUST_CHECK fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir, const char *origin,
                                             bool allow_model_files, fv_scene **out_scene);
+
+/** Model-file pre-checks (scene_precheck.c): the counts and list lengths a file declares against what its bytes can
+ *  hold and the FV_SCENE_MAX_* limits, before assimp allocates for them. */
+typedef enum fv_scene_precheck_format {
+    FV_SCENE_PRECHECK_NONE = 0, /* no pre-check for this format */
+    FV_SCENE_PRECHECK_PLY,      /* ascii and binary (both endians): element counts, every list length, face indices */
+    FV_SCENE_PRECHECK_OBJ,      /* vertex and index counts, material libraries (through the callback) */
+    FV_SCENE_PRECHECK_OFF,      /* vertex and face counts against the file size */
+} fv_scene_precheck_format;
+/** A file the model refers to (an OBJ mtllib name, as written); false (after logging why) refuses the model. */
+typedef bool (*fv_scene_precheck_ref_fn)(void *user, const char *origin, size_t line, const char *name);
+/** The pre-check for a model file: by extension (.ply, .obj, .off), and for an extension assimp does not claim, by
+ *  content (head: the first bytes), as assimp picks its reader. */
+fv_scene_precheck_format fv_scene_precheck_format_of(const char *path, const uint8_t *head, size_t n);
+/** Pure check of a file's bytes (no I/O; ref may be NULL: references are not checked). Errors name origin and the
+ *  header line, element or item. FV_OK also for bytes that are not of this format (assimp reports those). */
+FV_MUST_CHECK fv_result fv_scene_precheck_bytes(const char *origin, fv_scene_precheck_format format,
+                                                const uint8_t *bytes, size_t len, fv_scene_precheck_ref_fn ref,
+                                                void *user);
+/** Map the file (size bytes, a regular file) and run its pre-check; OBJ material libraries must be regular files
+ *  of at most 64 MiB. */
+FV_MUST_CHECK fv_result fv_scene_precheck_file(const char *path, uint64_t size);
 
 #endif

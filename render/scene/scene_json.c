@@ -15,11 +15,15 @@
 
 #define JPATH_MAX 256
 #define MAX_SCENE_FILE_BYTES (16u * 1024u * 1024u)
+/* JSON values (numbers, strings, arrays, objects...) a scene file may hold: each costs cJSON ~80 bytes, so a 16 MiB
+ * file of "0," would take 650 MB before any check. 65536 objects with every field set stay under it. */
+#define MAX_JSON_VALUES (4u * 1024u * 1024u)
 
 typedef struct jctx {
     const char *origin;   /* file name for messages */
     const char *base_dir; /* model paths resolve against this ("" = current directory) */
     bool allow_files;
+    bool full; /* the scene reached a FV_SCENE_MAX_* limit: later objects are not loaded */
     int errors;
 } jctx;
 
@@ -420,6 +424,7 @@ static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, floa
     md.take_lights = take_lights;
     r = fv_scene_merge(dst, src, &md);
     fv_scene_destroy(&src);
+    if (r == FV_ERR_RANGE) c->full = true;
     if (r < 0) JERR(c, path, "could not add the object (%s)", fv_result_str(r));
 }
 
@@ -524,6 +529,51 @@ static void parse_head(jctx *c, fv_scene *s, const cJSON *j)
     }
 }
 
+/* What the text holds, found in one pass before cJSON builds a tree for it: how many values, how deep it nests
+ * (cJSON refuses more than CJSON_NESTING_LIMIT levels without saying so), and the first "\u0000" in a string
+ * (cJSON would cut the string there, silently). */
+typedef struct json_scan {
+    size_t values;
+    size_t too_deep_at; /* offset of the bracket that passes the nesting limit, or SIZE_MAX */
+    size_t nul_at;      /* offset of the first \u0000 escape, or SIZE_MAX */
+    size_t nul_count;
+    size_t open_string_at; /* offset of the quote of a string the text ends inside, or SIZE_MAX */
+} json_scan;
+
+static void json_prescan(const char *json, size_t len, json_scan *out)
+{
+    *out = (json_scan){1, SIZE_MAX, SIZE_MAX, 0, SIZE_MAX};
+    size_t depth = 0, string_at = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < len; i++) {
+        char ch = json[i];
+        if (in_string) {
+            if (ch == '\\') {
+                if (i + 5 < len && json[i + 1] == 'u' && !memcmp(json + i + 2, "0000", 4)) {
+                    if (out->nul_at == SIZE_MAX) out->nul_at = i;
+                    out->nul_count++;
+                }
+                i++; /* the escaped character */
+            } else if (ch == '"') {
+                in_string = false;
+            }
+            continue;
+        }
+        if (ch == '"') {
+            in_string = true;
+            string_at = i;
+        } else if (ch == '[' || ch == '{') {
+            out->values++;
+            if (++depth > CJSON_NESTING_LIMIT && out->too_deep_at == SIZE_MAX) out->too_deep_at = i;
+        } else if (ch == ']' || ch == '}') {
+            if (depth) depth--;
+        } else if (ch == ',') {
+            out->values++;
+        }
+    }
+    if (in_string) out->open_string_at = string_at;
+}
+
 /* Line and column (1-based) of a byte offset. */
 static void line_col(const char *json, size_t off, int *line, int *col)
 {
@@ -539,21 +589,59 @@ static void line_col(const char *json, size_t off, int *line, int *col)
     }
 }
 
+static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **out_scene);
+
 fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir, const char *origin,
                               bool allow_model_files, fv_scene **out_scene)
 {
     if (!out_scene) return FV_ERR_INVALID_ARG;
     *out_scene = NULL;
-    jctx c = {origin && *origin ? origin : "<buffer>", base_dir ? base_dir : "", allow_model_files, 0};
+    jctx c = {origin && *origin ? origin : "<buffer>", base_dir ? base_dir : "", allow_model_files, false, 0};
     if (!json) {
         FV_ERROR("scene", "%s: no scene text", c.origin);
         return FV_ERR_INVALID_ARG;
     }
+    /* Every message of the load (this file's and its model files') passes one budget: a few of each kind, then
+     * one "... and N more" line each, then the count. */
+    fv_log_budget budget;
+    fv_log_budget_begin(&budget, c.origin, 0);
+    fv_result r = parse_json(&c, json, len, out_scene);
+    fv_log_budget_end(&budget);
+    if (c.errors)
+        FV_ERROR("scene", "%s: %d problem%s; the scene is not loaded", c.origin, c.errors, c.errors == 1 ? "" : "s");
+    return r;
+}
+
+static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **out_scene)
+{
+    jctx c = *cp;
+    fv_result r = FV_OK;
+    cJSON *root = NULL;
+    fv_scene *s = NULL;
+    json_scan scan;
+    json_prescan(json, len, &scan);
+    int line, col;
+    if (scan.too_deep_at != SIZE_MAX) {
+        line_col(json, scan.too_deep_at, &line, &col);
+        FV_ERROR("scene", "%s: line %d column %d: invalid JSON: nested deeper than %d levels (the parser's limit)",
+                 c.origin, line, col, CJSON_NESTING_LIMIT);
+        return FV_ERR_PARSE;
+    }
+    if (scan.values > MAX_JSON_VALUES) {
+        FV_ERROR("scene", "%s: about %zu JSON values, more than the %u a scene file may hold", c.origin, scan.values,
+                 MAX_JSON_VALUES);
+        return FV_ERR_RANGE;
+    }
+    if (scan.nul_at != SIZE_MAX) {
+        line_col(json, scan.nul_at, &line, &col);
+        FV_ERROR("scene", "%s: line %d column %d: a string holds \\u0000 (a NUL character)%s, which names and paths "
+                 "cannot carry; remove it", c.origin, line, col, scan.nul_count > 1 ? ", the first of several" : "");
+        return FV_ERR_PARSE;
+    }
     const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
+    root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
     if (!root) {
         size_t off = (end && end >= json && end <= json + len) ? (size_t)(end - json) : 0;
-        int line, col;
         line_col(json, off, &line, &col);
         /* cJSON points at the token where parsing stopped; when nothing but blanks follows it, the text was cut. */
         bool cut = true;
@@ -563,7 +651,12 @@ fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir
             /* still "cut" only if the stopping token itself could continue (an opener, a comma, a colon...) */
             cut = strchr("[{,:\"", json[off]) != NULL || json[off] == ' ' || json[off] == '\n';
         }
-        if (off >= len || cut)
+        if (scan.open_string_at != SIZE_MAX && off >= scan.open_string_at) {
+            int sl, sc;
+            line_col(json, scan.open_string_at, &sl, &sc);
+            FV_ERROR("scene", "%s: line %d column %d: invalid JSON (the text ends inside the string that starts "
+                     "there: a missing '\"')", c.origin, sl, sc);
+        } else if (off >= len || cut)
             FV_ERROR("scene", "%s: line %d column %d: invalid JSON (unexpected end of the text)", c.origin, line, col);
         else if ((unsigned char)json[off] >= 0x20 && (unsigned char)json[off] < 0x7f)
             FV_ERROR("scene", "%s: line %d column %d: invalid JSON (unexpected '%c')", c.origin, line, col, json[off]);
@@ -572,8 +665,6 @@ fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir
                      (unsigned)(unsigned char)json[off]);
         return FV_ERR_PARSE;
     }
-    fv_result r = FV_OK;
-    fv_scene *s = NULL;
     if (!cJSON_IsObject(root)) {
         JERR(&c, "(root)", "expected an object, got %s", type_name(root));
         r = FV_ERR_PARSE;
@@ -602,39 +693,39 @@ fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir
         JERR(&c, "objects", "missing (an array of objects to draw)");
     } else if (!cJSON_IsArray(objects)) {
         JERR(&c, "objects", "expected an array, got %s", type_name(objects));
+    } else if ((unsigned)cJSON_GetArraySize(objects) > FV_SCENE_MAX_ITEMS) { /* the limit before the work */
+        JERR(&c, "objects", "%d objects is more than the limit of %u; none is loaded", cJSON_GetArraySize(objects),
+             FV_SCENE_MAX_ITEMS);
     } else {
-        int i = 0;
+        int i = 0, n = cJSON_GetArraySize(objects);
         const cJSON *o;
         cJSON_ArrayForEach(o, objects)
         {
-            if (i >= (int)FV_SCENE_MAX_ITEMS) {
-                JERR(&c, "objects", "more than %u objects", FV_SCENE_MAX_ITEMS);
+            if (c.full) {
+                char p[JPATH_MAX];
+                snprintf(p, sizeof p, "objects[%d]", i);
+                JERR(&c, p, "not loaded, nor the %d after it: the scene reached its limits (see above)", n - 1 - i);
                 break;
             }
             parse_object(&c, s, o, i++, unit, &have_model_head, &model_head);
         }
-        if (i == 0) JERR(&c, "objects", "is empty; nothing to draw");
+        if (n == 0) JERR(&c, "objects", "is empty; nothing to draw");
     }
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
     if (lights && !cJSON_IsArray(lights)) {
         JERR(&c, "lights", "expected an array, got %s", type_name(lights));
+    } else if (lights && (unsigned)cJSON_GetArraySize(lights) > FV_SCENE_MAX_ITEMS) {
+        JERR(&c, "lights", "%d lights is more than the limit of %u; none is loaded", cJSON_GetArraySize(lights),
+             FV_SCENE_MAX_ITEMS);
     } else if (lights) {
         int i = 0;
         const cJSON *l;
-        cJSON_ArrayForEach(l, lights)
-        {
-            if (i >= (int)FV_SCENE_MAX_ITEMS) {
-                JERR(&c, "lights", "more than %u lights", FV_SCENE_MAX_ITEMS);
-                break;
-            }
-            parse_light(&c, s, l, i++);
-        }
+        cJSON_ArrayForEach(l, lights) parse_light(&c, s, l, i++);
     }
     if (have_model_head) s->head = model_head;
     const cJSON *head = cJSON_GetObjectItemCaseSensitive(root, "head");
     if (head) parse_head(&c, s, head);
     if (c.errors) {
-        FV_ERROR("scene", "%s: %d problem%s; the scene is not loaded", c.origin, c.errors, c.errors == 1 ? "" : "s");
         r = FV_ERR_PARSE;
         goto fail;
     }
@@ -642,11 +733,13 @@ fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir
     if (s->light_count == 0 && (r = fv_scene_add_default_lights(s, c.origin)) < 0) goto fail;
     if ((r = fv_scene_validate(s)) < 0) goto fail;
     cJSON_Delete(root);
+    *cp = c;
     *out_scene = s;
     return FV_OK;
 fail:
     cJSON_Delete(root);
     fv_scene_destroy(&s);
+    *cp = c;
     return r;
 }
 

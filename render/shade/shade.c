@@ -164,7 +164,8 @@ static void shade_record(void *state, const fv_pass_frame *f)
     fv_vk_compute_bind(&sh->cs, cmd, list ? VARIANT_LIST : VARIANT_ALL, shared, 2, f->slot, &pc);
     if (list) {
         if (list->indirect) vkCmdDispatchIndirect(cmd, list->indirect, list->indirect_offset);
-        f->counters->pixels_shaded += list->host_count;
+        if (list->count_on_gpu) f->counters->gpu_lists++; /* the renderer adds the list's size after the frame */
+        else f->counters->pixels_shaded += list->host_count;
     } else {
         vkCmdDispatch(cmd, pc.groups_x, (total + pc.groups_x - 1) / pc.groups_x, 1);
         f->counters->pixels_shaded += (uint64_t)sh->width * sh->height * 2u;

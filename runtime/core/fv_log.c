@@ -117,13 +117,99 @@ int fv_log_enabled(const char *module, fv_log_level level)
     return level <= limit;
 }
 
+/* ---- per-load budget ---- */
+
+static _Thread_local fv_log_budget *t_budget;
+
+void fv_log_budget_begin(fv_log_budget *b, const char *origin, unsigned per_kind)
+{
+    memset(b, 0, sizeof *b);
+    b->origin = origin ? origin : "";
+    b->per_kind = per_kind ? per_kind : 8;
+    b->outer = t_budget;
+    b->active = t_budget == NULL; /* nested: the outer budget counts */
+    t_budget = b;
+}
+
+unsigned long long fv_log_budget_suppressed(const fv_log_budget *b)
+{
+    unsigned long long n = 0;
+    for (unsigned i = 0; b->active && i <= FV_LOG_BUDGET_KINDS; i++)
+        if (b->kinds[i].seen > b->per_kind) n += b->kinds[i].seen - b->per_kind;
+    return n;
+}
+
+static fv_log_budget *active_budget(void)
+{
+    fv_log_budget *b = t_budget;
+    while (b && !b->active) b = b->outer;
+    return b;
+}
+
+/* The slot of this call site: its own while there is room, then one shared by every later kind. */
+static unsigned budget_slot(fv_log_budget *b, const char *file, int line, fv_log_level level, const char *module)
+{
+    for (unsigned i = 0; i < b->kind_count; i++)
+        if (b->kinds[i].line == line && (b->kinds[i].file == file || strcmp(b->kinds[i].file, file) == 0)) return i;
+    unsigned i = b->kind_count < FV_LOG_BUDGET_KINDS ? b->kind_count++ : FV_LOG_BUDGET_KINDS;
+    if (b->kinds[i].seen == 0) {
+        b->kinds[i].file = file;
+        b->kinds[i].line = line;
+        b->kinds[i].level = level;
+        b->kinds[i].module = module;
+    }
+    return i;
+}
+
+static void emit(fv_log_level level, const char *module, const char *file, int line, const char *msg);
+
+/* Group digits by thousands: 112340 -> "112,340". */
+static void group_digits(unsigned long long v, char *out, size_t cap)
+{
+    char tmp[32];
+    int n = snprintf(tmp, sizeof tmp, "%llu", v);
+    size_t o = 0;
+    for (int i = 0; i < n && o + 2 < cap; i++) {
+        if (i > 0 && (n - i) % 3 == 0) out[o++] = ',';
+        out[o++] = tmp[i];
+    }
+    out[o] = '\0';
+}
+
+void fv_log_budget_end(fv_log_budget *b)
+{
+    if (t_budget == b) t_budget = b->outer;
+    if (!b->active) return;
+    for (unsigned i = 0; i <= FV_LOG_BUDGET_KINDS; i++) {
+        if (b->kinds[i].seen <= b->per_kind) continue;
+        char n[40], msg[400];
+        group_digits(b->kinds[i].seen - b->per_kind, n, sizeof n);
+        snprintf(msg, sizeof msg, "%s: ... and %s more like: %s", b->origin, n, b->kinds[i].first);
+        emit(b->kinds[i].level, b->kinds[i].module, b->kinds[i].file, b->kinds[i].line, msg);
+    }
+}
+
 void fv_log_write(fv_log_level level, const char *module, const char *file, int line, const char *fmt, ...)
 {
+    fv_log_budget *b = active_budget();
+    int slot = b ? (int)budget_slot(b, file, line, level, module) : -1;
+    if (slot >= 0 && ++b->kinds[slot].seen > b->per_kind) return; /* counted; summarised by fv_log_budget_end */
     char msg[1024];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    if (slot >= 0 && b->kinds[slot].seen == 1) {
+        size_t n = strlen(msg), cap = sizeof b->kinds[slot].first;
+        if (n >= cap) n = cap - 1;
+        memcpy(b->kinds[slot].first, msg, n);
+        b->kinds[slot].first[n] = '\0';
+    }
+    emit(level, module, file, line, msg);
+}
+
+static void emit(fv_log_level level, const char *module, const char *file, int line, const char *msg)
+{
     const char *base = strrchr(file, '/');
     base = base ? base + 1 : file;
     pthread_mutex_lock(&g_mutex);

@@ -26,6 +26,31 @@ void fv_log_write(fv_log_level level, const char *module, const char *file, int 
     FV_PRINTF(5, 6);
 const char *fv_log_level_str(fv_log_level level);
 
+/** A per-load message budget (a loader's defence against a flood of one error): between begin and end, on the
+ *  calling thread, each kind of message (one call site: file and line) is shown `per_kind` times; the rest are
+ *  counted and end() logs one line per kind, "ORIGIN: ... and N more like: <first message>". Budgets nest: an inner
+ *  begin (a model file inside a scene file) shares the outer budget. The caller owns the struct; one thread. */
+#define FV_LOG_BUDGET_KINDS 32
+typedef struct fv_log_budget {
+    const char *origin; /* named in the summary lines (the file being loaded) */
+    unsigned per_kind;  /* messages of one kind shown; 0 = 8 */
+    unsigned kind_count;
+    struct fv_log_budget *outer; /* the budget this one nests in (internal) */
+    int active;                  /* 1 when this budget counts (the outermost one) */
+    struct {
+        const char *file;
+        int line;
+        fv_log_level level;
+        const char *module;
+        unsigned long long seen;
+        char first[160]; /* the first message of this kind, for the summary */
+    } kinds[FV_LOG_BUDGET_KINDS + 1]; /* the last slot holds every kind past FV_LOG_BUDGET_KINDS */
+} fv_log_budget;
+void fv_log_budget_begin(fv_log_budget *b, const char *origin, unsigned per_kind);
+void fv_log_budget_end(fv_log_budget *b);
+/** Messages counted but not shown so far (0 for a nested budget). */
+unsigned long long fv_log_budget_suppressed(const fv_log_budget *b);
+
 #define FV_LOG(level, module, ...)                                                                                     \
     do {                                                                                                               \
         if (fv_log_enabled((module), (level))) fv_log_write((level), (module), __FILE__, __LINE__, __VA_ARGS__);       \

@@ -164,11 +164,24 @@ static fv_result sim_open(const char *uri, const fv_device_open_desc *desc, fv_d
     }
     d->ts_bits = bits;
     if (bits) {
+        /* A counter that wraps before two samples have passed leaves the number of wraps between samples to guess:
+         * refuse it rather than invent a timeline (real devices are checked against the host clock instead). */
+        double wrap_ms = ldexp(1.0, (int)bits) / 1000.0, interval_ms = 1000.0 / ed.rate_hz;
+        if (wrap_ms < 2.0 * interval_ms) {
+            unsigned need = bits;
+            while (ldexp(1.0, (int)need) / 1000.0 < 2.0 * interval_ms) need++;
+            FV_ERROR("sim", "'%s': ts_bits=%u (a microsecond counter) wraps every %.3f ms, faster than twice the "
+                     "sample interval at rate_hz=%g (2 x %.3f ms), so its timestamps cannot be unwrapped; use "
+                     "ts_bits=%u or more, or 0", uri, bits, wrap_ms, ed.rate_hz, interval_ms, need);
+            r = FV_ERR_RANGE;
+            goto fail;
+        }
         r = fv_gaze_unwrap_init(&d->unwrap, bits, 1000);
         if (r != FV_OK) goto fail;
     }
     d->base.ops = &g_sim_ops;
     snprintf(d->base.info.uri, sizeof d->base.info.uri, "%s", uri);
+    d->unwrap.label = d->base.info.uri;
     snprintf(d->base.info.name, sizeof d->base.info.name, "fovea simulated eye (seed %llu)",
              (unsigned long long)ed.seed);
     snprintf(d->base.info.driver, sizeof d->base.info.driver, "sim");
@@ -193,9 +206,9 @@ static fv_result fill_pending(sim_device *d)
     /* simulation time → host clock */
     d->pending.t_host_ns += d->host_origin_ns;
     if (d->ts_bits) {
-        /* the device sends a ts_bits-wide µs counter; unwrap it as a real driver would */
+        /* the device sends a ts_bits-wide µs counter; unwrap it as a real driver would, against the receipt */
         uint64_t raw = (uint64_t)(d->pending.t_device_ns / 1000);
-        d->pending.t_device_ns = fv_gaze_unwrap_push(&d->unwrap, raw);
+        d->pending.t_device_ns = fv_gaze_unwrap_push_host(&d->unwrap, raw, d->pending.t_host_ns);
     }
     d->have_pending = true;
     return FV_OK;

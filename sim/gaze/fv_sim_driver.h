@@ -3,7 +3,7 @@
  * transport_jitter_ms, dropout, eye_loss, precision_deg, accuracy_deg, blink_per_min, pursuit_prob, microsaccades,
  * skew_ppm, device_offset_s, ipd_mm, vmax_deg_s, c_deg, main_seq_spread) plus ts_bits (0 = 64-bit ns device
  * timestamps; 8..63 = a µs counter of that width, wrapped by the device and unwrapped by the driver with
- * fv_gaze_unwrap). Simulation time 0 is the host time at open; samples are delivered when the clock passes their
+ * fv_gaze_unwrap_push_host; open refuses a counter that wraps faster than twice the sample interval). Simulation time 0 is the host time at open; samples are delivered when the clock passes their
  * arrival time, with t_host_ns = that arrival time. */
 #ifndef FV_SIM_DRIVER_H
 #define FV_SIM_DRIVER_H

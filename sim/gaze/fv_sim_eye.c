@@ -150,7 +150,7 @@ static bool validate(const fv_sim_eye_desc *d)
 {
     bool ok = true;
     ok &= in_range("rate_hz", d->rate_hz, 30.0, 1200.0);
-    ok &= in_range("jitter_us", d->jitter_us, 0.0, 1.0e6 / d->rate_hz * 0.25);
+    if (ok) ok &= in_range("jitter_us", d->jitter_us, 0.0, 1.0e6 / d->rate_hz * 0.25); /* its range needs a valid rate */
     ok &= in_range("latency_ms", d->latency_ms, 0.0, 1000.0);
     ok &= in_range("transport_jitter_ms", d->transport_jitter_ms, 0.0, 100.0);
     ok &= in_range("dropout", d->dropout, 0.0, 0.9);

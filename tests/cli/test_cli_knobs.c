@@ -48,7 +48,7 @@ static void knobs_json_lists_7_knobs_with_4_presets_each(void **state)
     cJSON *presets = cJSON_GetObjectItem(j, "presets"), *knobs = cJSON_GetObjectItem(j, "knobs");
     assert_int_equal(cJSON_GetArraySize(presets), 4);
     assert_string_equal(cJSON_GetObjectItem(j, "default_preset")->valuestring, "balanced");
-    assert_int_equal(cJSON_GetArraySize(knobs), 7);
+    assert_int_equal(cJSON_GetArraySize(knobs), 14); /* 7 shadow.*, 7 fovea.* */
     const cJSON *k;
     cJSON_ArrayForEach(k, knobs)
     {

@@ -354,6 +354,13 @@ static void hex_decoder_reports_line_and_column(void **state)
     assert_int_equal(fv_hid_hex_decode("x.hex", bad, strlen(bad), out, sizeof out, &n), FV_ERR_PARSE);
     fv_test_log_capture_end();
     fv_assert_log_contains("x.hex:2:4");
+    /* one line of a longer file: positions count in the file, and the message shows the word found */
+    const char line[] = " 10 4g";
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_hid_hex_decode_at("r.txt", 16, 3, line, strlen(line), out, sizeof out, &n), FV_ERR_PARSE);
+    fv_test_log_capture_end();
+    fv_assert_log_contains("r.txt:16:7: expected a two-digit hex byte, found '4g'");
+    assert_null(strstr(fv_test_log_text(), "(line"));
     const char many[] = "01 02 03 04 05 06 07 08 09";
     fv_test_log_capture_begin();
     assert_int_equal(fv_hid_hex_decode("m", many, strlen(many), out, sizeof out, &n), FV_ERR_RANGE);

@@ -72,6 +72,7 @@ static void cornell_left_wall_red_right_wall_green(void **state)
     assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, NULL, 1, 0.0, &in), FV_OK);
+    in.quality.fovea.enabled = false; /* full resolution: compared pixel by pixel (foveation is on by default) */
     assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
     uint8_t *rgba = malloc((size_t)2 * W * H * 4);
     assert_non_null(rgba);
@@ -142,6 +143,7 @@ static void spot_lit_plane_matches_cpu_reference(void **state)
 
     fv_frame_input in;
     fv_frame_input_from_head(&s->head, 0.1f, 10.0f, W, H, 1, 0.0, &in);
+    in.quality.fovea.enabled = false; /* full resolution: compared pixel by pixel (foveation is on by default) */
     assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
     float *img = malloc((size_t)W * H * 4 * sizeof *img);
     assert_non_null(img);
@@ -254,6 +256,7 @@ static void eyes_differ_by_ipd_parallax(void **state)
         assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
         fv_frame_input in;
         fv_frame_input_from_head(&s->head, 0.05f, 10.0f, W, H, 1, 0.0, &in);
+        in.quality.fovea.enabled = false; /* full resolution: compared pixel by pixel (foveation is on by default) */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         float *img = malloc((size_t)W * H * 4 * sizeof *img);
         assert_non_null(img);
@@ -292,6 +295,7 @@ static void shading_a_pixel_list_matches_full_shading_and_leaves_others(void **s
     assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, NULL, 7, 0.0, &in), FV_OK);
+    in.quality.fovea.enabled = false; /* full resolution: compared pixel by pixel (foveation is on by default) */
     assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
     size_t n = (size_t)W * H * 4;
     float *full[2], *part[2];
@@ -373,6 +377,8 @@ static void stats_report_per_pass_gpu_time_and_memory(void **state)
         fv_frame_input in;
         assert_int_equal(fv_renderer_frame_input(g_r, NULL, f, (double)f / 60.0, &in), FV_OK);
         in.quality.shadow.enabled = false; /* the three passes of direct lighting; shadows: test_render_shadow */
+        /* ... and no foveation (on by default): the full-resolution pass list; test_render_fovea checks the other */
+        in.quality.fovea.enabled = false;
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
     }
     assert_int_equal(fv_renderer_finish(g_r), FV_OK);

@@ -285,6 +285,9 @@ static fv_frame_input frame_at(const fv_head *head, uint64_t id, double t_s)
 {
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, head, id, t_s, &in), FV_OK);
+    /* Full resolution: the colours tell the objects apart per pixel (foveation, on by default, would fill the
+     * periphery from the nearest samples). */
+    in.quality.fovea.enabled = false;
     return in;
 }
 

@@ -94,6 +94,8 @@ static fv_frame_input frame_input(const fv_quality *q)
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame++, 0.0, &in), FV_OK);
     in.quality = *q;
+    /* Full resolution: the reference shades every pixel (foveation, on by default, would fill the periphery). */
+    in.quality.fovea.enabled = false;
     return in;
 }
 

@@ -1,6 +1,8 @@
 /* @brief `fovea devices` and `fovea latency` as a user runs them: plain "no eye trackers attached", JSON that matches
  * the text, the latency budget on the simulated eye, missed frames when the render is over budget, deterministic
- * output, replay of a real recording, and exit codes 2 (bad command line) and 1 (device cannot open). */
+ * output, replay of a real recording, a source that outruns the display (latency bounded, stale samples dropped and
+ * counted), a sim counter too narrow for its rate refused, and exit codes 2 (bad command line) and 1 (device cannot
+ * open). */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdbool.h>
@@ -134,6 +136,61 @@ static void latency_replays_a_real_recording(void **state)
     cJSON_Delete(root);
 }
 
+/* The device object of `fovea latency --json`: read = delivered + dropped (overruns), and some were dropped. */
+static void assert_drops_counted(const cJSON *root)
+{
+    const cJSON *dev = cJSON_GetObjectItemCaseSensitive(root, "device");
+    assert_non_null(dev);
+    assert_true(num(dev, "overruns") > 0);
+    assert_true(num(dev, "samples") == num(dev, "delivered") + num(dev, "overruns"));
+    assert_true(num(dev, "poll_limited") == 0);
+}
+
+static void latency_stays_bounded_when_the_source_outruns_the_display(void **state)
+{
+    (void)state;
+    /* 1200 Hz into a 1 Hz display: 1200 samples a frame, 512 fit the ring. Bound: 4 ms tracker + one sample + the
+     * lead (half a period on the first frame) + mid-scan-out (475 ms) + persistence. */
+    static run_result r;
+    run(&r, "latency --gaze sim:seed=1,rate_hz=1200 --hz 1 --frames 30 --json");
+    assert_int_equal(r.exit_code, 0);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    const cJSON *g = cJSON_GetObjectItemCaseSensitive(root, "gaze_to_photon_ms");
+    assert_true(num(g, "max") < 1000.0);
+    assert_true(num(g, "p50") < 500.0);
+    assert_drops_counted(root);
+    cJSON_Delete(root);
+    /* a 200 Hz recording replayed 1000 times faster: 2200 samples a frame at 90 Hz */
+    char args[1024];
+    snprintf(args, sizeof args, "latency --gaze 'trace:%s?speed=1000&loop=1' --frames 200 --json",
+             fv_test_data("gaze/pupil_invisible/gaze.csv"));
+    run(&r, args);
+    assert_int_equal(r.exit_code, 0);
+    root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    g = cJSON_GetObjectItemCaseSensitive(root, "gaze_to_photon_ms");
+    assert_true(num(g, "max") < 2 * 1000.0 / 90.0 + 5.0);
+    assert_drops_counted(root);
+    cJSON_Delete(root);
+    static run_result text;
+    run(&text, "latency --gaze sim:seed=1,rate_hz=1200 --hz 1 --frames 5");
+    assert_int_equal(text.exit_code, 0);
+    assert_contains(text.out, "overruns (dropped as stale, newest kept: ring of 512)");
+}
+
+static void latency_refuses_a_sim_counter_that_wraps_faster_than_twice_the_sample_interval(void **state)
+{
+    (void)state;
+    static run_result r;
+    run(&r, "latency --gaze sim:ts_bits=8 --frames 10");
+    assert_int_equal(r.exit_code, 1);
+    assert_contains(r.err, "ts_bits=8 (a microsecond counter) wraps every 0.256 ms, faster than twice the sample "
+                           "interval at rate_hz=120");
+    assert_contains(r.err, "fovea latency: cannot open 'sim:ts_bits=8'");
+    assert_null(strstr(strstr(r.err, "wraps every") + 1, "wraps every")); /* said once */
+}
+
 static void latency_command_line_errors_exit_2_and_device_errors_exit_1(void **state)
 {
     (void)state;
@@ -171,6 +228,8 @@ int main(int argc, char **argv)
         cmocka_unit_test(latency_on_the_simulated_eye_meets_the_budget),
         cmocka_unit_test(latency_reports_missed_frames_when_the_render_is_over_budget),
         cmocka_unit_test(latency_replays_a_real_recording),
+        cmocka_unit_test(latency_stays_bounded_when_the_source_outruns_the_display),
+        cmocka_unit_test(latency_refuses_a_sim_counter_that_wraps_faster_than_twice_the_sample_interval),
         cmocka_unit_test(latency_command_line_errors_exit_2_and_device_errors_exit_1),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,6 +1,7 @@
 /* @brief Gaze sources: samples flow in order through the ring (inline and threaded), a lost device is reported and
- * re-opened on an exponential backoff, a flooding device is bounded, a hung device never blocks the consumer, and a
- * bad first open fails with the driver's error unless the source may start lost. */
+ * re-opened on an exponential backoff, a source faster than a ring per poll is read dry with the stale rest counted,
+ * a flooding device is bounded, a hung device never blocks the consumer, and a bad first open fails with the
+ * driver's error unless the source may start lost. */
 #include <stdatomic.h>
 #include <string.h>
 
@@ -154,6 +155,45 @@ static void end_of_stream_ends_the_source_without_retrying(void **state)
     fake_tracker_fini(&t);
 }
 
+/* A source faster than a ring per poll: each poll reads everything due (nothing waits in the driver), the ring keeps
+ * the newest, and what it dropped is counted: read = delivered + dropped. */
+static void fast_device_is_read_dry_each_poll_and_the_stale_rest_is_counted(void **state)
+{
+    (void)state;
+    fv_clock clk;
+    fv_clock_sim_init(&clk, FV_NS_PER_S);
+    fake_tracker t;
+    fake_tracker_init(&t, &clk, 1200.0, 4 * FV_NS_PER_MS);
+    fv_gaze_source *s = make_inline(&t, &clk, 0, 0);
+    uint64_t popped = 0;
+    for (int frame = 1; frame <= 30; frame++) {
+        clk.sim_now_ns = FV_NS_PER_S + frame * FV_NS_PER_S; /* a 1 Hz consumer: 1200 samples per poll */
+        fv_gaze_source_poll(s);
+        /* nothing due is left in the driver */
+        assert_true(fake_tracker_capture_ns(&t, t.next_index) + t.latency_ns > clk.sim_now_ns);
+        fv_gaze_sample g, last = {0};
+        uint64_t n = 0;
+        while (fv_gaze_source_pop(s, &g) == FV_OK) {
+            if (n) assert_int_equal(g.seq, last.seq + 1);
+            last = g;
+            n++;
+        }
+        popped += n;
+        assert_int_equal(n, 512);                 /* the ring's worth, the newest ones */
+        assert_int_equal(last.seq, t.next_index - 1); /* the newest due sample reached the consumer */
+        assert_true(clk.sim_now_ns - last.t_host_ns < (int64_t)(FV_NS_PER_S / 1200) + 1);
+        fv_gaze_source_status st;
+        fv_gaze_source_get_status(s, &st);
+        assert_int_equal(st.samples, t.next_index);
+        assert_int_equal(st.samples, popped + st.overruns); /* every sample read was delivered or counted */
+        assert_int_equal(st.delivered, popped);
+        assert_int_equal(st.queued, 0);
+        assert_int_equal(st.poll_limited, 0);
+    }
+    fv_gaze_source_destroy(&s);
+    fake_tracker_fini(&t);
+}
+
 static void flooding_device_is_bounded_per_poll_and_keeps_the_newest(void **state)
 {
     (void)state;
@@ -163,14 +203,17 @@ static void flooding_device_is_bounded_per_poll_and_keeps_the_newest(void **stat
     fake_tracker_init(&t, &clk, 250.0, 0);
     t.flood = true;
     fv_gaze_source_desc d = {.uri = "fake:flood", .open = fake_tracker_open, .open_user = &t,
-                             .mode = FV_GAZE_SOURCE_INLINE, .clock = &clk, .ring_capacity = 64, .read_batch = 48};
+                             .mode = FV_GAZE_SOURCE_INLINE, .clock = &clk, .ring_capacity = 64, .read_batch = 48,
+                             .poll_max_samples = 200};
     fv_gaze_source *s = NULL;
     assert_int_equal(fv_gaze_source_create(&d, &s), FV_OK);
+    fv_test_log_capture_begin();
     fv_gaze_source_poll(s); /* returns although the device never runs dry */
     fv_gaze_source_status st;
     fv_gaze_source_get_status(s, &st);
-    assert_int_equal(st.samples, 96); /* two batches reach the 64-sample budget */
-    assert_int_equal(st.overruns, 32);
+    assert_int_equal(st.samples, 240); /* five batches reach the 200-sample limit */
+    assert_int_equal(st.overruns, 176);
+    assert_int_equal(st.poll_limited, 1);
     fv_gaze_sample g, last;
     size_t n = 0;
     while (fv_gaze_source_pop(s, &g) == FV_OK) {
@@ -178,7 +221,17 @@ static void flooding_device_is_bounded_per_poll_and_keeps_the_newest(void **stat
         n++;
     }
     assert_int_equal(n, 64);
-    assert_int_equal(last.seq, 95); /* the newest survived */
+    assert_int_equal(last.seq, 239); /* the newest survived */
+    fv_gaze_source_poll(s);
+    fv_test_log_capture_end();
+    fv_gaze_source_get_status(s, &st);
+    assert_int_equal(st.poll_limited, 2);
+    assert_int_equal(st.samples, st.delivered + st.overruns + st.queued);
+    const char *log = fv_test_log_text();
+    const char *needle = "fake:flood: still delivering after 240 samples in one poll";
+    const char *hit = strstr(log, needle);
+    assert_non_null(hit);
+    assert_null(strstr(hit + strlen(needle), "still delivering")); /* reported once */
     fv_gaze_source_destroy(&s);
     fake_tracker_fini(&t);
 }
@@ -354,6 +407,7 @@ int main(void)
         cmocka_unit_test(lost_device_is_reopened_on_an_exponential_backoff),
         cmocka_unit_test(reprobe_reopens_a_lost_device_without_waiting_out_the_backoff),
         cmocka_unit_test(end_of_stream_ends_the_source_without_retrying),
+        cmocka_unit_test(fast_device_is_read_dry_each_poll_and_the_stale_rest_is_counted),
         cmocka_unit_test(flooding_device_is_bounded_per_poll_and_keeps_the_newest),
         cmocka_unit_test(failed_first_open_fails_create_unless_allowed_to_start_lost),
         cmocka_unit_test(reader_thread_delivers_samples_in_order),

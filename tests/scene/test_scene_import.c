@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "fv_scene.h"
 #include "fv_test.h"
@@ -260,6 +262,120 @@ static void ply_header_claiming_4_billion_vertices_is_rejected_before_import(voi
     expect_failure(p, m);
 }
 
+/* A binary PLY triangle whose face list declares `count` entries (the 187-byte file of issue 13: assimp reserved
+ * count x 8 bytes, 34 GB for 2^32-1, before reading any). Little- or big-endian, count type uint or int. */
+static const char *write_binary_ply(const char *name, bool big_endian, const char *count_type, uint32_t count)
+{
+    char buf[512];
+    int n = snprintf(buf, sizeof buf,
+                     "ply\nformat binary_%s_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list %s int vertex_indices\nend_header\n",
+                     big_endian ? "big" : "little", count_type);
+    const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    for (int i = 0; i < 9; i++) {
+        uint32_t w;
+        memcpy(&w, &v[i], 4);
+        for (int k = 0; k < 4; k++) buf[n++] = (char)(w >> (big_endian ? 24 - 8 * k : 8 * k));
+    }
+    for (int k = 0; k < 4; k++) buf[n++] = (char)(count >> (big_endian ? 24 - 8 * k : 8 * k));
+    for (uint32_t i = 0; i < 3; i++)
+        for (int k = 0; k < 4; k++) buf[n++] = (char)(i >> (big_endian ? 24 - 8 * k : 8 * k));
+    return fv_test_write_file(name, buf, (size_t)n);
+}
+
+static void ply_list_lengths_are_bounded_by_what_the_file_holds(void **state)
+{
+    (void)state;
+    /* The well-formed triangle loads, in both byte orders (the walker reads the body as assimp will). */
+    const char *ok_le = write_binary_ply("tri_le.ply", false, "uint", 3), *ok_be = write_binary_ply("tri_be.ply", true, "uint", 3);
+    const char *paths[] = {ok_le, ok_be};
+    for (int i = 0; i < 2; i++) {
+        fv_scene *s = NULL;
+        fv_test_log_capture_begin();
+        fv_result r = fv_scene_load(paths[i], &s);
+        if (r != FV_OK) fail_msg("%s: %s\n%s", paths[i], fv_result_str(r), fv_test_log_text());
+        fv_test_log_capture_end();
+        assert_int_equal(fv_scene_triangle_count(s), 1);
+        fv_scene_destroy(&s);
+    }
+    const char *huge[] = {"list 'vertex_indices' claims 4294967295 entries", "only 12 bytes of the file remain",
+                          "element 'face' item 0", NULL};
+    expect_failure(write_binary_ply("list_2e32.ply", false, "uint", 0xFFFFFFFFu), huge);
+    const char *big[] = {"claims 400000000 entries", NULL};
+    expect_failure(write_binary_ply("list_4e8_be.ply", true, "uint", 400000000u), big);
+    const char *neg[] = {"negative or non-integer length", NULL};
+    expect_failure(write_binary_ply("list_neg.ply", false, "int", 0xFFFFFFFFu), neg);
+    /* ASCII: every entry takes two bytes at least */
+    const char *head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+    const char *counts[] = {"4294967295", "400000000", "-3", "3.5"};
+    const char *why[] = {"claims 4294967295 entries", "claims 400000000 entries", "'-3' is not a non-negative integer",
+                         "'3.5' is not a non-negative integer"};
+    for (int i = 0; i < 4; i++) {
+        char text[512], name[64];
+        snprintf(text, sizeof text, "%s%s 0 1 2\n", head, counts[i]);
+        snprintf(name, sizeof name, "ascii_list_%d.ply", i);
+        const char *n[] = {why[i], NULL};
+        expect_failure(fv_test_write_file(name, text, strlen(text)), n);
+    }
+    /* A body shorter than its elements, a header without end, one longer than the limit */
+    const char *cut = "ply\nformat binary_little_endian 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
+                      "property float z\nend_header\n0123456789";
+    const char *c[] = {"ends inside element 'vertex'", NULL};
+    expect_failure(fv_test_write_file("cut.ply", cut, strlen(cut)), c);
+    size_t big_len = (2u << 20) + 200;
+    char *comments = malloc(big_len + 1);
+    size_t o = (size_t)snprintf(comments, big_len, "ply\nformat ascii 1.0\n");
+    while (o + 20 < big_len) o += (size_t)snprintf(comments + o, big_len - o, "comment padding\n");
+    o += (size_t)snprintf(comments + o, big_len + 1 - o, "end_header\n");
+    const char *l[] = {"PLY header is longer than", NULL};
+    expect_failure(fv_test_write_file("long_header.ply", comments, o), l);
+    free(comments);
+    /* The content decides for a name assimp does not know: the same hostile PLY as "model.dat" */
+    char *bytes;
+    size_t len;
+    bytes = fv_test_read_file(write_binary_ply("x.ply", false, "uint", 0xFFFFFFFFu), &len);
+    const char *d[] = {"claims 4294967295 entries", NULL};
+    expect_failure(fv_test_write_file("model.dat", bytes, len), d);
+    free(bytes);
+}
+
+static void off_and_obj_counts_and_references_are_checked_before_import(void **state)
+{
+    (void)state;
+    const char *off = "OFF\n400000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"; /* assimp allocated 4.7 GB for this */
+    const char *n[] = {"OFF header claims 400000000 vertices", NULL};
+    expect_failure(fv_test_write_file("huge.off", off, strlen(off)), n);
+    const char *ok = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load(fv_test_write_file("tri.off", ok, strlen(ok)), &s), FV_OK);
+    fv_test_log_capture_end();
+    fv_scene_destroy(&s);
+    /* An OBJ whose material library is a directory or a FIFO (reading one blocks for ever) */
+    const char *dir = fv_test_tmp("");
+    char obj[1024];
+    snprintf(obj, sizeof obj, "mtllib %s\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", dir);
+    const char *d[] = {"dir_mtl.obj:1: mtllib", "is not a regular file (a directory)", NULL};
+    expect_failure(fv_test_write_file("dir_mtl.obj", obj, strlen(obj)), d);
+    const char *fifo = fv_test_tmp("pipe.mtl");
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    snprintf(obj, sizeof obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib pipe.mtl\nf 1 2 3\n");
+    const char *f[] = {"fifo_mtl.obj:4: mtllib 'pipe.mtl' is not a regular file (a device, pipe or socket)", NULL};
+    expect_failure(fv_test_write_file("fifo_mtl.obj", obj, strlen(obj)), f);
+    /* a texture that is a FIFO is skipped with a warning (the model still loads) */
+    const char *mtl = "newmtl m\nKd 1 1 1\nmap_Kd pipe.mtl\n";
+    fv_test_write_file("tex_fifo.mtl", mtl, strlen(mtl));
+    snprintf(obj, sizeof obj, "mtllib tex_fifo.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n");
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load(fv_test_write_file("tex_fifo.obj", obj, strlen(obj)), &s), FV_OK);
+    fv_assert_log_contains("is not a regular file; using the base colour");
+    fv_test_log_capture_end();
+    fv_scene_destroy(&s);
+    unlink(fifo);
+}
+
 static void obj_with_nan_positions_is_rejected_naming_the_mesh(void **state)
 {
     (void)state;
@@ -325,6 +441,8 @@ int main(void)
         cmocka_unit_test(garbage_bytes_are_rejected_as_obj_gltf_and_ply),
         cmocka_unit_test(ply_face_index_past_the_vertex_count_is_rejected),
         cmocka_unit_test(ply_header_claiming_4_billion_vertices_is_rejected_before_import),
+        cmocka_unit_test(ply_list_lengths_are_bounded_by_what_the_file_holds),
+        cmocka_unit_test(off_and_obj_counts_and_references_are_checked_before_import),
         cmocka_unit_test(obj_with_nan_positions_is_rejected_naming_the_mesh),
         cmocka_unit_test(obj_with_only_points_or_no_faces_fails_cleanly),
         cmocka_unit_test(explicit_unit_scale_overrides_the_guess),

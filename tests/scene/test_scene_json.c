@@ -276,6 +276,117 @@ static void buffer_without_terminator_and_embedded_nul_are_safe(void **state)
     assert_null(s);
 }
 
+/* Build `{"objects":[ITEM,ITEM,...]}` with n copies of item (caller frees). */
+static char *repeat_objects(const char *item, size_t n, const char *tail)
+{
+    size_t il = strlen(item), tl = strlen(tail);
+    char *buf = malloc(32 + n * (il + 1) + tl);
+    size_t o = (size_t)sprintf(buf, "{\"objects\":[");
+    for (size_t i = 0; i < n; i++) {
+        if (i) buf[o++] = ',';
+        memcpy(buf + o, item, il);
+        o += il;
+    }
+    o += (size_t)sprintf(buf + o, "]%s}", tail);
+    return buf;
+}
+
+static int log_lines(void)
+{
+    int n = 0;
+    for (const char *p = fv_test_log_text(); *p; p++) n += *p == '\n';
+    return n;
+}
+
+static void a_flood_of_one_error_is_summarised_and_limits_come_before_the_work(void **state)
+{
+    (void)state;
+    /* 200,000 objects: refused at once by the count, one line, no object loaded */
+    char *json = repeat_objects("{\"model\":\"builtin:cornell\",\"bogus\":1}", 200000, "");
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, "flood.scene.json", &s), FV_ERR_PARSE);
+    fv_assert_log_contains("flood.scene.json: objects: 200000 objects is more than the limit of 65536; none is loaded");
+    if (log_lines() > 4) fail_msg("%d log lines:\n%.2000s", log_lines(), fv_test_log_text());
+    fv_test_log_capture_end();
+    free(json);
+    /* 3000 objects with the same two mistakes: 8 of each shown, then one summary line each */
+    json = repeat_objects("{\"model\":\"builtin:cornell\",\"scale\":-1,\"shiny\":true}", 3000, "");
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, "same.scene.json", &s), FV_ERR_PARSE);
+    fv_assert_log_contains("objects[7].scale: -1 must be > 0");
+    fv_assert_log_contains("same.scene.json: ... and 2,992 more like: same.scene.json: objects[0].scale: -1 must be > 0");
+    fv_assert_log_contains("same.scene.json: ... and 2,992 more like: same.scene.json: objects[0].shiny: unknown key");
+    fv_assert_log_contains("same.scene.json: 3000 problems; the scene is not loaded");
+    if (strstr(fv_test_log_text(), "objects[8].scale")) fail_msg("the 9th error was shown");
+    if (log_lines() > 20) fail_msg("%d log lines", log_lines());
+    fv_test_log_capture_end();
+    free(json);
+    /* lights: the count first too */
+    size_t n = 70000;
+    char *lights = malloc(64 + n * 2);
+    size_t o = (size_t)sprintf(lights, "{\"objects\":[{\"model\":\"builtin:cornell\"}],\"lights\":[");
+    for (size_t i = 0; i < n; i++) o += (size_t)sprintf(lights + o, "%s0", i ? "," : "");
+    sprintf(lights + o, "]}");
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load_json_buffer(lights, strlen(lights), NULL, "lights.scene.json", &s), FV_ERR_PARSE);
+    fv_assert_log_contains("lights: 70000 lights is more than the limit of 65536");
+    if (log_lines() > 4) fail_msg("%d log lines", log_lines());
+    fv_test_log_capture_end();
+    free(lights);
+}
+
+static void nesting_values_and_nul_characters_are_refused_with_the_reason(void **state)
+{
+    (void)state;
+    /* deeper than cJSON's limit: say so (it used to say "unexpected '['") */
+    size_t depth = 1200;
+    char *deep = malloc(2 * depth + 32);
+    size_t o = (size_t)sprintf(deep, "{\"objects\":");
+    for (size_t i = 0; i < depth; i++) deep[o++] = '[';
+    for (size_t i = 0; i < depth; i++) deep[o++] = ']';
+    sprintf(deep + o, "}");
+    const char *d[] = {"line 1 column 1011: invalid JSON: nested deeper than 1000 levels (the parser's limit)", NULL};
+    expect_error(deep, d);
+    free(deep);
+    /* a value count no scene needs, refused before cJSON builds a tree of it */
+    size_t n = 5u * 1024u * 1024u;
+    char *vals = malloc(2 * n + 64);
+    o = (size_t)sprintf(vals, "{\"objects\":[{\"model\":\"builtin:cornell\"}],\"x\":[");
+    for (size_t i = 0; i < n; i++) {
+        vals[o++] = '0';
+        vals[o++] = ',';
+    }
+    sprintf(vals + o - 1, "]}");
+    const char *v[] = {"JSON values, more than the 4194304 a scene file may hold", NULL};
+    expect_error(vals, v);
+    free(vals);
+    /* \u0000 would cut a name silently: refused, with its position */
+    const char *nul = "{\"name\": \"evil\\u0000tail\",\n \"objects\": [{\"model\": \"builtin:cornell\"}]}";
+    const char *z[] = {"line 1 column 15: a string holds \\u0000 (a NUL character)", NULL};
+    expect_error(nul, z);
+    /* an escaped backslash before u0000 is not a NUL */
+    const char *fine = "{\"name\": \"a\\\\u0000\", \"objects\": [{\"model\": \"builtin:cornell\"}]}";
+    fv_scene *s = NULL;
+    assert_int_equal(fv_scene_load_json_buffer(fine, strlen(fine), NULL, NULL, &s), FV_OK);
+    assert_string_equal(s->name, "a\\u0000");
+    fv_scene_destroy(&s);
+}
+
+static void long_names_are_cut_between_utf8_characters(void **state)
+{
+    (void)state;
+    /* 62 ASCII bytes then a 3-byte character: the 64-byte name holds 63 bytes, so the character goes whole */
+    char json[512], name[80];
+    memset(name, 'a', 62);
+    strcpy(name + 62, "\xe2\x82\xac");
+    snprintf(json, sizeof json, "{\"name\":\"%s\",\"objects\":[{\"model\":\"builtin:cornell\"}]}", name);
+    fv_scene *s = NULL;
+    assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, NULL, &s), FV_OK);
+    assert_int_equal(strlen(s->name), 62);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -289,6 +400,9 @@ int main(void)
         cmocka_unit_test(missing_model_file_and_unknown_builtin_are_errors),
         cmocka_unit_test(several_errors_are_all_reported_and_unknown_keys_warn),
         cmocka_unit_test(buffer_without_terminator_and_embedded_nul_are_safe),
+        cmocka_unit_test(a_flood_of_one_error_is_summarised_and_limits_come_before_the_work),
+        cmocka_unit_test(nesting_values_and_nul_characters_are_refused_with_the_reason),
+        cmocka_unit_test(long_names_are_cut_between_utf8_characters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

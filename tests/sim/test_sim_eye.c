@@ -1,6 +1,7 @@
 /* @brief The simulated eye and the sim driver: determinism, blink statistics, the saccade main sequence, fixation
- * durations, pupil range and light response, vergence, tracker noise, sample timing, URI errors, clock pacing and
- * 24-bit timestamp unwrapping end to end. */
+ * durations, pupil range and light response, vergence, tracker noise, sample timing, URI errors, clock pacing,
+ * 24-bit timestamp unwrapping end to end, a counter that wraps faster than twice the sample interval refused at open,
+ * and a 15-bit counter whose dropout gaps exceed half its wrap unwrapped exactly (checked against the host clock). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -318,6 +319,91 @@ static void sim_driver_paces_by_clock_and_unwraps_24bit_counters(void **state)
     assert_null(dev);
 }
 
+/* A µs counter that wraps before two samples have passed cannot be unwrapped: refused at open with one line naming
+ * ts_bits, the rate and the wrap period. */
+static void sim_driver_refuses_a_counter_that_wraps_faster_than_twice_the_sample_interval(void **state)
+{
+    (void)state;
+    fv_clock clock;
+    fv_clock_sim_init(&clock, FV_NS_PER_S);
+    fv_device_open_desc od = {.clock = &clock};
+    fv_device *dev = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_sim_driver.open("sim:ts_bits=8", &od, &dev), FV_ERR_RANGE);
+    assert_null(dev);
+    fv_test_log_capture_end();
+    fv_assert_log_contains("'sim:ts_bits=8': ts_bits=8 (a microsecond counter) wraps every 0.256 ms, faster than "
+                           "twice the sample interval at rate_hz=120 (2 x 8.333 ms)");
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_TRACE), 1); /* one message, of one line */
+    const char *nl = strchr(fv_test_log_text(), '\n');
+    assert_true(!nl || nl[1] == '\0');
+    /* 2^14 us = 16.4 ms < 2 x 8.33 ms: refused; 2^15 us = 32.8 ms: accepted. At 1200 Hz 11 bits (2.05 ms) suffice. */
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_sim_driver.open("sim:ts_bits=14", &od, &dev), FV_ERR_RANGE);
+    assert_int_equal(fv_sim_driver.open("sim:ts_bits=10,rate_hz=1200", &od, &dev), FV_ERR_RANGE);
+    fv_test_log_capture_end();
+    fv_assert_log_contains("use ts_bits=15 or more, or 0");
+    fv_assert_log_contains("use ts_bits=11 or more, or 0");
+    assert_int_equal(fv_sim_driver.open("sim:ts_bits=15", &od, &dev), FV_OK);
+    fv_device_close(&dev);
+    assert_int_equal(fv_sim_driver.open("sim:ts_bits=11,rate_hz=1200", &od, &dev), FV_OK);
+    fv_device_close(&dev);
+}
+
+/* Read `seconds` of a sim device on its own simulated clock. */
+static size_t read_all(const char *uri, int64_t seconds, fv_gaze_sample *out, size_t cap)
+{
+    fv_clock clock;
+    fv_clock_sim_init(&clock, FV_NS_PER_S);
+    fv_device_open_desc od = {.clock = &clock};
+    fv_device *dev = NULL;
+    assert_int_equal(fv_sim_driver.open(uri, &od, &dev), FV_OK);
+    size_t total = 0;
+    while (fv_clock_now_ns(&clock) < (1 + seconds) * FV_NS_PER_S) {
+        size_t n = 0;
+        fv_result r = fv_device_read(dev, out + total, cap - total < 16 ? cap - total : 16, &n, 20);
+        assert_true(r == FV_OK || r == FV_TIMEOUT);
+        total += n;
+        assert_true(total < cap);
+    }
+    fv_device_close(&dev);
+    return total;
+}
+
+/* At 120 Hz a 15-bit µs counter wraps every 32.8 ms: one dropped sample makes a 16.7 ms gap, over half the wrap, which
+ * the counter alone reads as a step back. Checked against the host clock the timeline is exactly the 64-bit one:
+ * no sample rejected, none invented, the disagreement reported once. */
+static void sim_driver_unwraps_a_15bit_counter_through_dropout_gaps_exactly(void **state)
+{
+    (void)state;
+    enum { CAP = 8192 };
+    fv_gaze_sample *wide = calloc(CAP, sizeof *wide), *narrow = calloc(CAP, sizeof *narrow);
+    assert_non_null(wide);
+    assert_non_null(narrow);
+    size_t n_wide = read_all("sim:seed=2", 40, wide, CAP);
+    fv_test_log_capture_begin();
+    size_t n_narrow = read_all("sim:seed=2,ts_bits=15", 40, narrow, CAP);
+    fv_test_log_capture_end();
+    assert_int_equal(n_wide, n_narrow);
+    size_t long_gaps = 0;
+    const int64_t t0_us = wide[0].t_device_ns / 1000;
+    for (size_t i = 0; i < n_wide; i++) {
+        assert_int_equal(narrow[i].seq, wide[i].seq);
+        /* the device sends floor(t / 1 us) modulo 2^15; unwrapped, it must advance like the 64-bit clock */
+        assert_int_equal(narrow[i].t_device_ns - narrow[0].t_device_ns, (wide[i].t_device_ns / 1000 - t0_us) * 1000);
+        if (i && wide[i].t_device_ns - wide[i - 1].t_device_ns > (INT64_C(1) << 14) * 1000) long_gaps++;
+    }
+    print_message("15-bit counter: %zu samples, %zu gaps over half its wrap\n", n_narrow, long_gaps);
+    assert_true(long_gaps >= 2); /* the case is exercised */
+    const char *log = fv_test_log_text();
+    const char *needle = "sim:seed=2,ts_bits=15: device timestamps disagree with the host clock";
+    const char *hit = strstr(log, needle);
+    assert_non_null(hit);
+    assert_null(strstr(hit + strlen(needle), "disagree with the host clock")); /* reported once */
+    free(wide);
+    free(narrow);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -330,6 +416,8 @@ int main(void)
         cmocka_unit_test(sim_eye_rejects_bad_descs),
         cmocka_unit_test(sim_driver_uri_errors_name_the_key),
         cmocka_unit_test(sim_driver_paces_by_clock_and_unwraps_24bit_counters),
+        cmocka_unit_test(sim_driver_refuses_a_counter_that_wraps_faster_than_twice_the_sample_interval),
+        cmocka_unit_test(sim_driver_unwraps_a_15bit_counter_through_dropout_gaps_exactly),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,6 +8,7 @@
 #include "fv_test.h"
 #include "fv_trace.h"
 #include "fv_trace_driver.h"
+#include "trace_test.h"
 
 #define MS FV_NS_PER_MS
 
@@ -29,17 +30,6 @@ static const char *make_trace(const char *name, int n)
     return path;
 }
 
-static fv_device *open_uri(const char *fmt, const char *path, const fv_clock *clock)
-{
-    char uri[1200];
-    snprintf(uri, sizeof uri, fmt, path);
-    fv_device_open_desc d = {.clock = clock};
-    fv_device *dev = NULL;
-    assert_int_equal(fv_trace_driver.open(uri, &d, &dev), FV_OK);
-    assert_non_null(dev);
-    return dev;
-}
-
 static void replay_is_paced_by_recorded_time_on_a_simulated_clock(void **state)
 {
     (void)state;
@@ -47,7 +37,7 @@ static void replay_is_paced_by_recorded_time_on_a_simulated_clock(void **state)
     fv_clock clock;
     const int64_t t0 = 5 * FV_NS_PER_S;
     fv_clock_sim_init(&clock, t0);
-    fv_device *dev = open_uri("trace:%s", path, &clock);
+    fv_device *dev = trace_test_open_uri("trace:%s", path, &clock);
     assert_true(fabs(dev->nominal_rate_hz - 100.0) < 1e-6);
     assert_string_equal(dev->info.driver, "trace");
     fv_gaze_sample buf[16];
@@ -94,7 +84,7 @@ static void speed_scales_pacing_and_device_time(void **state)
     const char *path = make_trace("speed.fvt", 10);
     fv_clock clock;
     fv_clock_sim_init(&clock, 0);
-    fv_device *dev = open_uri("trace:%s?speed=2", path, &clock);
+    fv_device *dev = trace_test_open_uri("trace:%s?speed=2", path, &clock);
     assert_true(fabs(dev->nominal_rate_hz - 200.0) < 1e-6);
     fv_gaze_sample s;
     size_t n;
@@ -112,7 +102,7 @@ static void loop_continues_the_timeline(void **state)
     const char *path = make_trace("loop.fvt", 3);
     fv_clock clock;
     fv_clock_sim_init(&clock, 0);
-    fv_device *dev = open_uri("trace:%s?loop=1", path, &clock);
+    fv_device *dev = trace_test_open_uri("trace:%s?loop=1", path, &clock);
     fv_gaze_sample s;
     size_t n;
     int64_t prev = INT64_MIN;
@@ -131,7 +121,8 @@ static void real_time_replay_on_the_monotonic_clock(void **state)
 {
     (void)state;
     /* 6.93 s of Pupil Core at 100x: about 70 ms of wall time */
-    fv_device *dev = open_uri("trace:%s?speed=100", fv_test_data("gaze/pupil_core/gaze_positions.csv"), NULL);
+    fv_device *dev =
+        trace_test_open_uri("trace:%s?speed=100", fv_test_data("gaze/pupil_core/gaze_positions.csv"), NULL);
     fv_gaze_sample buf[64];
     size_t n, total = 0;
     int64_t start = fv_time_monotonic_ns(), max_late = 0;
@@ -192,7 +183,7 @@ static void recorded_replay_reads_back_equal(void **state)
     const char *src = fv_test_data("gaze/htc_vive_pro_eye_sranipal/TESTNA01_2D_Fist3.csv");
     fv_clock clock;
     fv_clock_sim_init(&clock, 42 * FV_NS_PER_S);
-    fv_device *dev = open_uri("trace:%s", src, &clock);
+    fv_device *dev = trace_test_open_uri("trace:%s", src, &clock);
     const char *out = fv_test_tmp("recorded.fvt");
     fv_trace_writer *w = NULL;
     fv_trace_writer_desc wd = {.source = "trace:TESTNA01", .rate_hz = dev->nominal_rate_hz};

@@ -89,11 +89,11 @@ cJSON *fv_bench_json(const fv_bench_result *r)
 {
     cJSON *j = cJSON_CreateObject();
     if (!j) return NULL;
-    cJSON_AddStringToObject(j, "scene", r->scene);
-    cJSON_AddStringToObject(j, "device", r->device);
+    fv_cli_json_add_string(j, "scene", r->scene);
+    fv_cli_json_add_string(j, "device", r->device);
     cJSON_AddNumberToObject(j, "eye_width", r->eye_width);
     cJSON_AddNumberToObject(j, "eye_height", r->eye_height);
-    cJSON_AddStringToObject(j, "preset", r->preset);
+    fv_cli_json_add_string(j, "preset", r->preset);
     cJSON_AddNumberToObject(j, "frames", r->frames);
     cJSON_AddNumberToObject(j, "warmup_frames", r->warmup_frames);
     if (r->has_gaze) {
@@ -104,7 +104,7 @@ cJSON *fv_bench_json(const fv_bench_result *r)
         cJSON_AddNullToObject(j, "gaze");
     }
     cJSON *ref = cJSON_AddObjectToObject(j, "reference");
-    cJSON_AddStringToObject(ref, "mode", r->reference_mode);
+    fv_cli_json_add_string(ref, "mode", r->reference_mode);
     if (r->has_reference) {
         cJSON_AddNumberToObject(ref, "spp", r->reference_spp);
         if (strcmp(r->reference_mode, "path") == 0) cJSON_AddNumberToObject(ref, "bounces", r->reference_bounces);
@@ -112,10 +112,10 @@ cJSON *fv_bench_json(const fv_bench_result *r)
     }
     const char *label;
     (void)fv_bench_plot_error(r, &r->exact, &label);
-    cJSON_AddStringToObject(j, "plot_error", label);
+    fv_cli_json_add_string(j, "plot_error", label);
     cJSON *sw = cJSON_AddArrayToObject(j, "sweeps");
     for (size_t s = 0; s < r->plan->sweep_count; s++)
-        cJSON_AddItemToArray(sw, cJSON_CreateString(r->plan->sweeps[s].name));
+        cJSON_AddItemToArray(sw, fv_cli_json_string(r->plan->sweeps[s].name));
     cJSON *ex = cJSON_AddObjectToObject(j, "exact");
     timings_json(ex, &r->exact);
     if (r->has_reference) error_json(ex, "vs_reference", &r->exact.vs_reference); /* the floor of the GPU's model */
@@ -127,9 +127,9 @@ cJSON *fv_bench_json(const fv_bench_result *r)
         for (size_t s = 0; s < r->plan->sweep_count; s++) {
             const fv_bench_sweep *sweep = &r->plan->sweeps[s];
             cJSON_AddItemToObject(k, sweep->name, sweep->knob ? fv_tool_knob_json(sweep->knob, &p->quality)
-                                                              : cJSON_CreateString(p->preset));
+                                                              : fv_cli_json_string(p->preset));
         }
-        cJSON_AddStringToObject(o, "preset", p->preset);
+        fv_cli_json_add_string(o, "preset", p->preset);
         cJSON_AddBoolToObject(o, "is_preset", p->is_preset);
         timings_json(o, p);
         error_json(o, "vs_exact", &p->vs_exact);

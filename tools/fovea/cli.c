@@ -5,6 +5,7 @@
 
 #include <cjson/cJSON.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -28,7 +29,18 @@ bool fv_cli_parse_i64(const char *s, int64_t lo, int64_t hi, int64_t *out)
     char *end = NULL;
     errno = 0;
     long long v = strtoll(s, &end, 10);
-    if (errno || *end != '\0' || v < lo || v > hi) return false;
+    if (!errno && end != s && (*end == 'e' || *end == 'E')) {
+        /* "1e9", "5E6": an integer times a power of ten, as the usage messages write large counts */
+        char *e2 = NULL;
+        long x = strtol(end + 1, &e2, 10);
+        if (e2 == end + 1 || *e2 != '\0' || end[1] == '+' || end[1] == '-' || x < 0 || x > 18) return false;
+        for (long k = 0; k < x; k++) {
+            if (v > LLONG_MAX / 10 || v < LLONG_MIN / 10) return false;
+            v *= 10;
+        }
+        end = e2;
+    }
+    if (errno || end == s || *end != '\0' || v < lo || v > hi) return false;
     *out = v;
     return true;
 }
@@ -105,6 +117,158 @@ void fv_cli_json_number(cJSON *obj, const char *key, double v)
 {
     if (isfinite(v)) cJSON_AddNumberToObject(obj, key, v);
     else cJSON_AddNullToObject(obj, key);
+}
+
+/* Length of the valid UTF-8 sequence at p (at most n bytes), or 0 when the byte there does not start one. */
+static size_t utf8_sequence(const unsigned char *p, size_t n)
+{
+    unsigned char c = p[0];
+    if (c < 0x80) return 1;
+    size_t len;
+    uint32_t cp, min;
+    if (c >= 0xC2 && c <= 0xDF) len = 2, cp = c & 0x1Fu, min = 0x80;
+    else if (c >= 0xE0 && c <= 0xEF) len = 3, cp = c & 0x0Fu, min = 0x800;
+    else if (c >= 0xF0 && c <= 0xF4) len = 4, cp = c & 0x07u, min = 0x10000;
+    else return 0;
+    if (n < len) return 0;
+    for (size_t i = 1; i < len; i++) {
+        if ((p[i] & 0xC0u) != 0x80u) return 0;
+        cp = cp << 6 | (p[i] & 0x3Fu);
+    }
+    if (cp < min || cp > 0x10FFFFu || (cp >= 0xD800u && cp <= 0xDFFFu)) return 0;
+    return len;
+}
+
+/* s with every invalid byte replaced by `repl` (a NUL-terminated string); NULL when s is already valid (or no
+ * memory: *out_oom). */
+static char *utf8_repair(const char *s, const char *repl, bool *out_oom)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    size_t n = strlen(s), bad = 0;
+    for (size_t i = 0; i < n;) {
+        size_t k = utf8_sequence(p + i, n - i);
+        if (!k) bad++, k = 1;
+        i += k;
+    }
+    *out_oom = false;
+    if (!bad) return NULL;
+    size_t rl = strlen(repl);
+    char *out = malloc(n + bad * rl + 1);
+    if (!out) {
+        *out_oom = true;
+        return NULL;
+    }
+    size_t o = 0;
+    for (size_t i = 0; i < n;) {
+        size_t k = utf8_sequence(p + i, n - i);
+        if (k) {
+            memcpy(out + o, s + i, k);
+            o += k;
+            i += k;
+        } else {
+            memcpy(out + o, repl, rl);
+            o += rl;
+            i++;
+        }
+    }
+    out[o] = '\0';
+    return out;
+}
+
+cJSON *fv_cli_json_string(const char *s)
+{
+    if (!s) s = "";
+    bool oom;
+    char *fixed = utf8_repair(s, "\xEF\xBF\xBD", &oom); /* U+FFFD REPLACEMENT CHARACTER */
+    if (oom) return NULL;
+    cJSON *j = cJSON_CreateString(fixed ? fixed : s);
+    free(fixed);
+    return j;
+}
+
+cJSON *fv_cli_json_add_string(cJSON *obj, const char *key, const char *s)
+{
+    cJSON *j = fv_cli_json_string(s);
+    if (j && !cJSON_AddItemToObject(obj, key, j)) {
+        cJSON_Delete(j);
+        return NULL;
+    }
+    return j;
+}
+
+char *fv_cli_json_text(const cJSON *root, bool pretty)
+{
+    char *text = root ? (pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root)) : NULL;
+    if (!text) return NULL;
+    /* Strings came through fv_cli_json_string; a key or anything else that did not is still made valid here (an
+     * invalid byte can only sit inside a string, where the escape is valid JSON). */
+    bool oom;
+    char *fixed = utf8_repair(text, "\\ufffd", &oom);
+    if (oom) {
+        free(text);
+        return NULL;
+    }
+    if (fixed) {
+        free(text);
+        text = fixed;
+    }
+    return text;
+}
+
+int fv_cli_json_print(const cJSON *root, bool pretty)
+{
+    char *text = fv_cli_json_text(root, pretty);
+    if (!text) {
+        fprintf(stderr, "fovea: out of memory printing the JSON output\n");
+        return FV_EXIT_FAIL;
+    }
+    bool ok = puts(text) >= 0 && fflush(stdout) == 0;
+    free(text);
+    if (!ok) fprintf(stderr, "fovea: cannot write the JSON output: %s\n", strerror(errno));
+    return ok ? FV_EXIT_OK : FV_EXIT_FAIL;
+}
+
+char *fv_cli_read_file(const char *cmd, const char *path, size_t max_bytes, size_t *out_len)
+{
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        fprintf(stderr, "fovea %s: %s: cannot open: %s\n", cmd, path, strerror(errno));
+        return NULL;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "fovea %s: %s: is a directory, not a file\n", cmd, path);
+        return NULL;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        fprintf(stderr, "fovea %s: %s: not a regular file (a device, pipe or socket)\n", cmd, path);
+        return NULL;
+    }
+    if ((uint64_t)st.st_size > max_bytes) {
+        fprintf(stderr, "fovea %s: %s: %lld bytes, larger than the %zu-byte limit\n", cmd, path,
+                (long long)st.st_size, max_bytes);
+        return NULL;
+    }
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        fprintf(stderr, "fovea %s: %s: cannot open: %s\n", cmd, path, strerror(errno));
+        return NULL;
+    }
+    char *buf = malloc(max_bytes + 1);
+    size_t n = buf ? fread(buf, 1, max_bytes + 1, f) : 0;
+    bool err = ferror(f);
+    fclose(f);
+    if (!buf) {
+        fprintf(stderr, "fovea %s: %s: out of memory\n", cmd, path);
+        return NULL;
+    }
+    if (err || n > max_bytes) {
+        fprintf(stderr, "fovea %s: %s: %s\n", cmd, path, err ? "read error" : "grew past the size limit while read");
+        free(buf);
+        return NULL;
+    }
+    buf[n] = '\0';
+    *out_len = n;
+    return buf;
 }
 
 const char *fv_cli_format_number(char *buf, size_t size, const char *fmt, double v)

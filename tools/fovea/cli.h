@@ -18,7 +18,8 @@ enum {
 /** Print "fovea CMD: <message>" and the usage to stderr; returns FV_EXIT_USAGE. */
 int fv_cli_usage_error(const char *cmd, const char *usage, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
-/** Parse a whole string as an integer in [lo, hi]; false on junk, overflow or out of range. */
+/** Parse a whole string as an integer in [lo, hi] ("1000000000" or "1e9": digits, then optionally e and an exponent
+ *  0..18); false on junk, overflow or out of range. */
 bool fv_cli_parse_i64(const char *s, int64_t lo, int64_t hi, int64_t *out);
 /** Parse a whole string as a finite double in [lo, hi]. */
 bool fv_cli_parse_f64(const char *s, double lo, double hi, double *out);
@@ -29,6 +30,21 @@ bool fv_cli_parse_f64_pair(const char *s, double lo, double hi, double out[2]);
 /** Create a directory and any missing parents (as mkdir -p); true when it exists as a directory afterwards. On
  *  failure errno says why (ENOTDIR: a path component is a file). */
 bool fv_cli_make_dirs(const char *dir);
+/** The one way a string enters fovea's JSON output (every `--json`, bench.json): a cJSON string of s that is valid
+ *  UTF-8 whatever s holds (each byte that does not begin a valid UTF-8 sequence becomes U+FFFD; overlong forms,
+ *  surrogates and code points past U+10FFFF are invalid). s NULL gives "". cJSON escapes control characters. */
+cJSON *fv_cli_json_string(const char *s);
+/** Add fv_cli_json_string(s) to obj under key (a name from fovea's own tables). Returns the item or NULL. */
+cJSON *fv_cli_json_add_string(cJSON *obj, const char *key, const char *s);
+/** root as JSON text, pretty (tabs) or compact, checked to be valid UTF-8 (a byte that got in any other way is
+ *  replaced by the escape \ufffd); free() it. NULL when out of memory. */
+char *fv_cli_json_text(const cJSON *root, bool pretty);
+/** Print root on stdout as one JSON text and a newline (it stays the caller's). FV_EXIT_OK, or FV_EXIT_FAIL when it
+ *  cannot be printed. */
+int fv_cli_json_print(const cJSON *root, bool pretty);
+/** Read a whole file for command CMD (at most max_bytes; NUL-terminated, free() it). NULL after one message naming
+ *  the file: missing, a directory, not a regular file, larger than max_bytes, or a read error. */
+char *fv_cli_read_file(const char *cmd, const char *path, size_t max_bytes, size_t *out_len);
 /** Add a number to a JSON object, or null when it is not finite (JSON has no inf or NaN: an infinite PSNR, a metric
  *  that does not apply). */
 void fv_cli_json_number(cJSON *obj, const char *key, double v);

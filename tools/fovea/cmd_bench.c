@@ -421,13 +421,13 @@ int fv_cmd_bench(int argc, char **argv)
 
     char path[1200];
     cJSON *j = fv_bench_json(&res);
-    char *pretty = j ? cJSON_Print(j) : NULL, *flat = j && o.json ? cJSON_PrintUnformatted(j) : NULL;
+    char *pretty = fv_cli_json_text(j, true), *flat = o.json ? fv_cli_json_text(j, false) : NULL;
     cJSON_Delete(j);
     snprintf(path, sizeof path, "%s/bench.json", o.out_dir);
     fv_result wr = pretty && (!o.json || flat) ? write_json_file(path, pretty) : FV_ERR_NO_MEMORY;
     if (!FV_FAILED(wr) && o.json) puts(flat);
-    cJSON_free(pretty);
-    cJSON_free(flat);
+    free(pretty);
+    free(flat);
     if (FV_FAILED(wr)) goto done;
     snprintf(path, sizeof path, "%s/bench.csv", o.out_dir);
     if (FV_FAILED(fv_bench_write_csv(&res, path))) goto done;

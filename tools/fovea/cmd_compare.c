@@ -171,18 +171,18 @@ static int print_json(const compare_opts *o, const fv_rgb_image *a, const geomet
     bool linear = a->kind == FV_IMAGE_KIND_LINEAR;
     cJSON *j = cJSON_CreateObject();
     if (!j) return FV_EXIT_FAIL;
-    cJSON_AddStringToObject(j, "a", o->path[0]);
-    cJSON_AddStringToObject(j, "b", o->path[1]);
-    cJSON_AddStringToObject(j, "kind", linear ? "pfm" : "png");
+    fv_cli_json_add_string(j, "a", o->path[0]);
+    fv_cli_json_add_string(j, "b", o->path[1]);
+    fv_cli_json_add_string(j, "kind", linear ? "pfm" : "png");
     cJSON_AddNumberToObject(j, "width", a->width);
     cJSON_AddNumberToObject(j, "height", a->height);
-    cJSON_AddStringToObject(j, "layout", g->eyes == 2 ? "sbs" : "mono");
+    fv_cli_json_add_string(j, "layout", g->eyes == 2 ? "sbs" : "mono");
     cJSON_AddNumberToObject(j, "eyes", g->eyes);
     cJSON_AddNumberToObject(j, "eye_width", g->eye_w);
     cJSON_AddNumberToObject(j, "eye_height", g->eye_h);
     cJSON_AddNumberToObject(j, "threshold", o->threshold);
     cJSON *gz = cJSON_AddObjectToObject(j, "gaze");
-    cJSON_AddStringToObject(gz, "from", o->gaze == GAZE_PIXEL ? "pixel" : o->gaze == GAZE_DEG ? "deg" : "default");
+    fv_cli_json_add_string(gz, "from", o->gaze == GAZE_PIXEL ? "pixel" : o->gaze == GAZE_DEG ? "deg" : "default");
     if (o->gaze == GAZE_PIXEL) {
         cJSON_AddNumberToObject(gz, "x_px", o->gaze_v[0]);
         cJSON_AddNumberToObject(gz, "y_px", o->gaze_v[1]);
@@ -200,12 +200,9 @@ static int print_json(const compare_opts *o, const fv_rgb_image *a, const geomet
         stats_json(b, &rep->band[k], linear, rep->rel_eps);
         cJSON_AddItemToArray(bands, b);
     }
-    char *txt = cJSON_PrintUnformatted(j);
+    int rc = fv_cli_json_print(j, false);
     cJSON_Delete(j);
-    if (!txt) return FV_EXIT_FAIL;
-    printf("%s\n", txt);
-    cJSON_free(txt);
-    return FV_EXIT_OK;
+    return rc;
 }
 
 static void print_row(const char *label, const fv_metrics_stats *s, bool linear)

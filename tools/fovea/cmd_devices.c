@@ -20,18 +20,18 @@ static cJSON *listing_json(const fv_registry_listing *l)
     for (size_t i = 0; i < l->driver_count; i++) {
         const fv_registry_driver_listing *d = &l->drivers[i];
         cJSON *o = cJSON_CreateObject();
-        cJSON_AddStringToObject(o, "scheme", d->driver->scheme);
-        cJSON_AddStringToObject(o, "summary", d->driver->summary ? d->driver->summary : "");
+        fv_cli_json_add_string(o, "scheme", d->driver->scheme);
+        fv_cli_json_add_string(o, "summary", d->driver->summary ? d->driver->summary : "");
         cJSON_AddBoolToObject(o, "hardware", !fv_registry_is_virtual(d->driver));
-        cJSON_AddStringToObject(o, "result", fv_result_str(d->result));
+        fv_cli_json_add_string(o, "result", fv_result_str(d->result));
         cJSON_AddBoolToObject(o, "truncated", d->truncated);
         cJSON *devs = cJSON_AddArrayToObject(o, "devices");
         for (size_t k = 0; k < d->count; k++) {
             cJSON *x = cJSON_CreateObject();
-            cJSON_AddStringToObject(x, "uri", d->devices[k].uri);
-            cJSON_AddStringToObject(x, "name", d->devices[k].name);
-            cJSON_AddStringToObject(x, "driver", d->devices[k].driver);
-            cJSON_AddStringToObject(x, "detail", d->devices[k].detail);
+            fv_cli_json_add_string(x, "uri", d->devices[k].uri);
+            fv_cli_json_add_string(x, "name", d->devices[k].name);
+            fv_cli_json_add_string(x, "driver", d->devices[k].driver);
+            fv_cli_json_add_string(x, "detail", d->devices[k].detail);
             cJSON_AddItemToArray(devs, x);
         }
         cJSON_AddItemToArray(drivers, o);
@@ -95,14 +95,7 @@ int fv_cmd_devices(int argc, char **argv)
     int rc = FV_EXIT_OK;
     if (json) {
         cJSON *root = listing_json(&listing);
-        char *text = root ? cJSON_Print(root) : NULL;
-        if (text) {
-            printf("%s\n", text);
-        } else {
-            fprintf(stderr, "fovea devices: out of memory writing JSON\n");
-            rc = FV_EXIT_FAIL;
-        }
-        free(text);
+        if (fv_cli_json_print(root, true) != FV_EXIT_OK) rc = FV_EXIT_FAIL;
         cJSON_Delete(root);
     } else {
         print_text(&listing);

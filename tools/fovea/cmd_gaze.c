@@ -74,7 +74,7 @@ static int print_json(const char *uri, const fv_sim_eval_result *r)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o) return FV_EXIT_FAIL;
-    cJSON_AddStringToObject(o, "uri", uri);
+    fv_cli_json_add_string(o, "uri", uri);
     cJSON_AddBoolToObject(o, "ground_truth", r->has_truth);
     cJSON_AddNumberToObject(o, "samples", (double)r->samples);
     cJSON_AddNumberToObject(o, "seconds", r->seconds);
@@ -109,12 +109,9 @@ static int print_json(const char *uri, const fv_sim_eval_result *r)
     }
     cJSON_AddNumberToObject(o, "mean_uncertainty_deg_20ms", r->mean_uncertainty_deg);
     if (r->ns_per_sample > 0.0) cJSON_AddNumberToObject(o, "ns_per_sample", r->ns_per_sample);
-    char *txt = cJSON_Print(o);
+    int rc = fv_cli_json_print(o, true);
     cJSON_Delete(o);
-    if (!txt) return FV_EXIT_FAIL;
-    printf("%s\n", txt);
-    cJSON_free(txt);
-    return FV_EXIT_OK;
+    return rc;
 }
 
 static bool parse_float_opt(const char *v, double lo, double hi, float *out)

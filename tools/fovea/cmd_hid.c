@@ -32,26 +32,7 @@ typedef struct blob {
     size_t len;
 } blob;
 
-static char *read_file(const char *path, size_t *out_len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "fovea hid: %s: cannot open\n", path);
-        return NULL;
-    }
-    char *buf = malloc(MAX_FILE + 1);
-    size_t n = buf ? fread(buf, 1, MAX_FILE + 1, f) : 0;
-    fclose(f);
-    if (!buf) return NULL;
-    if (n > MAX_FILE) {
-        fprintf(stderr, "fovea hid: %s: larger than %u bytes\n", path, MAX_FILE);
-        free(buf);
-        return NULL;
-    }
-    buf[n] = '\0';
-    *out_len = n;
-    return buf;
-}
+static char *read_file(const char *path, size_t *out_len) { return fv_cli_read_file("hid", path, MAX_FILE, out_len); }
 
 static bool looks_like_text(const char *s, size_t n)
 {
@@ -120,9 +101,9 @@ static blob *load_reports(const char *path, size_t *out_count)
                 }
                 uint8_t buf[FV_HID_MAX_REPORT_BYTES + 1];
                 size_t len;
-                char what[300];
-                snprintf(what, sizeof what, "%s (line %zu)", path, line_no);
-                if (fv_hid_hex_decode(what, hex, strlen(hex), buf, sizeof buf, &len) != FV_OK) {
+                /* positions in messages count in the file: path:LINE:COLUMN */
+                if (fv_hid_hex_decode_at(path, line_no, (size_t)(hex - line) + 1, hex, strlen(hex), buf, sizeof buf,
+                                         &len) != FV_OK) {
                     ok = false;
                     break;
                 }
@@ -208,11 +189,11 @@ static cJSON *field_json(const fv_hid_descriptor *d, const fv_hid_field *f)
         cJSON *ju = cJSON_CreateObject();
         cJSON_AddNumberToObject(ju, "page", u->min >> 16);
         const char *pn = fv_hid_usage_page_name((uint16_t)(u->min >> 16));
-        cJSON_AddStringToObject(ju, "page_name", pn ? pn : "");
+        fv_cli_json_add_string(ju, "page_name", pn ? pn : "");
         cJSON_AddNumberToObject(ju, "min", u->min & 0xFFFFu);
         cJSON_AddNumberToObject(ju, "max", u->max & 0xFFFFu);
         const char *un = u->min == u->max ? fv_hid_usage_name(u->min) : NULL;
-        cJSON_AddStringToObject(ju, "name", un ? un : "");
+        fv_cli_json_add_string(ju, "name", un ? un : "");
         cJSON_AddItemToArray(us, ju);
     }
     cJSON_AddNumberToObject(o, "logical_min", (double)f->logical_min);
@@ -220,7 +201,7 @@ static cJSON *field_json(const fv_hid_descriptor *d, const fv_hid_field *f)
     cJSON_AddNumberToObject(o, "physical_min", (double)f->physical_min);
     cJSON_AddNumberToObject(o, "physical_max", (double)f->physical_max);
     char unit[64];
-    cJSON_AddStringToObject(o, "unit", unit_text(f, unit, sizeof unit));
+    fv_cli_json_add_string(o, "unit", unit_text(f, unit, sizeof unit));
     cJSON_AddNumberToObject(o, "unit_code", f->unit);
     cJSON_AddNumberToObject(o, "unit_exponent", f->unit_exponent);
     cJSON_AddNumberToObject(o, "descriptor_offset", f->item_offset);
@@ -229,12 +210,9 @@ static cJSON *field_json(const fv_hid_descriptor *d, const fv_hid_field *f)
 
 static int print_json(cJSON *root)
 {
-    char *s = cJSON_Print(root);
+    int rc = fv_cli_json_print(root, true);
     cJSON_Delete(root);
-    if (!s) return FV_EXIT_FAIL;
-    puts(s);
-    free(s);
-    return FV_EXIT_OK;
+    return rc;
 }
 
 static int cmd_parse(const char *path, bool json)
@@ -252,7 +230,7 @@ static int cmd_parse(const char *path, bool json)
     bool et = fv_hid_is_eye_tracker(d);
     if (json) {
         cJSON *root = cJSON_CreateObject();
-        cJSON_AddStringToObject(root, "file", path);
+        fv_cli_json_add_string(root, "file", path);
         cJSON_AddNumberToObject(root, "bytes", (double)n);
         cJSON_AddNumberToObject(root, "items", d->item_count);
         cJSON_AddNumberToObject(root, "long_items_skipped", d->long_items);
@@ -262,11 +240,11 @@ static int cmd_parse(const char *path, bool json)
         for (uint32_t i = 0; i < d->collection_count; i++) {
             const fv_hid_collection *c = &d->collections[i];
             cJSON *o = cJSON_CreateObject();
-            cJSON_AddStringToObject(o, "type", fv_hid_collection_type_name(c->type));
+            fv_cli_json_add_string(o, "type", fv_hid_collection_type_name(c->type));
             cJSON_AddNumberToObject(o, "usage_page", c->usage >> 16);
             cJSON_AddNumberToObject(o, "usage", c->usage & 0xFFFFu);
             const char *un = fv_hid_usage_name(c->usage);
-            cJSON_AddStringToObject(o, "name", un ? un : "");
+            fv_cli_json_add_string(o, "name", un ? un : "");
             cJSON_AddNumberToObject(o, "parent", c->parent);
             cJSON_AddNumberToObject(o, "descriptor_offset", c->item_offset);
             cJSON_AddItemToArray(cols, o);
@@ -276,7 +254,7 @@ static int cmd_parse(const char *path, bool json)
             const fv_hid_report *rep = &d->reports[r];
             cJSON *o = cJSON_CreateObject();
             cJSON_AddNumberToObject(o, "id", rep->id);
-            cJSON_AddStringToObject(o, "type", fv_hid_report_type_name(rep->type));
+            fv_cli_json_add_string(o, "type", fv_hid_report_type_name(rep->type));
             cJSON_AddNumberToObject(o, "byte_length", (double)fv_hid_report_byte_length(d, rep));
             cJSON_AddNumberToObject(o, "bit_length", rep->bit_length);
             cJSON *fs = cJSON_AddArrayToObject(o, "fields");
@@ -343,6 +321,28 @@ static void num(cJSON *o, const char *k, double v)
 {
     if (isfinite(v)) cJSON_AddNumberToObject(o, k, v);
     else cJSON_AddNullToObject(o, k);
+}
+
+/* An integer field the decoder gives as -1 when it is absent or outside its logical range: null in JSON. */
+static void int_or_null(cJSON *o, const char *k, int64_t v)
+{
+    if (v >= 0) cJSON_AddNumberToObject(o, k, (double)v);
+    else cJSON_AddNullToObject(o, k);
+}
+
+/* The same two cases in text: the number, or "unknown" (absent, or out of the field's logical range). */
+static const char *mm_text(char *buf, size_t cap, double v)
+{
+    if (isfinite(v)) snprintf(buf, cap, "%.3f mm", v);
+    else snprintf(buf, cap, "unknown");
+    return buf;
+}
+
+static const char *int_text(char *buf, size_t cap, const char *fmt, int64_t v)
+{
+    if (v >= 0) snprintf(buf, cap, fmt, (long long)v);
+    else snprintf(buf, cap, "unknown");
+    return buf;
 }
 
 static void vec3_json(cJSON *o, const char *k, fv_vec3 v, bool valid)
@@ -430,7 +430,7 @@ static void dump_fields(const fv_hid_descriptor *d, fv_hid_report_type type, con
             bool in = fv_hid_field_in_range(f, v);
             if (jarr) {
                 cJSON *o = cJSON_CreateObject();
-                cJSON_AddStringToObject(o, "usage", name);
+                fv_cli_json_add_string(o, "usage", name);
                 cJSON_AddNumberToObject(o, "value", (double)v);
                 cJSON_AddBoolToObject(o, "in_range", in);
                 cJSON_AddItemToArray(jarr, o);
@@ -458,7 +458,7 @@ static int decode_one(const fv_hid_descriptor *d, const fv_hid_eyetracker_map *m
     if (jo) {
         cJSON_AddNumberToObject(jo, "index", (double)index + 1);
         cJSON_AddNumberToObject(jo, "id", id);
-        cJSON_AddStringToObject(jo, "type", fv_hid_report_type_name(type));
+        fv_cli_json_add_string(jo, "type", fv_hid_report_type_name(type));
         cJSON_AddNumberToObject(jo, "bytes", (double)b->len);
         cJSON_AddItemToArray(jarr, jo);
     } else {
@@ -482,32 +482,37 @@ static int decode_one(const fv_hid_descriptor *d, const fv_hid_eyetracker_map *m
             (r = fv_hid_eyetracker_decode_capabilities(d, m, b->bytes, b->len, &caps)) == FV_OK) {
             if (jo) {
                 cJSON *c = cJSON_AddObjectToObject(jo, "capabilities");
-                cJSON_AddNumberToObject(c, "tracker_quality", caps.tracker_quality);
+                int_or_null(c, "tracker_quality", caps.tracker_quality);
                 num(c, "min_distance_mm", caps.min_distance_mm);
                 num(c, "optimum_distance_mm", caps.optimum_distance_mm);
                 num(c, "max_distance_mm", caps.max_distance_mm);
                 num(c, "max_screen_width_mm", caps.max_screen_width_mm);
                 num(c, "max_screen_height_mm", caps.max_screen_height_mm);
             } else {
-                printf("  capabilities: tracker quality %d, tracking distance min %.3f / optimum %.3f / max %.3f mm, "
-                       "max screen %.3f x %.3f mm\n",
-                       caps.tracker_quality, caps.min_distance_mm, caps.optimum_distance_mm, caps.max_distance_mm,
-                       caps.max_screen_width_mm, caps.max_screen_height_mm);
+                char q[24], a[24], b[24], c[24], w[24], h[24];
+                printf("  capabilities: tracker quality %s, tracking distance min %s / optimum %s / max %s, "
+                       "max screen %s x %s\n",
+                       int_text(q, sizeof q, "%lld", caps.tracker_quality), mm_text(a, sizeof a, caps.min_distance_mm),
+                       mm_text(b, sizeof b, caps.optimum_distance_mm), mm_text(c, sizeof c, caps.max_distance_mm),
+                       mm_text(w, sizeof w, caps.max_screen_width_mm), mm_text(h, sizeof h, caps.max_screen_height_mm));
             }
         } else if (type == FV_HID_REPORT_FEATURE && m->calibrated_width.field >= 0 &&
                    id == d->fields[m->calibrated_width.field].report_id &&
                    (r = fv_hid_eyetracker_decode_configuration(d, m, b->bytes, b->len, &cfg)) == FV_OK) {
             if (jo) {
                 cJSON *c = cJSON_AddObjectToObject(jo, "configuration");
-                cJSON_AddNumberToObject(c, "display_manufacturer", (double)cfg.display_manufacturer);
-                cJSON_AddNumberToObject(c, "display_product", (double)cfg.display_product);
-                cJSON_AddNumberToObject(c, "display_serial", (double)cfg.display_serial);
+                int_or_null(c, "display_manufacturer", cfg.display_manufacturer);
+                int_or_null(c, "display_product", cfg.display_product);
+                int_or_null(c, "display_serial", cfg.display_serial);
                 num(c, "calibrated_width_mm", cfg.calibrated_width_mm);
                 num(c, "calibrated_height_mm", cfg.calibrated_height_mm);
             } else {
-                printf("  configuration: display 0x%04llx:0x%04llx serial %lld, calibrated screen %.3f x %.3f mm\n",
-                       (long long)cfg.display_manufacturer, (long long)cfg.display_product,
-                       (long long)cfg.display_serial, cfg.calibrated_width_mm, cfg.calibrated_height_mm);
+                char vid[24], pid[24], ser[24], w[24], h[24];
+                printf("  configuration: display %s:%s serial %s, calibrated screen %s x %s\n",
+                       int_text(vid, sizeof vid, "0x%04llx", cfg.display_manufacturer),
+                       int_text(pid, sizeof pid, "0x%04llx", cfg.display_product),
+                       int_text(ser, sizeof ser, "%lld", cfg.display_serial),
+                       mm_text(w, sizeof w, cfg.calibrated_width_mm), mm_text(h, sizeof h, cfg.calibrated_height_mm));
             }
         } else if (m->status_config[type == FV_HID_REPORT_INPUT].field >= 0 &&
                    id == d->fields[m->status_config[type == FV_HID_REPORT_INPUT].field].report_id &&
@@ -519,12 +524,17 @@ static int decode_one(const fv_hid_descriptor *d, const fv_hid_eyetracker_map *m
                                  : "unknown";
             if (jo) {
                 cJSON *c = cJSON_AddObjectToObject(jo, "status");
-                cJSON_AddNumberToObject(c, "configuration_status", st.configuration_status);
-                cJSON_AddStringToObject(c, "configuration_status_name", sn);
+                int_or_null(c, "configuration_status", st.configuration_status);
+                fv_cli_json_add_string(c, "configuration_status_name", sn);
                 num(c, "sampling_frequency_hz", st.sampling_frequency_hz);
             } else {
-                printf("  status: %s (%d), sampling frequency %.1f Hz\n", sn, st.configuration_status,
-                       st.sampling_frequency_hz);
+                char fq[24];
+                if (isfinite(st.sampling_frequency_hz)) snprintf(fq, sizeof fq, "%.1f Hz", st.sampling_frequency_hz);
+                else snprintf(fq, sizeof fq, "unknown");
+                if (st.configuration_status >= 0)
+                    printf("  status: %s (%d), sampling frequency %s\n", sn, st.configuration_status, fq);
+                else
+                    printf("  status: unknown, sampling frequency %s\n", fq);
             }
         } else {
             r = FV_ERR_UNSUPPORTED;
@@ -622,7 +632,7 @@ static int cmd_decode(const char *dpath, const char *rpath, bool json, int force
         double rate = secs > 0 ? (double)ok / secs : 0.0;
         if (json) {
             cJSON *root = cJSON_CreateObject();
-            cJSON_AddStringToObject(root, "what", tracking ? "tracking report -> fv_gaze_sample" : "generic fields");
+            fv_cli_json_add_string(root, "what", tracking ? "tracking report -> fv_gaze_sample" : "generic fields");
             cJSON_AddNumberToObject(root, "reports", (double)ok);
             cJSON_AddNumberToObject(root, "seconds", secs);
             cJSON_AddNumberToObject(root, "reports_per_second", rate);

@@ -63,21 +63,21 @@ static int print_json(const fv_vk_device_info *d, uint32_t n, int chosen, const 
         char api[24];
         version_str(d[i].api_version, api, sizeof api);
         cJSON_AddNumberToObject(o, "index", d[i].index);
-        cJSON_AddStringToObject(o, "name", d[i].name);
-        cJSON_AddStringToObject(o, "type", fv_vk_device_type_str(d[i].type));
-        cJSON_AddStringToObject(o, "api_version", api);
-        cJSON_AddStringToObject(o, "driver", d[i].driver_name);
-        cJSON_AddStringToObject(o, "driver_info", d[i].driver_info);
+        fv_cli_json_add_string(o, "name", d[i].name);
+        fv_cli_json_add_string(o, "type", fv_vk_device_type_str(d[i].type));
+        fv_cli_json_add_string(o, "api_version", api);
+        fv_cli_json_add_string(o, "driver", d[i].driver_name);
+        fv_cli_json_add_string(o, "driver_info", d[i].driver_info);
         cJSON_AddBoolToObject(o, "chosen", (int)i == chosen);
         cJSON_AddBoolToObject(o, "usable", d[i].usable);
-        if (!d[i].usable) cJSON_AddStringToObject(o, "why_not", d[i].why_not);
+        if (!d[i].usable) fv_cli_json_add_string(o, "why_not", d[i].why_not);
         cJSON *f = cJSON_AddObjectToObject(o, "features");
         char mv[96];
         bool trusted = fv_vk_multiview_trusted(&d[i], mv, sizeof mv);
         cJSON_AddBoolToObject(f, "multiview", d[i].multiview);
         cJSON_AddNumberToObject(f, "max_multiview_views", d[i].max_multiview_views);
         cJSON_AddBoolToObject(f, "gbuffer_multiview", trusted);
-        cJSON_AddStringToObject(f, "gbuffer_mode", mv);
+        fv_cli_json_add_string(f, "gbuffer_mode", mv);
         cJSON_AddBoolToObject(f, "timestamps", d[i].timestamps);
         cJSON_AddNumberToObject(f, "timestamp_period_ns", d[i].timestamp_period_ns);
         cJSON_AddNumberToObject(f, "subgroup_size", d[i].subgroup_size);
@@ -89,16 +89,10 @@ static int print_json(const fv_vk_device_info *d, uint32_t n, int chosen, const 
     }
     if (chosen >= 0) cJSON_AddNumberToObject(root, "chosen", chosen);
     else cJSON_AddNullToObject(root, "chosen");
-    cJSON_AddStringToObject(root, "reason", why);
-    char *text = cJSON_Print(root);
+    fv_cli_json_add_string(root, "reason", why);
+    int rc = fv_cli_json_print(root, true);
     cJSON_Delete(root);
-    if (!text) {
-        fprintf(stderr, "fovea info: out of memory\n");
-        return FV_EXIT_FAIL;
-    }
-    printf("%s\n", text);
-    cJSON_free(text);
-    return FV_EXIT_OK;
+    return rc;
 }
 
 int fv_cmd_info(int argc, char **argv)

@@ -48,15 +48,15 @@ static void print_json(const fv_knob *k, size_t n, const fv_quality q[FV_QUALITY
     cJSON *root = cJSON_CreateObject();
     cJSON *names = cJSON_AddArrayToObject(root, "presets");
     for (int p = 0; p < FV_QUALITY_PRESET_COUNT; p++)
-        cJSON_AddItemToArray(names, cJSON_CreateString(fv_quality_preset_name((fv_quality_preset_id)p)));
-    cJSON_AddStringToObject(root, "default_preset", fv_quality_preset_name(FV_QUALITY_BALANCED));
+        cJSON_AddItemToArray(names, fv_cli_json_string(fv_quality_preset_name((fv_quality_preset_id)p)));
+    fv_cli_json_add_string(root, "default_preset", fv_quality_preset_name(FV_QUALITY_BALANCED));
     cJSON *arr = cJSON_AddArrayToObject(root, "knobs");
     for (size_t i = 0; i < n; i++) {
         cJSON *o = cJSON_CreateObject();
         char range[96];
-        cJSON_AddStringToObject(o, "name", k[i].name);
-        cJSON_AddStringToObject(o, "type", fv_knob_type_name(k[i].type));
-        cJSON_AddStringToObject(o, "range", fv_knob_format_range(&k[i], range, sizeof range));
+        fv_cli_json_add_string(o, "name", k[i].name);
+        fv_cli_json_add_string(o, "type", fv_knob_type_name(k[i].type));
+        fv_cli_json_add_string(o, "range", fv_knob_format_range(&k[i], range, sizeof range));
         if (k[i].type == FV_KNOB_INT || k[i].type == FV_KNOB_FLOAT) {
             cJSON_AddNumberToObject(o, "min", k[i].min);
             cJSON_AddNumberToObject(o, "max", k[i].max);
@@ -64,20 +64,18 @@ static void print_json(const fv_knob *k, size_t n, const fv_quality q[FV_QUALITY
         }
         if (k[i].type == FV_KNOB_ENUM) {
             cJSON *c = cJSON_AddArrayToObject(o, "choices");
-            for (uint32_t j = 0; j < k[i].choice_count; j++) cJSON_AddItemToArray(c, cJSON_CreateString(k[i].choices[j]));
+            for (uint32_t j = 0; j < k[i].choice_count; j++) cJSON_AddItemToArray(c, fv_cli_json_string(k[i].choices[j]));
         }
-        cJSON_AddStringToObject(o, "unit", k[i].unit);
+        fv_cli_json_add_string(o, "unit", k[i].unit);
         cJSON *pv = cJSON_AddObjectToObject(o, "presets");
         for (int p = 0; p < FV_QUALITY_PRESET_COUNT; p++)
             cJSON_AddItemToObject(pv, fv_quality_preset_name((fv_quality_preset_id)p), fv_tool_knob_json(&k[i], &q[p]));
-        cJSON_AddStringToObject(o, "doc", k[i].doc);
-        if (k[i].exact_note) cJSON_AddStringToObject(o, "exact_note", k[i].exact_note);
+        fv_cli_json_add_string(o, "doc", k[i].doc);
+        if (k[i].exact_note) fv_cli_json_add_string(o, "exact_note", k[i].exact_note);
         else cJSON_AddNullToObject(o, "exact_note");
         cJSON_AddItemToArray(arr, o);
     }
-    char *text = cJSON_PrintUnformatted(root);
-    if (text) puts(text);
-    cJSON_free(text);
+    (void)fv_cli_json_print(root, false);
     cJSON_Delete(root);
 }
 

@@ -126,22 +126,25 @@ static int parse(int argc, char **argv, options *o)
     return 0;
 }
 
-/* The declared tracker latency: --tracker-ms, else what a sim: URI says, else 0 (unknown). */
-static double tracker_latency_ms(const options *o, const char **out_origin)
+/* The declared tracker latency: --tracker-ms, else what a sim: URI says, else 0 (unknown). A sim: URI that does not
+ * parse fails here, once (its error is logged by the parser; opening it again would log it twice). */
+static fv_result tracker_latency_ms(const options *o, double *out_ms, const char **out_origin)
 {
-    if (o->tracker_given) {
-        *out_origin = "declared with --tracker-ms";
-        return o->tracker_ms;
-    }
-    if (strncmp(o->uri, "sim:", 4) == 0 || strcmp(o->uri, "sim") == 0) {
+    *out_ms = 0.0;
+    *out_origin = "unknown, counted as 0 (use --tracker-ms)";
+    if (strncmp(o->uri, "sim:", 4) == 0) {
         fv_sim_eye_desc d;
-        if (fv_sim_driver_parse_uri(o->uri, &d, NULL) == FV_OK && isfinite(d.latency_ms) && d.latency_ms >= 0) {
+        FV_TRY(fv_sim_driver_parse_uri(o->uri, &d, NULL));
+        if (!o->tracker_given && isfinite(d.latency_ms) && d.latency_ms >= 0) {
             *out_origin = "the simulated eye's latency_ms";
-            return d.latency_ms;
+            *out_ms = d.latency_ms;
         }
     }
-    *out_origin = "unknown, counted as 0 (use --tracker-ms)";
-    return 0.0;
+    if (o->tracker_given) {
+        *out_origin = "declared with --tracker-ms";
+        *out_ms = o->tracker_ms;
+    }
+    return FV_OK;
 }
 
 static const char *stage_what(fv_latency_stage s)
@@ -175,10 +178,14 @@ static void print_text(const options *o, const fv_latency_summary *s, const fv_g
     printf("missed          %zu (%zu late frames, %zu repeated refreshes) in %zu frames; refresh period %.3f ms, "
            "mean frame interval %.3f ms\n",
            s->missed, s->late_frames, s->repeated_vsyncs, s->frames, 1000.0 / o->hz, s->frame_interval_mean_ms);
-    printf("device          %s; %llu samples, %llu overruns, %llu losses, %llu re-opens; %zu frames without gaze "
-           "or stalled, %zu reused an old sample\n",
-           fv_gaze_source_state_str(st->state), (unsigned long long)st->samples, (unsigned long long)st->overruns,
-           (unsigned long long)st->losses, (unsigned long long)st->reopens, s->lost_frames, s->stale_frames);
+    printf("device          %s; %llu samples: %llu delivered, %llu overruns (dropped as stale, newest kept: ring of "
+           "%zu); %llu losses, %llu re-opens; %zu frames without gaze or stalled, %zu reused an old sample\n",
+           fv_gaze_source_state_str(st->state), (unsigned long long)st->samples, (unsigned long long)st->delivered,
+           (unsigned long long)st->overruns, st->ring_capacity, (unsigned long long)st->losses,
+           (unsigned long long)st->reopens, s->lost_frames, s->stale_frames);
+    if (st->poll_limited)
+        printf("                %llu polls stopped with the device still delivering (it never ran dry)\n",
+               (unsigned long long)st->poll_limited);
     printf("tracker latency %.2f ms (%s)\n", tracker_ms, tracker_origin);
     if (!s->frames_with_gaze) return;
     printf("stages (mean, share of gaze-to-photon):\n");
@@ -192,7 +199,7 @@ static int print_json(const options *o, const fv_latency_summary *s, const fv_ga
 {
     cJSON *root = cJSON_CreateObject();
     if (!root) return FV_EXIT_FAIL;
-    cJSON_AddStringToObject(root, "gaze", o->uri);
+    fv_cli_json_add_string(root, "gaze", o->uri);
     cJSON_AddNumberToObject(root, "hz", o->hz);
     cJSON_AddNumberToObject(root, "render_ms", o->render_ms);
     cJSON_AddNumberToObject(root, "frames", (double)s->frames);
@@ -218,17 +225,16 @@ static int print_json(const options *o, const fv_latency_summary *s, const fv_ga
         cJSON_AddNumberToObject(x, "share", s->stage_share[i]);
     }
     cJSON *dev = cJSON_AddObjectToObject(root, "device");
-    cJSON_AddStringToObject(dev, "state", fv_gaze_source_state_str(st->state));
+    fv_cli_json_add_string(dev, "state", fv_gaze_source_state_str(st->state));
     cJSON_AddNumberToObject(dev, "samples", (double)st->samples);
-    cJSON_AddNumberToObject(dev, "overruns", (double)st->overruns);
+    cJSON_AddNumberToObject(dev, "delivered", (double)st->delivered);
+    cJSON_AddNumberToObject(dev, "overruns", (double)st->overruns); /* dropped as stale, newest kept */
+    cJSON_AddNumberToObject(dev, "poll_limited", (double)st->poll_limited);
     cJSON_AddNumberToObject(dev, "losses", (double)st->losses);
     cJSON_AddNumberToObject(dev, "reopens", (double)st->reopens);
-    char *text = cJSON_Print(root);
+    int rc = fv_cli_json_print(root, true);
     cJSON_Delete(root);
-    if (!text) return FV_EXIT_FAIL;
-    printf("%s\n", text);
-    free(text);
-    return FV_EXIT_OK;
+    return rc;
 }
 
 int fv_cmd_latency(int argc, char **argv)
@@ -248,7 +254,12 @@ int fv_cmd_latency(int argc, char **argv)
     fv_latency_record *records = NULL;
     fv_standin_render standin;
     const char *tracker_origin = "";
-    double tracker_ms = tracker_latency_ms(&o, &tracker_origin);
+    double tracker_ms = 0.0;
+    fv_result r = tracker_latency_ms(&o, &tracker_ms, &tracker_origin);
+    if (FV_FAILED(r)) {
+        fprintf(stderr, "fovea latency: cannot open '%s' (%s)\n", o.uri, fv_result_str(r));
+        return FV_EXIT_FAIL;
+    }
 
     fv_sim_display_desc dd = {.clock = &clk,
                               .refresh_hz = o.hz,
@@ -257,7 +268,7 @@ int fv_cmd_latency(int argc, char **argv)
                               .persistence_ns = (int64_t)llround(o.persistence_ms * 1e6),
                               .scan = o.global ? FV_SIM_DISPLAY_GLOBAL : FV_SIM_DISPLAY_ROLLING};
     if (dd.persistence_ns == 0) dd.persistence_ns = 1; /* 0 means "default" to the desc; the user asked for none */
-    fv_result r = fv_sim_display_create(&dd, &display);
+    r = fv_sim_display_create(&dd, &display);
     if (FV_FAILED(r)) goto done;
     fv_gaze_pipeline_desc pd = {0};
     r = fv_gaze_pipeline_create(&pd, &pipeline);
@@ -308,7 +319,16 @@ int fv_cmd_latency(int argc, char **argv)
         rc = FV_EXIT_OK;
     }
     if (rc == FV_EXIT_OK && s.frames_with_gaze == 0) {
-        fprintf(stderr, "fovea latency: '%s' delivered no gaze sample in %lld frames\n", o.uri, (long long)o.frames);
+        /* say what happened: nothing came, or samples came but no frame could use them (the device had ended or
+         * stalled by the time a frame latched its gaze) */
+        if (st.samples == 0)
+            fprintf(stderr, "fovea latency: '%s' delivered no gaze sample in %lld frames (device %s)\n", o.uri,
+                    (long long)o.frames, fv_gaze_source_state_str(st.state));
+        else
+            fprintf(stderr, "fovea latency: '%s' delivered %llu gaze sample%s, but none of the %lld frames had live "
+                    "gaze (a frame counts gaze only while the device is connected and not stalled; its state: %s)\n",
+                    o.uri, (unsigned long long)st.samples, st.samples == 1 ? "" : "s", (long long)o.frames,
+                    fv_gaze_source_state_str(st.state));
         rc = FV_EXIT_FAIL;
     }
 done:

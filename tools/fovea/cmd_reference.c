@@ -357,10 +357,10 @@ int fv_cmd_reference(int argc, char **argv)
     const char *name = scene->name[0] ? scene->name : o.scene;
     if (o.json) {
         cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "scene", name);
-        cJSON_AddStringToObject(j, "source", scene->source);
-        cJSON_AddStringToObject(j, "mode", fv_reference_mode_name(o.desc.mode));
-        cJSON_AddStringToObject(j, "view", fv_reference_view_name(o.desc.view));
+        fv_cli_json_add_string(j, "scene", name);
+        fv_cli_json_add_string(j, "source", scene->source);
+        fv_cli_json_add_string(j, "mode", fv_reference_mode_name(o.desc.mode));
+        fv_cli_json_add_string(j, "view", fv_reference_view_name(o.desc.view));
         cJSON_AddNumberToObject(j, "spp", o.desc.spp);
         cJSON_AddNumberToObject(j, "bounces", o.desc.bounces);
         cJSON_AddNumberToObject(j, "seed", (double)o.desc.seed);
@@ -381,12 +381,11 @@ int fv_cmd_reference(int argc, char **argv)
         cJSON_AddNumberToObject(j, "skipped_triangles", st.skipped_triangles);
         cJSON_AddNumberToObject(j, "emissive_triangles", st.emissive_triangles);
         cJSON_AddNumberToObject(j, "lights", scene->light_count);
-        if (o.out_dir) cJSON_AddStringToObject(j, "out", o.out_dir);
-        if (o.cache_dir) cJSON_AddStringToObject(j, "cache_file", cache_path);
-        char *text = cJSON_PrintUnformatted(j);
-        if (text) puts(text);
-        cJSON_free(text);
+        if (o.out_dir) fv_cli_json_add_string(j, "out", o.out_dir);
+        if (o.cache_dir) fv_cli_json_add_string(j, "cache_file", cache_path);
+        int printed = fv_cli_json_print(j, false);
         cJSON_Delete(j);
+        if (printed != FV_EXIT_OK) goto done;
     } else if (cached) {
         printf("fovea reference: scene '%s', %s mode, %s view, %ux%u per eye: from the cache (%s)\n", name,
                fv_reference_mode_name(o.desc.mode), fv_reference_view_name(o.desc.view), w, h, cache_path);

@@ -307,8 +307,8 @@ int fv_cmd_run(int argc, char **argv)
 
     if (o.json) {
         cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "scene", scene->name[0] ? scene->name : o.scene);
-        cJSON_AddStringToObject(j, "device", fv_renderer_device_name(r));
+        fv_cli_json_add_string(j, "scene", scene->name[0] ? scene->name : o.scene);
+        fv_cli_json_add_string(j, "device", fv_renderer_device_name(r));
         cJSON_AddNumberToObject(j, "frames", (double)o.frames);
         cJSON_AddNumberToObject(j, "eye_width", o.eye_w);
         cJSON_AddNumberToObject(j, "eye_height", o.eye_h);
@@ -319,16 +319,16 @@ int fv_cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(j, "validation_messages", vmsg);
         cJSON *jq = cJSON_AddObjectToObject(j, "quality");
         cJSON_AddNumberToObject(jq, "exposure", o.quality.exposure);
-        cJSON_AddStringToObject(jq, "debug_view", fv_debug_view_name(o.quality.debug_view));
+        fv_cli_json_add_string(jq, "debug_view", fv_debug_view_name(o.quality.debug_view));
         fv_tool_quality_add_json(jq, fv_tool_quality_preset(&o.tq), &o.quality);
         if (o.explain) {
             const fv_frame_plan *plan = fv_renderer_plan(r);
             cJSON *pl = cJSON_AddArrayToObject(j, "plan");
             for (uint32_t i = 0; i < plan->count; i++) {
                 cJSON *e = cJSON_CreateObject();
-                cJSON_AddStringToObject(e, "pass", plan->entries[i].pass);
+                fv_cli_json_add_string(e, "pass", plan->entries[i].pass);
                 cJSON_AddBoolToObject(e, "enabled", plan->entries[i].enabled);
-                cJSON_AddStringToObject(e, "reason", plan->entries[i].reason);
+                fv_cli_json_add_string(e, "reason", plan->entries[i].reason);
                 fv_pass_detail det[16];
                 uint32_t nd = fv_renderer_pass_details(r, plan->entries[i].pass, det, 16);
                 if (nd) {
@@ -346,10 +346,9 @@ int fv_cmd_run(int argc, char **argv)
             }
         }
         if (o.gaze_uri) run_gaze_add_json(&gaze, j);
-        char *text = cJSON_PrintUnformatted(j);
-        if (text) puts(text);
-        cJSON_free(text);
+        int printed = fv_cli_json_print(j, false);
         cJSON_Delete(j);
+        if (printed != FV_EXIT_OK) goto done;
     } else {
         printf("fovea run: scene '%s' on %s, %lld frame%s at %ux%u per eye (%llu triangles), %.2f s\n",
                scene->name[0] ? scene->name : o.scene, fv_renderer_device_name(r), (long long)o.frames,

@@ -152,8 +152,8 @@ static int cmd_info(int argc, char **argv)
     double dur_s = ((double)s.t_last_ns - (double)s.t_first_ns) / 1e9; /* no int64 overflow on hostile files */
     if (json) {
         cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "file", file);
-        cJSON_AddStringToObject(j, "format", fv_trace_format_name(fmt));
+        fv_cli_json_add_string(j, "file", file);
+        fv_cli_json_add_string(j, "format", fv_trace_format_name(fmt));
         cJSON_AddNumberToObject(j, "samples", (double)s.samples);
         cJSON_AddNumberToObject(j, "invalid", (double)s.invalid);
         cJSON_AddNumberToObject(j, "duration_s", dur_s);
@@ -190,9 +190,7 @@ static int cmd_info(int argc, char **argv)
             cJSON_AddNumberToObject(bj, "rows_per_s", rows_per_s);
             cJSON_AddNumberToObject(bj, "mb_per_s", mb_per_s);
         }
-        char *txt = cJSON_Print(j);
-        if (txt) puts(txt);
-        free(txt);
+        if (fv_cli_json_print(j, true) != FV_EXIT_OK) rc = FV_EXIT_FAIL;
         cJSON_Delete(j);
     } else {
         printf("file       %s\n", file);
@@ -223,7 +221,7 @@ static int cmd_info(int argc, char **argv)
                    (unsigned long long)bench_passes);
     }
     fv_trace_stats_fini(&s);
-    return FV_EXIT_OK;
+    return rc;
 }
 
 static int cmd_convert(int argc, char **argv)

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "fv_log.h"
 #include "fv_sim_display.h"
 #include "fv_usb_hotplug.h"
@@ -80,10 +81,11 @@ void run_gaze_print(const run_gaze *g, FILE *f)
     summarize(g, &s, &st);
     fv_gaze_prediction last;
     fv_frame_loop_last_prediction(g->loop, &last);
-    fprintf(f, "  gaze: %s (%s): %llu samples, %llu overruns, %llu losses; last event %s, uncertainty %.2f deg\n",
+    fprintf(f, "  gaze: %s (%s): %llu samples: %llu delivered, %llu overruns (dropped as stale, newest kept); %llu "
+               "losses; last event %s, uncertainty %.2f deg\n",
             g->uri, fv_gaze_source_state_str(st.state), (unsigned long long)st.samples,
-            (unsigned long long)st.overruns, (unsigned long long)st.losses, fv_gaze_event_str(last.event),
-            last.uncertainty_deg);
+            (unsigned long long)st.delivered, (unsigned long long)st.overruns, (unsigned long long)st.losses,
+            fv_gaze_event_str(last.event), last.uncertainty_deg);
     fprintf(f, "  gaze-to-photon (%.0f Hz simulated display, %zu of %zu frames with gaze): p50 %.2f ms, p95 %.2f ms, "
                "p99 %.2f ms; %zu late frames, %zu repeated refreshes\n",
             g->refresh_hz, s.frames_with_gaze, s.frames, s.g2p_p50_ms, s.g2p_p95_ms, s.g2p_p99_ms, s.late_frames,
@@ -100,10 +102,11 @@ void run_gaze_add_json(const run_gaze *g, cJSON *obj)
     fv_gaze_source_status st;
     summarize(g, &s, &st);
     cJSON *j = cJSON_AddObjectToObject(obj, "gaze");
-    cJSON_AddStringToObject(j, "uri", g->uri);
-    cJSON_AddStringToObject(j, "state", fv_gaze_source_state_str(st.state));
+    fv_cli_json_add_string(j, "uri", g->uri);
+    fv_cli_json_add_string(j, "state", fv_gaze_source_state_str(st.state));
     cJSON_AddNumberToObject(j, "samples", (double)st.samples);
-    cJSON_AddNumberToObject(j, "overruns", (double)st.overruns);
+    cJSON_AddNumberToObject(j, "delivered", (double)st.delivered);
+    cJSON_AddNumberToObject(j, "overruns", (double)st.overruns); /* dropped as stale, newest kept */
     cJSON_AddNumberToObject(j, "losses", (double)st.losses);
     cJSON *l = cJSON_AddObjectToObject(obj, "latency");
     cJSON_AddNumberToObject(l, "refresh_hz", g->refresh_hz);

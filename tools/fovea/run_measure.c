@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "cli.h"
 #include "fv_clock.h"
 #include "fv_stats.h"
 
@@ -107,7 +108,7 @@ void fv_measure_add_json(const fv_measure *mc, cJSON *j)
     for (uint32_t p = 0; p < m->pass_count; p++) {
         fv_pass_series *ps = &m->passes[p];
         cJSON *e = cJSON_CreateObject();
-        cJSON_AddStringToObject(e, "name", ps->name);
+        fv_cli_json_add_string(e, "name", ps->name);
         cJSON_AddNumberToObject(e, "gpu_ms_median", pct(ps->ms, ps->n, 50));
         cJSON_AddNumberToObject(e, "gpu_ms_p95", pct(ps->ms, ps->n, 95));
         cJSON_AddNumberToObject(e, "draws", (double)ps->last.draws);

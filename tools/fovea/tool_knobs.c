@@ -63,7 +63,7 @@ cJSON *fv_tool_knob_json(const fv_knob *k, const fv_quality *q)
     case FV_KNOB_BOOL: return cJSON_CreateBool(v.b);
     case FV_KNOB_INT: return cJSON_CreateNumber((double)v.i);
     case FV_KNOB_FLOAT: return cJSON_CreateNumber((double)v.f);
-    case FV_KNOB_ENUM: return cJSON_CreateString(fv_knob_format(k, q, buf, sizeof buf));
+    case FV_KNOB_ENUM: return fv_cli_json_string(fv_knob_format(k, q, buf, sizeof buf));
     }
     return cJSON_CreateNull();
 }
@@ -72,7 +72,7 @@ void fv_tool_quality_add_json(cJSON *obj, const char *preset, const fv_quality *
 {
     size_t n = 0;
     const fv_knob *k = fv_knobs(&n);
-    cJSON_AddStringToObject(obj, "preset", preset);
+    fv_cli_json_add_string(obj, "preset", preset);
     for (size_t i = 0; i < n; i++) cJSON_AddItemToObject(obj, k[i].name, fv_tool_knob_json(&k[i], q));
 }
 

@@ -39,15 +39,18 @@ typedef enum fv_debug_view {
     FV_DEBUG_VIEW_CASCADE = 5, /* which of light 0's shadow maps (cascade split) holds each pixel, as colours */
     FV_DEBUG_VIEW_ALBEDO = 6, /* the G-buffer's linear albedo */
     FV_DEBUG_VIEW_DEPTH = 7,  /* the G-buffer's depth 0..1 */
-    FV_DEBUG_VIEW_COUNT = 8
+    FV_DEBUG_VIEW_SAMPLES = 8, /* foveation's sample mask: white = shaded, black = filled in; blue ring = the gaze */
+    FV_DEBUG_VIEW_PROB = 9,    /* foveation's sampling probability p, grey 0..1 */
+    FV_DEBUG_VIEW_COUNT = 10
 } fv_debug_view;
 
 /** The name of a view ("color" for FV_DEBUG_VIEW_NONE, "normal", "gaze", "direct", "shadow", "cascade", "albedo",
- *  "depth"); "?" when out of range. */
+ *  "depth", "samples", "prob"); "?" when out of range. */
 static inline const char *fv_debug_view_name(fv_debug_view v)
 {
     static const char *const names[FV_DEBUG_VIEW_COUNT] = {"color",  "normal",  "gaze",   "direct",
-                                                           "shadow", "cascade", "albedo", "depth"};
+                                                           "shadow", "cascade", "albedo", "depth",
+                                                           "samples", "prob"};
     return (unsigned)v < FV_DEBUG_VIEW_COUNT ? names[v] : "?";
 }
 
@@ -74,6 +77,23 @@ typedef struct fv_quality_shadow {
                               * the two frusta; false = one set per eye */
 } fv_quality_shadow;
 
+/** How the foveated frame fills the pixels it did not shade (fv_quality.fovea.recon, knob `fovea.recon`). */
+typedef enum fv_fovea_recon {
+    FV_FOVEA_RECON_NEAREST = 0, /* "nearest": the colour of the nearest shaded pixel (jump flooding, 1+JFA) */
+} fv_fovea_recon;
+
+/** The foveated-rendering knobs (render/fovea/: sampling map from the predicted gaze, compaction, reconstruction;
+ *  papers/README.md section 3). Each field is one knob of the table in render/knobs/. */
+typedef struct fv_quality_fovea {
+    bool enabled;          /* "fovea.enabled": shade a gaze-driven subset of the pixels (off: every pixel) */
+    float mar_slope;       /* "fovea.mar_slope": m of the linear MAR w = m e + w0, degrees per degree, 0..1 */
+    float mar_w0_deg;      /* "fovea.mar_w0_deg": w0, the MAR at the gaze, degrees, 0.001..1 */
+    float min_prob;        /* "fovea.min_prob": xi, the smallest sampling probability, 0.01..1 */
+    uint32_t block;        /* "fovea.block": side of the blocks that each hold at least one sample, px, 2..16 */
+    bool uncertainty;      /* "fovea.uncertainty": widen the fovea by the gaze uncertainty (e' = max(0, e - u)) */
+    fv_fovea_recon recon;  /* "fovea.recon": nearest */
+} fv_quality_fovea;
+
 /** The settings a frame is drawn with. Zero is not a valid value: start from fv_quality_default() (the `balanced`
  *  preset) or fv_quality_preset() (render/knobs/fv_knobs.h).
  *  Every speed/accuracy trade is a knob of the one knob table (render/knobs/: name, type, range, unit, a default per
@@ -84,6 +104,7 @@ typedef struct fv_quality {
     float exposure;           /* view setting, present: linear scale before tonemapping, finite and > 0 (default 1) */
     fv_debug_view debug_view; /* view setting: default FV_DEBUG_VIEW_NONE */
     fv_quality_shadow shadow; /* knobs "shadow.*" */
+    fv_quality_fovea fovea;   /* knobs "fovea.*" */
 } fv_quality;
 
 /** The `balanced` preset, and the one source of its values: the knob table's balanced column reads this (a unit
@@ -98,7 +119,14 @@ static inline fv_quality fv_quality_default(void)
                                .resolution_px = 2048,
                                .filter = FV_SHADOW_FILTER_PCF3,
                                .bias_texels = 1.5f,
-                               .stereo_shared = true}};
+                               .stereo_shared = true},
+                    .fovea = {.enabled = false, /* experimental: see the knob fovea.enabled */
+                              .mar_slope = 0.022f,
+                              .mar_w0_deg = 1.0f / 48.0f,
+                              .min_prob = 0.05f,
+                              .block = 4,
+                              .uncertainty = true,
+                              .recon = FV_FOVEA_RECON_NEAREST}};
     return q;
 }
 
