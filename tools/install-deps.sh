@@ -12,10 +12,14 @@ PACKAGES=(
   libassimp-dev libcjson-dev libstb-dev libglfw3-dev
   # eye-tracker I/O
   libhidapi-dev libusb-1.0-0-dev zlib1g-dev
+  # live trackers: Pupil Capture's network API (ZeroMQ + msgpack)
+  libzmq3-dev libmsgpack-dev
   # CPU reference renderer (ray casting) and the plots of `fovea bench`
   libembree-dev gnuplot-nox
   # tests (image metrics are checked against scikit-image)
   libcmocka-dev python3-skimage python3-numpy
+  # window tests: a virtual X server, input and screenshots
+  xvfb xauth xdotool x11-apps imagemagick
 )
 
 missing=()

@@ -58,6 +58,11 @@ struct fv_gpu_frame {
 #define FV_GPU_DEBUG_VIEW_DEPTH 7   /* Vulkan depth 0..1 of the eye's projection, grey (1 where nothing is drawn) */
 #define FV_GPU_DEBUG_VIEW_SAMPLES 8 /* foveation's sample mask: r = g = 1 where shaded; b = 1 on a ring at the gaze */
 #define FV_GPU_DEBUG_VIEW_PROB 9    /* foveation's sampling probability, grey */
+#define FV_GPU_DEBUG_VIEW_VORONOI 10  /* foveation: each pixel coloured by the sample it was filled from */
+#define FV_GPU_DEBUG_VIEW_GI 11       /* indirect light only */
+#define FV_GPU_DEBUG_VIEW_CLUSTERS 12 /* the GI cut over the reflective shadow map, by level */
+#define FV_GPU_DEBUG_VIEW_SSS 13      /* the subsurface term alone */
+#define FV_GPU_DEBUG_VIEW_INTERP 14   /* hierarchical interpolation: the level each pixel was shaded or filled at */
 
 /** One drawn node (storage buffer, indexed by a push constant). */
 struct fv_gpu_draw {

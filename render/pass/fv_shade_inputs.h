@@ -1,6 +1,10 @@
 /* @brief The shading inputs (set 1 of shading passes, render/include/fv_shade_inputs_interface.h): per frame in flight the
  * shadow block (fv_gpu_shadow) that the shadow pass fills before recording, and the shadow-map image (a 1x1 dummy
- * until a pass binds one). Owned by the renderer; producers fill it, consumers bind it. One owner thread. */
+ * until a pass binds one); and the technique slots (GI, SSS): read-only storage buffers and sampled image arrays
+ * that a producing pass binds once (a small dummy otherwise). Owned by the renderer; producers fill it, consumers
+ * bind it. One owner thread. A producer that writes a bound buffer on the GPU makes its writes visible to compute
+ * and fragment shader reads itself (a memory barrier at the end of its record); bound images get their barrier
+ * from fv_shade_inputs_use. */
 #ifndef FV_SHADE_INPUTS_H
 #define FV_SHADE_INPUTS_H
 
@@ -19,6 +23,10 @@ typedef struct fv_shade_inputs {
     VkSampler nearest;
     fv_vk_image dummy;     /* 1x1, 1 layer, depth 1 (nothing occludes) */
     fv_image_id shadow_map; /* the image table's id of the bound shadow maps, or FV_IMAGE_MAX for the dummy */
+    fv_vk_buffer dummy_buffer;  /* 256 zero bytes: an unbound technique buffer */
+    fv_vk_image dummy_array;    /* 1x1, 1 layer, rgba32f zero: an unbound technique image */
+    VkSampler linear;           /* clamp-to-edge linear, for technique images that ask for it */
+    fv_image_id bound_image[FV_SHADE_INPUTS_BINDING_COUNT]; /* technique images of the table, FV_IMAGE_MAX if none */
 } fv_shade_inputs;
 
 FV_MUST_CHECK fv_result fv_shade_inputs_init(fv_shade_inputs *si, fv_vk *vk, uint32_t frames_in_flight);
@@ -32,7 +40,19 @@ FV_MUST_CHECK fv_result fv_shade_inputs_end_frame(fv_shade_inputs *si, uint32_t 
  *  the dummy. Rewrites every slot's set: the GPU must be idle. */
 void fv_shade_inputs_bind_shadow_map(fv_shade_inputs *si, const fv_images *images, fv_image_id id);
 VkDescriptorSet fv_shade_inputs_set(const fv_shade_inputs *si, uint32_t slot);
-/** Declare a consumer's read of the bound shadow maps at `stage` (a barrier when the maps were just drawn). */
+/** Bind a read-only storage buffer at a technique binding (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + k,
+ *  _SSS_BUFFER0 + k, k < FV_SHADE_INPUTS_SLOT_BUFFERS) in every slot's set; buffer VK_NULL_HANDLE binds the dummy.
+ *  The GPU must be idle (as for every descriptor rewrite here). FV_ERR_INVALID_ARG for a binding that is not a
+ *  technique buffer. */
+FV_MUST_CHECK fv_result fv_shade_inputs_bind_buffer(fv_shade_inputs *si, uint32_t binding, VkBuffer buffer,
+                                                    VkDeviceSize offset, VkDeviceSize range);
+/** Bind an image of the table (its view is a 2D array) at a technique image binding (…_IMAGE0 + k), sampled in
+ *  SHADER_READ_ONLY_OPTIMAL with the nearest (linear = false) or linear clamp sampler; id FV_IMAGE_MAX binds the
+ *  dummy. fv_shade_inputs_use then transitions it for the consumer. */
+FV_MUST_CHECK fv_result fv_shade_inputs_bind_image(fv_shade_inputs *si, const fv_images *images, uint32_t binding,
+                                                   fv_image_id id, bool linear);
+/** Declare a consumer's read of the bound shadow maps and technique images at `stage` (a barrier when they were
+ *  just written). */
 void fv_shade_inputs_use(const fv_shade_inputs *si, fv_images *images, VkCommandBuffer cmd, VkPipelineStageFlags stage);
 
 #endif

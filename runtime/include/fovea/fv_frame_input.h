@@ -41,16 +41,22 @@ typedef enum fv_debug_view {
     FV_DEBUG_VIEW_DEPTH = 7,  /* the G-buffer's depth 0..1 */
     FV_DEBUG_VIEW_SAMPLES = 8, /* foveation's sample mask: white = shaded, black = filled in; blue ring = the gaze */
     FV_DEBUG_VIEW_PROB = 9,    /* foveation's sampling probability p, grey 0..1 */
-    FV_DEBUG_VIEW_COUNT = 10
+    FV_DEBUG_VIEW_VORONOI = 10,  /* foveation's reconstruction: each pixel coloured by the sample it was filled from */
+    FV_DEBUG_VIEW_GI = 11,       /* indirect light only (one-bounce GI from the light quad-tree) */
+    FV_DEBUG_VIEW_CLUSTERS = 12, /* the GI cut drawn over the reflective shadow map, coloured by level */
+    FV_DEBUG_VIEW_SSS = 13,      /* the subsurface term alone (dipole over the light hierarchy) */
+    FV_DEBUG_VIEW_INTERP = 14,   /* hierarchical interpolation: the level each pixel was shaded or filled at */
+    FV_DEBUG_VIEW_COUNT = 15
 } fv_debug_view;
 
 /** The name of a view ("color" for FV_DEBUG_VIEW_NONE, "normal", "gaze", "direct", "shadow", "cascade", "albedo",
- *  "depth", "samples", "prob"); "?" when out of range. */
+ *  "depth", "samples", "prob", "voronoi", "gi", "clusters", "sss", "interp"); "?" when out of range. */
 static inline const char *fv_debug_view_name(fv_debug_view v)
 {
     static const char *const names[FV_DEBUG_VIEW_COUNT] = {"color",  "normal",  "gaze",   "direct",
                                                            "shadow", "cascade", "albedo", "depth",
-                                                           "samples", "prob"};
+                                                           "samples", "prob",    "voronoi", "gi",
+                                                           "clusters", "sss",    "interp"};
     return (unsigned)v < FV_DEBUG_VIEW_COUNT ? names[v] : "?";
 }
 
