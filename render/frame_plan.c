@@ -5,13 +5,17 @@
 #include <string.h>
 
 #include "debug.h"
+#include "distort.h"
 #include "fovea.h"
 #include "fv_passes.h"
 #include "fv_renderer.h"
 #include "gbuffer.h"
+#include "overlay.h"
+#include "gi.h"
 #include "present.h"
 #include "shade.h"
 #include "shadow.h"
+#include "sss.h"
 
 static const char *plural(uint64_t n) { return n == 1 ? "" : "s"; }
 
@@ -25,8 +29,6 @@ static void say(fv_plan_entry *e, bool enabled, const char *fmt, ...)
     vsnprintf(e->reason, sizeof e->reason, fmt, ap);
     va_end(ap);
 }
-
-static uint32_t light_count(const fv_scene *s) { return s ? s->light_count : 0; }
 
 /* ---- plan-only entries: passes that are planned but not built yet ---------------------------------------------- */
 
@@ -44,42 +46,16 @@ static void motion_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         say(out, true, "static scene: motion vectors from head motion only (G-buffer)");
 }
 
-static void gi_plan(const fv_plan_context *ctx, fv_plan_entry *out)
-{
-    uint32_t n = light_count(ctx->scene);
-    if (n) say(out, false, "needed (one-bounce indirect light from %u light%s) — not implemented yet", n, plural(n));
-    else say(out, false, "off — no lights");
-}
-
-static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
-{
-    const fv_scene *s = ctx->scene;
-    uint32_t translucent = 0;
-    for (uint32_t m = 0; s && m < s->material_count; m++) {
-        bool used = false;
-        for (uint32_t i = 0; i < s->node_count && !used; i++) {
-            const fv_node *n = &s->nodes[i];
-            used = n->mesh >= 0 && (uint32_t)n->mesh < s->mesh_count && s->meshes[n->mesh].material == m;
-        }
-        if (used && s->materials[m].translucency.enabled) translucent++;
-    }
-    if (translucent)
-        say(out, false, "needed (%u translucent material%s) — not implemented yet: shaded as opaque", translucent,
-            plural(translucent));
-    else
-        say(out, false, "off — no translucent material");
-}
 
 static const fv_pass motion_entry = {.id = "motion", .plan = motion_plan};
-static const fv_pass gi_entry = {.id = "gi", .plan = gi_plan};
-static const fv_pass sss_entry = {.id = "sss", .plan = sss_plan};
 
 /* ---- the table ------------------------------------------------------------------------------------------------ */
 
 /* Frame order. A new pass: its folder under render/, and one line here. */
 static const fv_pass *const table[] = {
-    &fv_gbuffer_pass, &motion_entry, &fv_shadow_pass, &gi_entry,        &sss_entry,
-    &fv_fovea_pass,   &fv_shade_pass, &fv_reconstruct_pass, &fv_debug_pass, &fv_present_pass,
+    &fv_gbuffer_pass, &motion_entry, &fv_shadow_pass, &fv_gi_pass,        &fv_sss_pass,
+    &fv_fovea_pass,   &fv_compact_pass, &fv_shade_pass, &fv_reconstruct_pass, &fv_debug_pass, &fv_present_pass,
+    &fv_overlay_pass, &fv_distort_pass,
 };
 _Static_assert(sizeof table / sizeof table[0] <= FV_MAX_PASSES, "FV_MAX_PASSES holds the table");
 

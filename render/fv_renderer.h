@@ -78,6 +78,9 @@ FV_MUST_CHECK fv_result fv_renderer_read_image(fv_renderer *r, const char *name,
 /** What a running pass decided for the last frame, as named numbers (e.g. the shadow pass: per shadowed light its
  *  near_m, far_m and splits_m); 0 when the pass is off or has nothing to say. */
 uint32_t fv_renderer_pass_details(const fv_renderer *r, const char *pass, fv_pass_detail *out, uint32_t cap);
+/** For tests of one pass: the running pass's state (the pointer its init returned; NULL when it is off), to hand to
+ *  that pass's own test functions (e.g. fv_gi_read_tree). The GPU must be idle when those use it. */
+void *fv_renderer_pass_state(const fv_renderer *r, const char *pass);
 /** Count of validation-layer messages seen so far (warnings and errors). */
 uint32_t fv_renderer_validation_messages(const fv_renderer *r);
 /** Device name, for summaries. */

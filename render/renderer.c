@@ -99,7 +99,9 @@ static fv_quality quality_sanitized(const fv_quality *q)
     if (!(f->mar_w0_deg >= 0.001f && f->mar_w0_deg <= 1.0f)) f->mar_w0_deg = d.fovea.mar_w0_deg;
     if (!(f->min_prob >= 0.01f && f->min_prob <= 1.0f)) f->min_prob = d.fovea.min_prob;
     if (f->block < 2 || f->block > 16) f->block = d.fovea.block;
-    if ((unsigned)f->recon > FV_FOVEA_RECON_NEAREST) f->recon = d.fovea.recon;
+    if ((unsigned)f->recon > FV_FOVEA_RECON_LAST) f->recon = d.fovea.recon;
+    if ((unsigned)f->compaction > FV_FOVEA_COMPACTION_LAST) f->compaction = d.fovea.compaction;
+    if ((unsigned)f->voronoi > FV_FOVEA_VORONOI_LAST) f->voronoi = d.fovea.voronoi;
     return o;
 }
 
@@ -111,7 +113,8 @@ static void pass_env(fv_renderer *r, uint32_t i, fv_pass_env *env)
     *env = (fv_pass_env){.vk = r->vk, .scene = &r->scene, .images = &r->images, .shade_inputs = &r->shade_inputs,
                          .width = r->desc.eye_width,
                          .height = r->desc.eye_height, .slots = r->slot_count, .multiview = r->multiview,
-                         .plan = &r->plan.entries[i], .samples = &r->samples};
+                         .plan = &r->plan.entries[i], .samples = &r->samples,
+                         .scene_model = r->scene_loaded ? &r->plan_scene : NULL};
 }
 
 static void fini_pass(fv_renderer *r, uint32_t i)
@@ -226,6 +229,7 @@ fv_result fv_renderer_create(const fv_renderer_desc *desc_in, fv_renderer **out_
                      .validation = desc.validation > 0 ? 1 : (desc.validation < 0 ? -1 : 0),
                      .memory_budget_bytes = desc.memory_budget_bytes,
                      .app_name = "fovea"};
+    if (r->target->ops && r->target->ops->configure_vk) r->target->ops->configure_vk(r->target, &vd);
     fv_result res = fv_vk_create(&vd, &r->vk);
     if (res != FV_OK) goto fail;
     r->multiview = fv_vk_multiview_trusted(&r->vk->info, r->multiview_why, sizeof r->multiview_why);
@@ -286,6 +290,7 @@ void fv_renderer_destroy(fv_renderer **pr)
         fv_shade_inputs_fini(&r->shade_inputs);
         fv_frame_samples_fini(&r->samples);
         fv_images_fini(&r->images);
+        if (r->target && r->target->ops && r->target->ops->detach) r->target->ops->detach(r->target, r->vk);
         fv_vk_destroy(&r->vk);
     }
     free(r);
@@ -744,6 +749,13 @@ uint32_t fv_renderer_pass_details(const fv_renderer *r, const char *pass, fv_pas
         if (strcmp(r->table[i]->id, pass) == 0 && r->pass_state[i] && r->table[i]->details)
             return r->table[i]->details(r->pass_state[i], out, cap);
     return 0;
+}
+
+void *fv_renderer_pass_state(const fv_renderer *r, const char *pass)
+{
+    for (uint32_t i = 0; r && pass && i < r->pass_count; i++)
+        if (strcmp(r->table[i]->id, pass) == 0) return r->pass_state[i];
+    return NULL;
 }
 
 fv_result fv_renderer_read_image(fv_renderer *r, const char *name, int eye, void *out, size_t out_size,

@@ -24,6 +24,8 @@ struct fv_frame_loop {
     /* gaze */
     bool have_sample;
     fv_gaze_sample newest;
+    fv_gaze_sample newest_head; /* the newest accepted sample with FV_GAZE_HEAD_VALID (have_head) */
+    bool have_head;
     int64_t newest_received_ns; /* receipt time used for the newest sample */
     int64_t last_new_sample_ns; /* when the loop last drained a new sample */
     uint64_t newest_serial, latched_serial;
@@ -95,6 +97,12 @@ void fv_frame_loop_last_prediction(const fv_frame_loop *loop, fv_gaze_prediction
     *out = loop->last_prediction;
 }
 
+bool fv_frame_loop_newest_head(const fv_frame_loop *loop, fv_gaze_sample *out_sample)
+{
+    if (loop->have_head && out_sample) *out_sample = loop->newest_head;
+    return loop->have_head;
+}
+
 static int64_t now_ns(const fv_frame_loop *l) { return fv_clock_now_ns(l->desc.clock); }
 
 static void sleep_until(const fv_frame_loop *l, int64_t t_ns)
@@ -147,6 +155,10 @@ static void drain_gaze(fv_frame_loop *l, int64_t t_now)
             received = t_now;
         }
         l->newest = s;
+        if (s.flags & FV_GAZE_HEAD_VALID) {
+            l->newest_head = s;
+            l->have_head = true;
+        }
         l->newest_received_ns = received;
         l->have_sample = true;
         l->newest_serial++;

@@ -59,6 +59,9 @@ FV_MUST_CHECK fv_result fv_frame_loop_step(fv_frame_loop *loop, fv_latency_recor
 
 /** The prediction used by the most recent frame. */
 void fv_frame_loop_last_prediction(const fv_frame_loop *loop, fv_gaze_prediction *out_prediction);
+/** The newest sample drained so far that carried a head pose (FV_GAZE_HEAD_VALID: head_pos_mm, head_dir in the
+ *  tracker's frame), as the device gave it (not predicted). false (out untouched) until one has come. */
+bool fv_frame_loop_newest_head(const fv_frame_loop *loop, fv_gaze_sample *out_sample);
 
 /** Fill two HMD-like eye views: identity head pose, eyes at ±ipd/2 on x, the FV_HMD_FOV_* frustum (outer side
  *  wider), near 0.05 m, far 100 m. */

@@ -9,14 +9,16 @@
 
 bool fv_registry_is_virtual(const fv_driver *driver)
 {
-    return driver && (strcmp(driver->scheme, "sim") == 0 || strcmp(driver->scheme, "trace") == 0);
+    return driver && (strcmp(driver->scheme, "sim") == 0 || strcmp(driver->scheme, "trace") == 0 ||
+                      strcmp(driver->scheme, "fixed") == 0 || strcmp(driver->scheme, "mouse") == 0);
 }
 
-/* Order rank: hardware 0, trace 1, sim 2 (sim and trace register last; sim the very last). */
+/* Order rank: hardware 0, trace and fixed 1, sim 2 (sim, trace and fixed register last; sim the very last). */
 static int rank_of(const fv_driver *d)
 {
     if (strcmp(d->scheme, "sim") == 0) return 2;
-    if (strcmp(d->scheme, "trace") == 0) return 1;
+    if (strcmp(d->scheme, "trace") == 0 || strcmp(d->scheme, "fixed") == 0 || strcmp(d->scheme, "mouse") == 0)
+        return 1;
     return 0;
 }
 

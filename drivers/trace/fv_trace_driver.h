@@ -25,4 +25,8 @@ typedef struct fv_trace_replay_desc {
 FV_MUST_CHECK fv_result fv_trace_replay_open(fv_trace_reader *reader, const fv_trace_replay_desc *desc,
                                              fv_device **out_dev);
 
+/** The source blink events a trace device's reader has met so far (as `fovea trace info` counts them: Pupil's
+ *  blinks.csv events that covered a sample); 0 for any other device or a format without blink events. */
+uint64_t fv_trace_device_blink_events(const fv_device *dev);
+
 #endif

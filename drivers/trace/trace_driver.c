@@ -329,6 +329,13 @@ done:
     return res;
 }
 
+uint64_t fv_trace_device_blink_events(const fv_device *dev)
+{
+    if (!dev || dev->ops != &g_ops) return 0;
+    const trace_device *d = (const trace_device *)dev;
+    return fv_trace_reader_get_stats(d->reader)->blink_events;
+}
+
 const fv_driver fv_trace_driver = {
     .scheme = "trace",
     .summary = "recorded gaze files (Pupil Core/Cloud, SRanipal, Tobii Glasses 3, Pico, fovea)",

@@ -5,6 +5,7 @@
  * lost, blink) and an empty eye object are kept as invalid samples / eyes. Lines of another type are skipped. */
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "trace_internal.h"
@@ -56,6 +57,8 @@ static fv_result row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample 
     const cJSON *type = cJSON_GetObjectItemCaseSensitive(j, "type");
     if (type && (!cJSON_IsString(type) || strcmp(type->valuestring, "gaze") != 0)) {
         res = FV_NO_NEW_DATA; /* syncport, event, imu, ... */
+        if (!r->other_kind[0])
+            snprintf(r->other_kind, sizeof r->other_kind, "%s", cJSON_IsString(type) ? type->valuestring : "?");
         goto done;
     }
     const cJSON *ts = cJSON_GetObjectItemCaseSensitive(j, "timestamp");

@@ -121,6 +121,9 @@ struct fv_trace_reader {
     float min_confidence;
     uint64_t row_blink_id;     /* set by a row parser that knows the source's blink event id */
     double meta_rate_hz;       /* fovea format: "# rate_hz:" from the header (0 unknown) */
+    char other_kind[48];       /* a row parser's name for the first non-sample row it skipped ("syncport"), for the
+                                  error of a file without samples */
+    uint64_t other_rows;       /* rows skipped as not samples (FV_NO_NEW_DATA), first pass */
 };
 
 /** Split a data row into r->fields and check it has the fields the header needs; on failure records why (for the

@@ -82,6 +82,26 @@ static bool has(const char *s, size_t len, const char *needle)
     return false;
 }
 
+/* What a header that is no gaze recording seems to be: the other files of the exports fovea reads. */
+static const char *what_file(const char *line, size_t len)
+{
+    if (has(line, len, "dispersion") && has(line, len, "start_timestamp"))
+        return " (this is a Pupil Player fixations export, fixations.csv: one row per fixation event, not gaze "
+               "samples; read gaze_positions.csv beside it)";
+    if (has(line, len, "fixation id"))
+        return " (this is a Pupil Cloud fixations export: fixation events, not gaze samples; read gaze.csv beside it)";
+    if (has(line, len, "saccade id"))
+        return " (this is a Pupil Cloud saccades export: saccade events, not gaze samples; read gaze.csv beside it)";
+    if (has(line, len, "pupil_timestamp") && has(line, len, "diameter"))
+        return " (this is a Pupil Player pupil_positions.csv: pupil detections per eye camera, not gaze; read "
+               "gaze_positions.csv beside it)";
+    if (has(line, len, "gyro x"))
+        return " (this is an IMU export: head motion, not gaze; read gaze.csv beside it)";
+    if (has(line, len, "start_timestamp") || has(line, len, "blink id"))
+        return " (this looks like a blinks file: open the gaze file beside it)";
+    return "";
+}
+
 fv_result fv_trace_detect(const char *line, size_t len, fv_trace_format *out)
 {
     const char *s = line;
@@ -360,9 +380,7 @@ fv_result fv_trace_reader_create(const char *path, const fv_trace_reader_desc *d
         if (fv_trace_detect(line, len, &f) != FV_OK) {
             char ex[80];
             excerpt(ex, sizeof ex, line, len);
-            const char *hint = (has(line, len, "start_timestamp") || has(line, len, "blink id"))
-                                   ? " (this looks like a blinks file: open the gaze file beside it)"
-                                   : "";
+            const char *hint = what_file(line, len);
             FV_ERROR(TRACE_MOD,
                      "%s:%llu: cannot tell the format from the first line '%s'%s; known formats: fovea, pupil-core, "
                      "pupil-cloud, sranipal, tobii-g3, pico (force one with ?format= or --format)",
@@ -523,12 +541,32 @@ static void emit(fv_trace_reader *r, fv_gaze_sample *out)
     drop_ahead(r, 0);
 }
 
+/* The whole file went by without one gaze sample: an error that says what the file seems to be. */
+static fv_result no_samples(fv_trace_reader *r)
+{
+    const char *fmt = fv_trace_format_name(r->ops->format);
+    if (r->ops->format == FV_TRACE_FORMAT_TOBII_G3 && r->other_kind[0])
+        FV_ERROR(TRACE_MOD, "%s: no gaze samples in %llu lines: this is a Tobii Pro Glasses 3 event file (rows of type "
+                 "'%s', no type 'gaze'), not gaze data; read gazedata.gz from the same recording", r->name,
+                 (unsigned long long)r->stats.lines, r->other_kind);
+    else if (r->stats.rows_skipped)
+        FV_ERROR(TRACE_MOD, "%s: no gaze samples: all %llu data rows were bad (see the warnings above); is this a "
+                 "%s recording?", r->name, (unsigned long long)r->stats.rows_skipped, fmt);
+    else
+        FV_ERROR(TRACE_MOD, "%s: no gaze samples: a %s header and no data rows%s%s", r->name, fmt,
+                 r->other_kind[0] ? "; rows of another kind: " : "", r->other_kind);
+    return FV_ERR_PARSE;
+}
+
 fv_result fv_trace_reader_next(fv_trace_reader *r, fv_gaze_sample *out)
 {
     const uint64_t start = r->lines.bytes;
     for (;;) {
         look_ahead(r, 1, start);
-        if (r->n_ahead == 0) return r->ahead_res;
+        if (r->n_ahead == 0) {
+            if (r->ahead_res == FV_END_OF_STREAM && r->pass == 0 && r->stats.samples == 0) return no_samples(r);
+            return r->ahead_res;
+        }
         const int64_t t = r->ahead[0].s.t_device_ns;
         if (!r->have_last_t) {
             /* The first row has no sample before it: it is an outlier when the next two rows both lie before it,

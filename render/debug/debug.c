@@ -19,6 +19,7 @@ typedef struct debug {
     VkSampler nearest;
     bool fovea;                 /* a foveation view (debug_fovea.comp) */
     fv_image_id prob, mask;     /* its images, made by the fovea pass */
+    fv_image_id voronoi;        /* the reconstruct pass's (FV_IMAGE_MAX for the other views) */
 } debug;
 
 static void debug_plan(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -38,12 +39,18 @@ static void debug_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     _Static_assert(FV_DEBUG_VIEW_DEPTH == FV_GPU_DEBUG_VIEW_DEPTH && FV_DEBUG_VIEW_GAZE == FV_GPU_DEBUG_VIEW_GAZE &&
                        FV_DEBUG_VIEW_SAMPLES == FV_GPU_DEBUG_VIEW_SAMPLES && FV_DEBUG_VIEW_PROB == FV_GPU_DEBUG_VIEW_PROB,
                    "view numbers agree between C and GLSL");
-    if (v >= FV_DEBUG_VIEW_VORONOI) { /* views of passes still being built; each owner replaces its line here */
+    if (v > FV_DEBUG_VIEW_VORONOI && v != FV_DEBUG_VIEW_GI && v != FV_DEBUG_VIEW_CLUSTERS && v != FV_DEBUG_VIEW_SSS) { /* views of passes still being built; each owner replaces its line here */
         out->enabled = false;
         snprintf(out->reason, sizeof out->reason, "off — debug view '%s' is not implemented yet", fv_debug_view_name(v));
         return;
     }
-    if ((v == FV_DEBUG_VIEW_SAMPLES || v == FV_DEBUG_VIEW_PROB) && !ctx->quality->fovea.enabled) {
+    if ((v == FV_DEBUG_VIEW_GI || v == FV_DEBUG_VIEW_CLUSTERS) && !ctx->quality->gi.enabled) {
+        out->enabled = false;
+        snprintf(out->reason, sizeof out->reason, "off — debug view '%s' needs gi.enabled", fv_debug_view_name(v));
+        return;
+    }
+    if ((v == FV_DEBUG_VIEW_SAMPLES || v == FV_DEBUG_VIEW_PROB || v == FV_DEBUG_VIEW_VORONOI) &&
+        !ctx->quality->fovea.enabled) {
         out->enabled = false;
         snprintf(out->reason, sizeof out->reason, "off — debug view '%s' needs fovea.enabled", fv_debug_view_name(v));
         return;
@@ -83,14 +90,16 @@ static fv_result debug_init(const fv_pass_env *env, void **out_state)
         {FV_DEBUG_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
     };
     uint32_t view = env->plan ? env->plan->variant : FV_GPU_DEBUG_VIEW_NORMAL;
-    if (view == FV_GPU_DEBUG_VIEW_SAMPLES || view == FV_GPU_DEBUG_VIEW_PROB) {
+    if (view == FV_GPU_DEBUG_VIEW_SAMPLES || view == FV_GPU_DEBUG_VIEW_PROB || view == FV_GPU_DEBUG_VIEW_VORONOI) {
         d->fovea = true;
         if (res == FV_OK) res = fv_images_find(env->images, "fovea prob", &d->prob); /* the fovea pass runs earlier */
         if (res == FV_OK) res = fv_images_find(env->images, "fovea mask", &d->mask);
+        if (res == FV_OK) res = fv_images_find(env->images, "fovea voronoi", &d->voronoi); /* reconstruct, earlier */
         VkDescriptorSetLayoutBinding fb[FV_DEBUG_FOVEA_BINDING_COUNT] = {
             {FV_DEBUG_FOVEA_BINDING_PROB, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
             {FV_DEBUG_FOVEA_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
             {FV_DEBUG_FOVEA_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+            {FV_DEBUG_FOVEA_BINDING_VORONOI, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
         };
         VkDescriptorSetLayout scene_only[1] = {env->scene->set_layout};
         fv_vk_compute_desc fd = {.name = "debug view (fovea)", .code = fv_spv_debug_fovea_comp,
@@ -110,6 +119,8 @@ static fv_result debug_init(const fv_pass_env *env, void **out_state)
                           fv_images_image(env->images, d->mask)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_FOVEA_BINDING_COLOR, si, color->view, VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, d->cs.sets[0], FV_DEBUG_FOVEA_BINDING_VORONOI, si,
+                          fv_images_image(env->images, d->voronoi)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         *out_state = d;
         return FV_OK;
     }
@@ -140,6 +151,8 @@ static void debug_record(void *state, const fv_pass_frame *f)
     if (d->fovea) {
         fv_images_use(f->images, cmd, d->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_READ_BIT});
         fv_images_use(f->images, cmd, d->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_READ_BIT});
+        fv_images_use(f->images, cmd, d->voronoi,
+                      (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_READ_BIT});
         fv_images_use(f->images, cmd, FV_IMAGE_COLOR,
                       (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
         fv_vk_compute_bind(&d->cs, cmd, 0, &f->scene_set, 1, 0, NULL);

@@ -56,7 +56,9 @@ void main()
         c = vec3(exp(-(a * a) / (2.0 * s * s)), frame.gaze_info[p.z].y / 10.0, g.w > 0.5 ? 1.0 : 0.0);
     } else {
         fv_surface s = fv_gbuffer_surface(p);
-        if (VIEW == FV_GPU_DEBUG_VIEW_DEPTH) {
+        if (VIEW == FV_GPU_DEBUG_VIEW_CLUSTERS) {
+            c = fv_gi_clusters_colour((vec2(p.xy) + 0.5) / vec2(frame.counts.y, frame.counts.z));
+        } else if (VIEW == FV_GPU_DEBUG_VIEW_DEPTH) {
             c = vec3(s.depth);
         } else if (!s.hit) {
             c = vec3(0.0);
@@ -66,6 +68,11 @@ void main()
             c = fv_brdf_lambert(s.albedo) * fv_shade_direct_irradiance(s);
         } else if (VIEW == FV_GPU_DEBUG_VIEW_SHADOW) {
             c = vec3(frame.counts.x > 0u ? fv_hook_visibility(0u, s) : 1.0);
+        } else if (VIEW == FV_GPU_DEBUG_VIEW_GI) {
+            uint clusters;
+            c = fv_brdf_lambert(s.albedo) * fv_gi_irradiance(s.pos_world, s.normal, clusters);
+        } else if (VIEW == FV_GPU_DEBUG_VIEW_SSS) {
+            c = fv_hook_subsurface_radiance(s); // the subsurface term alone (render/sss)
         } else if (VIEW == FV_GPU_DEBUG_VIEW_CASCADE) {
             uint split;
             int m = fv_shadow_map_of(0u, s, split);

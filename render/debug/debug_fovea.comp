@@ -1,5 +1,6 @@
 #version 450
-// @brief Debug views of foveation (FV_GPU_DEBUG_VIEW_SAMPLES / _PROB) over the linear colour: the sample mask
+// @brief Debug views of foveation (FV_GPU_DEBUG_VIEW_SAMPLES / _PROB / _VORONOI) over the linear colour (voronoi:
+// each pixel's Voronoi cell, i.e. the sample it was filled from, as a hashed colour; samples white): the sample mask
 // (r = g = 1 where the pixel was shaded; b = 1 on a ring of FV_DEBUG_GAZE_RING_PX around where the predicted gaze
 // pierces the image) or the sampling probability p (grey), from the fovea pass's "fovea mask" / "fovea prob".
 #extension GL_GOOGLE_include_directive : require
@@ -13,7 +14,18 @@ layout(constant_id = 0) const uint VIEW = FV_GPU_DEBUG_VIEW_SAMPLES;
 FV_SCENE_SET_DECLARE
 layout(set = FV_DEBUG_FOVEA_SET, binding = FV_DEBUG_FOVEA_BINDING_PROB, r32f) uniform readonly image2DArray prob_img;
 layout(set = FV_DEBUG_FOVEA_SET, binding = FV_DEBUG_FOVEA_BINDING_MASK, r32ui) uniform readonly uimage2DArray mask_img;
-layout(set = FV_DEBUG_FOVEA_SET, binding = FV_DEBUG_FOVEA_BINDING_COLOR, rgba32f) uniform writeonly image2DArray out_color;
+layout(set = FV_DEBUG_FOVEA_SET, binding = FV_DEBUG_FOVEA_BINDING_COLOR, rgba32f) uniform image2DArray out_color;
+layout(set = FV_DEBUG_FOVEA_SET, binding = FV_DEBUG_FOVEA_BINDING_VORONOI, r32ui) uniform readonly uimage2DArray voronoi_img;
+
+// A colour per seed (an integer hash), so neighbouring Voronoi cells differ.
+vec3 cell_colour(uint s)
+{
+    uint h = s * 0x9e3779b9u;
+    h ^= h >> 15;
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+    return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
+}
 
 void main()
 {
@@ -22,6 +34,12 @@ void main()
     vec3 c;
     if (VIEW == FV_GPU_DEBUG_VIEW_PROB) {
         c = vec3(imageLoad(prob_img, ivec3(p)).x);
+    } else if (VIEW == FV_GPU_DEBUG_VIEW_VORONOI) {
+        // the cell of the sample each pixel was filled from, over the reconstructed colour; samples white
+        uint s = imageLoad(voronoi_img, ivec3(p)).x;
+        bool self = s == (p.x | (p.y << 16));
+        vec3 shade = imageLoad(out_color, ivec3(p)).rgb;
+        c = s == 0xffffffffu ? vec3(0.0) : self ? vec3(1.0) : mix(cell_colour(s), shade / (1.0 + shade), 0.35);
     } else {
         float m = imageLoad(mask_img, ivec3(p)).x != 0u ? 1.0 : 0.0;
         vec4 g = frame.gaze_dir[p.z];

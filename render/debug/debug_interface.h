@@ -16,7 +16,8 @@
 #define FV_DEBUG_FOVEA_BINDING_PROB 0  /* image2DArray r32f "fovea prob" (read) */
 #define FV_DEBUG_FOVEA_BINDING_MASK 1  /* uimage2DArray r32ui "fovea mask" (read) */
 #define FV_DEBUG_FOVEA_BINDING_COLOR 2 /* image2DArray rgba32f (written) */
-#define FV_DEBUG_FOVEA_BINDING_COUNT 3
+#define FV_DEBUG_FOVEA_BINDING_VORONOI 3 /* uimage2DArray r32ui "fovea voronoi": each pixel's nearest sample (read) */
+#define FV_DEBUG_FOVEA_BINDING_COUNT 4
 #define FV_DEBUG_GAZE_RING_PX 4.0      /* radius of the gaze ring of the samples view */
 
 #define FV_DEBUG_GROUP_X 8

@@ -5,21 +5,29 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compact_comp.spv.h"
 #include "fovea_comp.spv.h"
 #include "fovea_interface.h"
 #include "reconstruct_comp.spv.h"
 
 #define MOD "fovea"
 
-_Static_assert(sizeof(struct fv_fovea_push) == 48, "fv_fovea_push layout");
-_Static_assert(sizeof(struct fv_recon_push) == 16, "fv_recon_push layout");
-_Static_assert(FV_FOVEA_TILE_SIZE <= FV_FOVEA_SCAN_SIZE, "the scan's shared array holds a tile");
-_Static_assert(FV_SCENE_SET == 0 && FV_FOVEA_SET == 1 && FV_RECON_SET == 1, "the foveation passes' set order");
+_Static_assert(sizeof(struct fv_fovea_push) == 32, "fv_fovea_push layout");
+_Static_assert(sizeof(struct fv_compact_push) == 32, "fv_compact_push layout");
+_Static_assert(sizeof(struct fv_recon_push) == 32, "fv_recon_push layout");
+_Static_assert(FV_COMPACT_TILE_SIZE == FV_GPU_LIST_GROUP_SIZE, "masked lists: one list workgroup per tile");
+_Static_assert(FV_SCENE_SET == 0 && FV_FOVEA_SET == 1 && FV_COMPACT_SET == 1 && FV_RECON_SET == 1,
+               "the foveation passes' set order");
+_Static_assert(FV_FOVEA_COMPACTION_TILES == FV_COMPACT_MODE_TILES && FV_FOVEA_COMPACTION_ROWS == FV_COMPACT_MODE_ROWS &&
+                   FV_FOVEA_COMPACTION_MASKED == FV_COMPACT_MODE_MASKED,
+               "the knob's values are the shader's modes");
 
 static const VkPipelineStageFlags CS = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 static const VkAccessFlags RW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 
-/* ---- plans ---------------------------------------------------------------------------------------------------- */
+static const char *const COMPACTION_NAME[] = {"tiles", "rows", "masked"};
+
+/* ---- shared helpers ------------------------------------------------------------------------------------------- */
 
 uint32_t fv_fovea_jfa_steps(uint32_t block, uint32_t *out_steps, uint32_t cap)
 {
@@ -32,61 +40,49 @@ uint32_t fv_fovea_jfa_steps(uint32_t block, uint32_t *out_steps, uint32_t cap)
     return n;
 }
 
-static void fovea_plan(const fv_plan_context *ctx, fv_plan_entry *out)
+double fv_fovea_r2(uint32_t x, uint32_t y)
 {
-    const fv_quality_fovea *f = &ctx->quality->fovea;
-    out->enabled = f->enabled;
-    if (!f->enabled) {
-        snprintf(out->reason, sizeof out->reason, "off — fovea.enabled is false");
-        return;
-    }
-    snprintf(out->reason, sizeof out->reason,
-             "sampling map from the predicted gaze (MAR %g°/°, ξ %g, %ux%u blocks), compaction, nearest-sample "
-             "reconstruction",
-             (double)f->mar_slope, (double)f->min_prob, f->block, f->block);
+    /* as fovea.comp's pattern(): fract(0.5 + x a1 + y a2), in float there */
+    float v = 0.5f + (float)x * 0.75487766625f + (float)y * 0.56984029101f;
+    return (double)(v - (float)(int)v);
 }
 
-static void recon_plan(const fv_plan_context *ctx, fv_plan_entry *out)
+void fv_fovea_block_ranks(uint32_t block, uint32_t *out_ranks)
 {
-    const fv_quality_fovea *f = &ctx->quality->fovea;
-    out->enabled = f->enabled;
-    if (!f->enabled) {
-        snprintf(out->reason, sizeof out->reason, "off — fovea.enabled is false");
-        return;
+    uint32_t n = block * block;
+    for (uint32_t i = 0; i < n; i++) {
+        double mine = fv_fovea_r2(i % block, i / block);
+        uint32_t r = 0;
+        for (uint32_t k = 0; k < n; k++) {
+            double o = fv_fovea_r2(k % block, k / block);
+            r += o < mine || (o == mine && k < i);
+        }
+        out_ranks[i] = r;
     }
-    uint32_t steps[8], n = fv_fovea_jfa_steps(f->block, steps, 8);
-    char list[48] = "";
-    size_t at = 0;
-    for (uint32_t i = 0; i < n && at < sizeof list; i++)
-        at += (size_t)snprintf(list + at, sizeof list - at, "%s%u", i ? ", " : "", steps[i]);
-    snprintf(out->reason, sizeof out->reason,
-             "unshaded pixels take their nearest sample's colour (nearest; 1+JFA, steps %s px)", list);
 }
 
-/* ---- "fovea" ---------------------------------------------------------------------------------------------------- */
-
-enum { STAGE_MAP = 0, STAGE_SCAN = 1, STAGE_SCATTER = 2 };
-
-typedef struct fovea {
-    fv_vk *vk;
-    uint32_t width, height, slots;
-    fv_vk_compute cs;
-    fv_images *images;
-    fv_image_id prob, mask; /* FV_IMAGE_MAX until made */
-    fv_vk_buffer sums;
-    struct fv_fovea_push pc;
-} fovea;
-
-static void fovea_fini(void *state)
+/* Every stage's pipeline uses all of its buffers statically: each dispatch is declared as reading and writing
+ * them, so each waits for the one before (the image table inserts the image barriers; buffers get this one). */
+static void buffers_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                            VkPipelineStageFlags dst, VkAccessFlags dst_access)
 {
-    fovea *fv = state;
-    if (!fv) return;
-    fv_vk_compute_fini(fv->vk, &fv->cs);
-    fv_vk_buffer_destroy(fv->vk, &fv->sums);
-    /* the scratch images go with the pass (a plan that turns it on again makes new ones); the GPU is idle */
-    if (fv->prob != FV_IMAGE_MAX) fv_images_release(fv->images, fv->prob);
-    if (fv->mask != FV_IMAGE_MAX) fv_images_release(fv->images, fv->mask);
-    free(fv);
+    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = src_access,
+                          .dstAccessMask = dst_access};
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
+}
+
+/* Append one named detail of up to three values when there is room; returns the new count. */
+static uint32_t add_detail(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
+                           double b, double c)
+{
+    if (n >= cap) return n;
+    memset(&out[n], 0, sizeof out[n]);
+    snprintf(out[n].key, sizeof out[n].key, "%s", key);
+    out[n].value[0] = a;
+    out[n].value[1] = b;
+    out[n].value[2] = c;
+    out[n].count = count;
+    return n + 1;
 }
 
 static fv_result scratch(fv_images *im, const char *name, VkFormat format, fv_image_id *out)
@@ -96,6 +92,93 @@ static fv_result scratch(fv_images *im, const char *name, VkFormat format, fv_im
     return fv_images_scratch(im, &d, out);
 }
 
+static uint32_t block_words(uint32_t block) { return (block * block + 31u) / 32u; }
+
+static const char *compaction_name(uint32_t c) { return c <= FV_FOVEA_COMPACTION_LAST ? COMPACTION_NAME[c] : "?"; }
+
+/* ---- plans ---------------------------------------------------------------------------------------------------- */
+
+/* All three passes take the block as their variant: the sampling map makes its rank table for the block at init,
+ * and the passes after it keep views of its images, so they are made again together. */
+static bool plan_off(const fv_plan_context *ctx, fv_plan_entry *out)
+{
+    out->enabled = ctx->quality->fovea.enabled;
+    out->variant = ctx->quality->fovea.block;
+    if (!out->enabled) snprintf(out->reason, sizeof out->reason, "off — fovea.enabled is false");
+    return !out->enabled;
+}
+
+static void fovea_plan(const fv_plan_context *ctx, fv_plan_entry *out)
+{
+    if (plan_off(ctx, out)) return;
+    const fv_quality_fovea *f = &ctx->quality->fovea;
+    snprintf(out->reason, sizeof out->reason,
+             "sampling map from the predicted gaze (MAR %g°/° + %g°, ξ %g, %ux%u blocks%s)", (double)f->mar_slope,
+             (double)f->mar_w0_deg, (double)f->min_prob, f->block, f->block,
+             f->uncertainty ? ", widened by the gaze uncertainty" : "");
+}
+
+static void compact_plan(const fv_plan_context *ctx, fv_plan_entry *out)
+{
+    if (plan_off(ctx, out)) return;
+    const char *how[] = {"8x8 tiles, one atomic per tile for its list offset",
+                         "row-wise (CSR) reorder: row counts, a prefix sum over the rows, rows in order",
+                         "masked full dispatch: every pixel listed, unsampled ones skipped by the shading"};
+    uint32_t c = ctx->quality->fovea.compaction;
+    snprintf(out->reason, sizeof out->reason, "the samples as the shading's list (%s: %s)", compaction_name(c),
+             c <= FV_FOVEA_COMPACTION_LAST ? how[c] : "?");
+}
+
+static void recon_plan(const fv_plan_context *ctx, fv_plan_entry *out)
+{
+    if (plan_off(ctx, out)) return;
+    const fv_quality_fovea *f = &ctx->quality->fovea;
+    uint32_t steps[8], n = fv_fovea_jfa_steps(f->block, steps, 8);
+    char list[48] = "";
+    size_t at = 0;
+    for (uint32_t i = 0; i < n && at < sizeof list; i++)
+        at += (size_t)snprintf(list + at, sizeof list - at, "%s%u", i ? ", " : "", steps[i]);
+    char vor[80];
+    if (f->voronoi == FV_FOVEA_VORONOI_BLOCKS)
+        snprintf(vor, sizeof vor, "the exact Voronoi from the neighbouring blocks' samples");
+    else
+        snprintf(vor, sizeof vor, "the 1+JFA Voronoi, steps %s px", list);
+    if (f->recon == FV_FOVEA_RECON_IDW)
+        snprintf(out->reason, sizeof out->reason,
+                 "unshaded pixels by inverse-distance weights of the samples of the neighbouring blocks (idw)");
+    else if (f->recon == FV_FOVEA_RECON_SIBSON)
+        snprintf(out->reason, sizeof out->reason,
+                 "unshaded pixels by discrete Sibson interpolation (%ux%u window) over %s", 2 * f->block + 1,
+                 2 * f->block + 1, vor);
+    else
+        snprintf(out->reason, sizeof out->reason, "unshaded pixels take their nearest sample's colour, by %s", vor);
+}
+
+/* ---- "fovea": the sampling map ---------------------------------------------------------------------------------- */
+
+typedef struct fovea {
+    fv_vk *vk;
+    uint32_t width, height, block;
+    fv_vk_compute cs;
+    fv_images *images;
+    fv_image_id prob, mask, blocks; /* FV_IMAGE_MAX until made */
+    fv_vk_buffer ranks;
+    struct fv_fovea_push pc;
+} fovea;
+
+static void fovea_fini(void *state)
+{
+    fovea *fv = state;
+    if (!fv) return;
+    fv_vk_compute_fini(fv->vk, &fv->cs);
+    fv_vk_buffer_destroy(fv->vk, &fv->ranks);
+    /* the scratch images go with the pass (a plan that turns it on again makes new ones); the GPU is idle */
+    if (fv->prob != FV_IMAGE_MAX) fv_images_release(fv->images, fv->prob);
+    if (fv->mask != FV_IMAGE_MAX) fv_images_release(fv->images, fv->mask);
+    if (fv->blocks != FV_IMAGE_MAX) fv_images_release(fv->images, fv->blocks);
+    free(fv);
+}
+
 static fv_result fovea_init(const fv_pass_env *env, void **out_state)
 {
     fovea *fv = calloc(1, sizeof *fv);
@@ -103,82 +186,60 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
     fv->vk = env->vk;
     fv->width = env->width;
     fv->height = env->height;
-    fv->slots = env->slots;
     fv->images = env->images;
-    fv->prob = fv->mask = FV_IMAGE_MAX;
-    struct fv_fovea_push *pc = &fv->pc;
-    pc->tiles_x = (env->width + FV_FOVEA_TILE - 1) / FV_FOVEA_TILE;
-    pc->tiles_y = (env->height + FV_FOVEA_TILE - 1) / FV_FOVEA_TILE;
-    pc->tile_count = pc->tiles_x * pc->tiles_y * 2u;
-    pc->tiles_per_stripe = (pc->tile_count + FV_FOVEA_STRIPES - 1) / FV_FOVEA_STRIPES;
-    pc->entries = pc->tiles_per_stripe * FV_FOVEA_STRIPES;
-    uint32_t max_x = env->vk->props.limits.maxComputeWorkGroupCount[0];
-    pc->groups_x = pc->entries < max_x ? pc->entries : max_x;
-    fv_result res = scratch(env->images, "fovea prob", VK_FORMAT_R32_SFLOAT, &fv->prob);
+    fv->prob = fv->mask = fv->blocks = FV_IMAGE_MAX;
+    fv->block = env->plan->variant;
+    fv_result res = fv->block >= 2 && fv->block <= FV_FOVEA_BLOCK_MAX ? FV_OK : FV_ERR_INVALID_ARG;
+    if (res == FV_OK) res = scratch(env->images, "fovea prob", VK_FORMAT_R32_SFLOAT, &fv->prob);
     if (res == FV_OK) res = scratch(env->images, "fovea mask", VK_FORMAT_R32_UINT, &fv->mask);
-    if (res == FV_OK) res = fv_frame_samples_reserve(env->samples);
+    if (res == FV_OK) {
+        fv_vk_image_desc d = {.width = (env->width + fv->block - 1) / fv->block * block_words(fv->block),
+                              .height = (env->height + fv->block - 1) / fv->block, .layers = 2,
+                              .format = VK_FORMAT_R32_UINT,
+                              .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                                       VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              .name = "fovea blocks"};
+        res = fv_images_scratch(env->images, &d, &fv->blocks);
+    }
     if (res == FV_OK)
-        res = fv_vk_buffer_create(env->vk, (VkDeviceSize)pc->entries * 4u, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                  FV_VK_MEM_DEVICE, "fovea tile sums", &fv->sums);
+        res = fv_vk_buffer_create(env->vk, (VkDeviceSize)FV_FOVEA_BLOCK_MAX * FV_FOVEA_BLOCK_MAX * 4u,
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_UPLOAD, "fovea block ranks",
+                                  &fv->ranks);
+    if (res == FV_OK) {
+        fv_fovea_block_ranks(fv->block, fv->ranks.mapped);
+        res = fv_vk_buffer_flush(env->vk, &fv->ranks);
+    }
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     VkDescriptorSetLayoutBinding b[FV_FOVEA_BINDING_COUNT] = {
         {FV_FOVEA_BINDING_PROB, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
         {FV_FOVEA_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
-        {FV_FOVEA_BINDING_SUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
-        {FV_FOVEA_BINDING_LIST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
-        {FV_FOVEA_BINDING_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
+        {FV_FOVEA_BINDING_RANKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
+        {FV_FOVEA_BINDING_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
     };
-    /* constant 0: the stage, constant 1: the workgroup size */
-    const uint32_t spec[3][2] = {{FV_FOVEA_STAGE_MAP, FV_FOVEA_TILE_SIZE},
-                                 {FV_FOVEA_STAGE_SCAN, FV_FOVEA_SCAN_SIZE},
-                                 {FV_FOVEA_STAGE_SCATTER, FV_FOVEA_TILE_SIZE}};
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
                              .shared_sets = shared, .shared_set_count = 1, .bindings = b,
-                             .binding_count = FV_FOVEA_BINDING_COUNT, .set_count = env->slots,
-                             .push_bytes = sizeof(struct fv_fovea_push), .spec = &spec[0][0], .spec_count = 2,
-                             .variant_count = 3};
+                             .binding_count = FV_FOVEA_BINDING_COUNT, .set_count = 1,
+                             .push_bytes = sizeof(struct fv_fovea_push)};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &fv->cs);
-    for (uint32_t i = 0; res == FV_OK && i < env->slots; i++) {
-        VkDescriptorSet set = fv->cs.sets[i];
+    if (res == FV_OK) {
+        VkDescriptorSet set = fv->cs.sets[0];
         fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_PROB, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                           fv_images_image(env->images, fv->prob)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                           fv_images_image(env->images, fv->mask)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-        fv_vk_write_buffer(env->vk, set, FV_FOVEA_BINDING_SUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fv->sums.buffer, 0,
-                           VK_WHOLE_SIZE);
-        fv_vk_write_buffer(env->vk, set, FV_FOVEA_BINDING_LIST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                           env->samples->list[i].buffer, 0, VK_WHOLE_SIZE);
-        fv_vk_write_buffer(env->vk, set, FV_FOVEA_BINDING_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                           env->samples->indirect[i].buffer, 0, VK_WHOLE_SIZE);
+        fv_vk_write_buffer(env->vk, set, FV_FOVEA_BINDING_RANKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fv->ranks.buffer,
+                           0, VK_WHOLE_SIZE);
+        fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                          fv_images_image(env->images, fv->blocks)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     }
     if (res != FV_OK) {
-        FV_ERROR(MOD, "foveation pass could not be created: %s", fv_result_str(res));
+        FV_ERROR(MOD, "sampling-map pass could not be created: %s", fv_result_str(res));
         fovea_fini(fv);
         return res;
     }
     *out_state = fv;
     return FV_OK;
-}
-
-/* Every stage's pipeline uses both images and all buffers statically: each dispatch is declared as reading and
- * writing them, so each waits for the one before (the table inserts the image barriers; buffers get this one). */
-static void buffers_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
-                            VkPipelineStageFlags dst, VkAccessFlags dst_access)
-{
-    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = src_access,
-                          .dstAccessMask = dst_access};
-    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
-}
-
-static void fovea_stage(fovea *fv, const fv_pass_frame *f, uint32_t stage, uint32_t gx, uint32_t gy)
-{
-    VkCommandBuffer cmd = f->cmd;
-    fv_images_use(f->images, cmd, fv->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    fv_images_use(f->images, cmd, fv->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    fv_vk_compute_bind(&fv->cs, cmd, stage, &f->scene_set, 1, f->slot, &fv->pc);
-    vkCmdDispatch(cmd, gx, gy, 1);
-    f->counters->dispatches++;
 }
 
 static void fovea_record(void *state, const fv_pass_frame *f)
@@ -187,42 +248,31 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     VkCommandBuffer cmd = f->cmd;
     if (!f->samples) return; /* only whole frames make a sample list */
     const fv_quality_fovea *q = &f->input->quality.fovea;
-    fv->pc.block = q->block;
-    fv->pc.flags = q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u;
-    fv->pc.mar_slope = q->mar_slope;
-    fv->pc.mar_w0_deg = q->mar_w0_deg;
-    fv->pc.min_prob = q->min_prob;
-    fv_vk_label_begin(fv->vk, cmd, "fovea (sampling map, compaction)");
-    /* The previous frame's shading read a sample list (another slot's, but the tile sums are shared): its reads
-     * and this pass's earlier writes come before this frame's writes. */
-    buffers_barrier(cmd, CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-                    RW | VK_ACCESS_INDIRECT_COMMAND_READ_BIT, CS, RW);
-    uint32_t gy = (fv->pc.entries + fv->pc.groups_x - 1) / fv->pc.groups_x;
-    fovea_stage(fv, f, STAGE_MAP, fv->pc.groups_x, gy);
-    buffers_barrier(cmd, CS, RW, CS, RW); /* tile counts -> the scan */
-    fovea_stage(fv, f, STAGE_SCAN, 1, 1);
-    buffers_barrier(cmd, CS, RW, CS, RW); /* tile offsets -> the scatter */
-    fovea_stage(fv, f, STAGE_SCATTER, fv->pc.groups_x, gy);
-    /* The list, its count and its dispatch arguments -> the shade pass's indirect dispatch and reads, and the
-     * renderer's read of the count on the host after the fence. */
-    buffers_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT,
-                    CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_HOST_BIT,
-                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_HOST_READ_BIT);
-    f->samples->active = true;
+    fv->pc = (struct fv_fovea_push){.block = fv->block, .flags = q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u,
+                                    .mar_slope = q->mar_slope, .mar_w0_deg = q->mar_w0_deg,
+                                    .min_prob = q->min_prob, .block_words = block_words(fv->block)};
+    fv_vk_label_begin(fv->vk, cmd, "fovea (sampling map)");
+    /* the block masks start empty; the map ORs each sample's bit in */
+    fv_images_use(f->images, cmd, fv->blocks,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT});
+    VkClearColorValue zero = {.uint32 = {0, 0, 0, 0}};
+    VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 2};
+    vkCmdClearColorImage(cmd, fv_images_image(f->images, fv->blocks)->image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &all);
+    fv_images_use(f->images, cmd, fv->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
+    /* the previous frame's compaction and debug views read the mask and the probability: the table orders it */
+    fv_images_use(f->images, cmd, fv->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
+    fv_images_use(f->images, cmd, fv->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
+    fv_vk_compute_bind(&fv->cs, cmd, 0, &f->scene_set, 1, 0, &fv->pc);
+    vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
+                  (fv->height + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP, 2);
+    f->counters->dispatches++;
     fv_vk_label_end(fv->vk, cmd);
 }
 
 static uint32_t fovea_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     fovea *fv = state;
-    if (cap < 1) return 0;
-    memset(out, 0, sizeof *out);
-    snprintf(out[0].key, sizeof out[0].key, "block_mar_slope_min_prob");
-    out[0].value[0] = fv->pc.block;
-    out[0].value[1] = fv->pc.mar_slope;
-    out[0].value[2] = fv->pc.min_prob;
-    out[0].count = 3;
-    return 1;
+    return add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope, fv->pc.min_prob);
 }
 
 const fv_pass fv_fovea_pass = {
@@ -234,17 +284,213 @@ const fv_pass fv_fovea_pass = {
     .details = fovea_details,
 };
 
+/* ---- "compact": the mask as the frame sample list ---------------------------------------------------------------- */
+
+enum { CSTAGE_TILES = 0, CSTAGE_ROWS = 1, CSTAGE_FINISH = 2 };
+
+typedef struct compact {
+    fv_vk *vk;
+    uint32_t width, height, slots;
+    fv_vk_compute cs;
+    fv_image_id mask;
+    fv_vk_buffer sums;                             /* per image row (rows mode) */
+    fv_vk_buffer stats[FV_MAX_FRAMES_IN_FLIGHT];   /* per slot: samples per eye (host-read after the fence) */
+    bool recorded[FV_MAX_FRAMES_IN_FLIGHT];
+    struct fv_compact_push pc;
+    uint32_t units_per_group; /* tiles or rows per workgroup: one per subgroup */
+    uint32_t mode;
+    uint64_t last_samples[2]; /* of the newest retired frame */
+    bool have_last;
+} compact;
+
+static void compact_fini(void *state)
+{
+    compact *c = state;
+    if (!c) return;
+    fv_vk_compute_fini(c->vk, &c->cs);
+    fv_vk_buffer_destroy(c->vk, &c->sums);
+    for (uint32_t i = 0; i < FV_MAX_FRAMES_IN_FLIGHT; i++) fv_vk_buffer_destroy(c->vk, &c->stats[i]);
+    free(c);
+}
+
+static fv_result compact_init(const fv_pass_env *env, void **out_state)
+{
+    compact *c = calloc(1, sizeof *c);
+    if (!c) return FV_ERR_NO_MEMORY;
+    c->vk = env->vk;
+    c->width = env->width;
+    c->height = env->height;
+    c->slots = env->slots;
+    struct fv_compact_push *pc = &c->pc;
+    pc->tiles_x = (env->width + FV_COMPACT_TILE - 1) / FV_COMPACT_TILE;
+    pc->tiles_y = (env->height + FV_COMPACT_TILE - 1) / FV_COMPACT_TILE;
+    pc->tile_count = pc->tiles_x * pc->tiles_y * 2u;
+    pc->tiles_per_stripe = (pc->tile_count + FV_COMPACT_STRIPES - 1) / FV_COMPACT_STRIPES;
+    pc->entries = pc->tiles_per_stripe * FV_COMPACT_STRIPES;
+    uint32_t max_x = env->vk->props.limits.maxComputeWorkGroupCount[0];
+    pc->groups_x = pc->entries < max_x ? pc->entries : max_x;
+    /* A masked list holds every tile-order slot; the renderer sized the list for the image's pixels. The buffers
+     * are made at the first reserve, by this pass only (the one producer), so the capacity is raised before. */
+    uint32_t masked = pc->entries * FV_COMPACT_TILE_SIZE;
+    if (!env->samples->list[0].buffer && env->samples->capacity < masked) env->samples->capacity = masked;
+    fv_result res = env->samples->capacity >= masked ? FV_OK : FV_ERR_STATE;
+    if (res == FV_OK) res = fv_images_find(env->images, "fovea mask", &c->mask); /* the fovea pass made it */
+    if (res == FV_OK) res = fv_frame_samples_reserve(env->samples);
+    if (res == FV_OK)
+        res = fv_vk_buffer_create(env->vk, (VkDeviceSize)env->height * 2u * 4u, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                  FV_VK_MEM_DEVICE, "fovea row sums", &c->sums);
+    for (uint32_t i = 0; res == FV_OK && i < env->slots; i++)
+        res = fv_vk_buffer_create(env->vk, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_READBACK,
+                                  "fovea sample stats", &c->stats[i]);
+    VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
+    VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    VkDescriptorSetLayoutBinding b[FV_COMPACT_BINDING_COUNT] = {
+        {FV_COMPACT_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+        {FV_COMPACT_BINDING_SUMS, sb, 1, cs, NULL},
+        {FV_COMPACT_BINDING_LIST, sb, 1, cs, NULL},
+        {FV_COMPACT_BINDING_INDIRECT, sb, 1, cs, NULL},
+        {FV_COMPACT_BINDING_STATS, sb, 1, cs, NULL},
+    };
+    /* constant 0: the stage, constant 1: the workgroup size */
+    const uint32_t spec[3][2] = {{FV_COMPACT_STAGE_TILES, FV_COMPACT_GROUP},
+                                 {FV_COMPACT_STAGE_ROWS, FV_COMPACT_GROUP},
+                                 {FV_COMPACT_STAGE_FINISH, FV_COMPACT_FINISH_SIZE}};
+    VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
+    fv_vk_compute_desc cd = {.name = "compact", .code = fv_spv_compact_comp, .code_size = sizeof fv_spv_compact_comp,
+                             .shared_sets = shared, .shared_set_count = 1, .bindings = b,
+                             .binding_count = FV_COMPACT_BINDING_COUNT, .set_count = env->slots,
+                             .push_bytes = sizeof(struct fv_compact_push), .spec = &spec[0][0], .spec_count = 2,
+                             .variant_count = 3};
+    /* the subgroup scan needs arithmetic subgroup operations in compute shaders */
+    VkPhysicalDeviceSubgroupProperties sg = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &sg};
+    vkGetPhysicalDeviceProperties2(env->vk->phys, &p2);
+    if (res == FV_OK && (!(sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+                         !(sg.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT) ||
+                         !(sg.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT) || sg.subgroupSize < 2 ||
+                         sg.subgroupSize > FV_COMPACT_GROUP || FV_COMPACT_GROUP % sg.subgroupSize)) {
+        FV_ERROR(MOD, "compaction needs arithmetic and ballot subgroup operations in compute shaders, subgroups of "
+                 "2..%u (this device: %u)", FV_COMPACT_GROUP, sg.subgroupSize);
+        res = FV_ERR_UNSUPPORTED;
+    }
+    c->units_per_group = sg.subgroupSize ? FV_COMPACT_GROUP / sg.subgroupSize : 1;
+    if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &c->cs);
+    for (uint32_t i = 0; res == FV_OK && i < env->slots; i++) {
+        VkDescriptorSet set = c->cs.sets[i];
+        fv_vk_write_image(env->vk, set, FV_COMPACT_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                          fv_images_image(env->images, c->mask)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_buffer(env->vk, set, FV_COMPACT_BINDING_SUMS, sb, c->sums.buffer, 0, VK_WHOLE_SIZE);
+        fv_vk_write_buffer(env->vk, set, FV_COMPACT_BINDING_LIST, sb, env->samples->list[i].buffer, 0, VK_WHOLE_SIZE);
+        fv_vk_write_buffer(env->vk, set, FV_COMPACT_BINDING_INDIRECT, sb, env->samples->indirect[i].buffer, 0,
+                           VK_WHOLE_SIZE);
+        fv_vk_write_buffer(env->vk, set, FV_COMPACT_BINDING_STATS, sb, c->stats[i].buffer, 0, VK_WHOLE_SIZE);
+    }
+    if (res != FV_OK) {
+        FV_ERROR(MOD, "compaction pass could not be created: %s", fv_result_str(res));
+        compact_fini(c);
+        return res;
+    }
+    *out_state = c;
+    return FV_OK;
+}
+
+/* The slot's frame is done (prepare): its per-eye sample counts are the newest retired ones. */
+static void compact_prepare(void *state, const fv_pass_frame *f)
+{
+    compact *c = state;
+    if (f->slot >= c->slots || !c->recorded[f->slot]) return;
+    if (fv_vk_buffer_invalidate(c->vk, &c->stats[f->slot]) != FV_OK) return;
+    const uint32_t *s = c->stats[f->slot].mapped;
+    c->last_samples[0] = s[0];
+    c->last_samples[1] = s[1];
+    c->have_last = true;
+}
+
+static void compact_stage(compact *c, const fv_pass_frame *f, uint32_t stage, uint32_t pass, uint32_t groups)
+{
+    VkCommandBuffer cmd = f->cmd;
+    fv_images_use(f->images, cmd, c->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    c->pc.pass = pass;
+    fv_vk_compute_bind(&c->cs, cmd, stage, &f->scene_set, 1, f->slot, &c->pc);
+    uint32_t gx = groups < c->pc.groups_x ? groups : c->pc.groups_x;
+    vkCmdDispatch(cmd, gx, (groups + gx - 1) / gx, 1);
+    f->counters->dispatches++;
+}
+
+static void compact_record(void *state, const fv_pass_frame *f)
+{
+    compact *c = state;
+    VkCommandBuffer cmd = f->cmd;
+    if (!f->samples) return;
+    c->mode = f->input->quality.fovea.compaction;
+    c->pc.mode = c->mode <= FV_COMPACT_MODE_MASKED ? c->mode : FV_COMPACT_MODE_TILES;
+    fv_vk_label_begin(c->vk, cmd, "compact (sample list)");
+    /* Earlier frames' shading read a sample list (another slot's, but the row sums are shared) and the host read
+     * this slot's stats after its fence: those reads and this pass's earlier writes come before this frame's. */
+    buffers_barrier(cmd, CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, RW | VK_ACCESS_INDIRECT_COMMAND_READ_BIT, CS, RW);
+    compact_stage(c, f, CSTAGE_FINISH, 0, 1); /* reset the count and the stats */
+    buffers_barrier(cmd, CS, RW, CS, RW);
+    if (c->pc.mode == FV_COMPACT_MODE_ROWS) {
+        uint32_t rows = (2u * c->height + c->units_per_group - 1) / c->units_per_group;
+        compact_stage(c, f, CSTAGE_ROWS, 0, rows); /* row counts */
+        buffers_barrier(cmd, CS, RW, CS, RW);
+        compact_stage(c, f, CSTAGE_FINISH, 1, 1); /* row offsets, count, dispatch */
+        buffers_barrier(cmd, CS, RW, CS, RW);
+        compact_stage(c, f, CSTAGE_ROWS, 1, rows); /* scatter */
+    } else {
+        compact_stage(c, f, CSTAGE_TILES, 0, (c->pc.entries + c->units_per_group - 1) / c->units_per_group);
+        buffers_barrier(cmd, CS, RW, CS, RW);
+        compact_stage(c, f, CSTAGE_FINISH, 1, 1); /* count, dispatch */
+    }
+    /* The list, its count and its dispatch arguments -> the shade pass's indirect dispatch and reads, and the
+     * host's reads of the count and the stats after the fence. */
+    buffers_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT,
+                    CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_HOST_READ_BIT);
+    f->samples->active = true;
+    c->recorded[f->slot] = true;
+    fv_vk_label_end(c->vk, cmd);
+}
+
+static uint32_t compact_details(void *state, fv_pass_detail *out, uint32_t cap)
+{
+    compact *c = state;
+    uint32_t n = 0;
+    double per_eye = (double)c->width * c->height, s0 = (double)c->last_samples[0], s1 = (double)c->last_samples[1];
+    if (c->have_last) {
+        n = add_detail(out, n, cap, "sampled_fraction", 2, s0 / per_eye, s1 / per_eye, 0);
+        n = add_detail(out, n, cap, "samples", 2, s0, s1, 0);
+    }
+    return add_detail(out, n, cap, "compaction_mode", 1, c->mode, 0, 0);
+}
+
+const fv_pass fv_compact_pass = {
+    .id = "compact",
+    .plan = compact_plan,
+    .init = compact_init,
+    .prepare = compact_prepare,
+    .record = compact_record,
+    .fini = compact_fini,
+    .details = compact_details,
+};
+
 /* ---- "reconstruct" ------------------------------------------------------------------------------------------- */
 
-enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2 };
+enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3 };
 
 typedef struct recon {
     fv_vk *vk;
     uint32_t width, height;
     fv_vk_compute cs;
     fv_images *images;
-    fv_image_id mask, seeds[2]; /* seeds: FV_IMAGE_MAX until made (the mask is the fovea pass's) */
-    uint32_t last_steps, last_final;
+    fv_image_id mask, blocks, voronoi; /* voronoi: FV_IMAGE_MAX until made (mask, blocks: the fovea pass's) */
+    fv_vk_buffer seeds[2];
+    uint32_t slots;
+    fv_vk_timer timer;             /* its stages: "voronoi" (1+JFA or the block search), "fill" */
+    bool recorded[FV_MAX_FRAMES_IN_FLIGHT];
+    double stage_ms[2];            /* of the newest retired frame */
+    bool have_stage_ms;
+    uint32_t last_steps, last_final, last_method;
 } recon;
 
 static void recon_fini(void *state)
@@ -252,8 +498,9 @@ static void recon_fini(void *state)
     recon *rc = state;
     if (!rc) return;
     fv_vk_compute_fini(rc->vk, &rc->cs);
-    for (int i = 0; i < 2; i++)
-        if (rc->seeds[i] != FV_IMAGE_MAX) fv_images_release(rc->images, rc->seeds[i]);
+    fv_vk_timer_fini(&rc->timer, rc->vk);
+    for (int i = 0; i < 2; i++) fv_vk_buffer_destroy(rc->vk, &rc->seeds[i]);
+    if (rc->voronoi != FV_IMAGE_MAX) fv_images_release(rc->images, rc->voronoi);
     free(rc);
 }
 
@@ -265,27 +512,35 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     rc->width = env->width;
     rc->height = env->height;
     rc->images = env->images;
-    rc->seeds[0] = rc->seeds[1] = FV_IMAGE_MAX;
+    rc->voronoi = FV_IMAGE_MAX;
+    rc->slots = env->slots;
     const fv_vk_image *color;
     fv_result res = fv_images_find(env->images, "fovea mask", &rc->mask); /* the fovea pass (earlier) made it */
-    if (res == FV_OK) res = scratch(env->images, "fovea seeds a", VK_FORMAT_R32_UINT, &rc->seeds[0]);
-    if (res == FV_OK) res = scratch(env->images, "fovea seeds b", VK_FORMAT_R32_UINT, &rc->seeds[1]);
+    if (res == FV_OK) res = fv_images_find(env->images, "fovea blocks", &rc->blocks);
+    if (res == FV_OK) res = scratch(env->images, "fovea voronoi", VK_FORMAT_R32_UINT, &rc->voronoi);
+    VkDeviceSize seed_bytes = (VkDeviceSize)env->width * env->height * 2u * 4u;
+    for (int i = 0; i < 2 && res == FV_OK; i++)
+        res = fv_vk_buffer_create(env->vk, seed_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
+                                  i ? "fovea seeds b" : "fovea seeds a", &rc->seeds[i]);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
+    if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
     VkDescriptorSetLayoutBinding b[FV_RECON_BINDING_COUNT] = {
         {FV_RECON_BINDING_MASK, si, 1, cs, NULL},
-        {FV_RECON_BINDING_SEEDS_A, si, 1, cs, NULL},
-        {FV_RECON_BINDING_SEEDS_B, si, 1, cs, NULL},
+        {FV_RECON_BINDING_SEEDS_A, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
+        {FV_RECON_BINDING_SEEDS_B, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
         {FV_RECON_BINDING_COLOR, si, 1, cs, NULL},
+        {FV_RECON_BINDING_VORONOI, si, 1, cs, NULL},
+        {FV_RECON_BINDING_BLOCKS, si, 1, cs, NULL},
     };
-    const uint32_t spec[3] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE};
+    const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "reconstruct", .code = fv_spv_reconstruct_comp,
                              .code_size = sizeof fv_spv_reconstruct_comp, .shared_sets = shared,
                              .shared_set_count = 1, .bindings = b, .binding_count = FV_RECON_BINDING_COUNT,
                              .set_count = 1, .push_bytes = sizeof(struct fv_recon_push), .spec = spec,
-                             .spec_count = 1, .variant_count = 3};
+                             .spec_count = 1, .variant_count = 4};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->cs);
     if (res != FV_OK) {
         FV_ERROR(MOD, "reconstruction pass could not be created: %s", fv_result_str(res));
@@ -295,62 +550,108 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     VkDescriptorSet set = rc->cs.sets[0];
     fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MASK, si, fv_images_image(env->images, rc->mask)->view,
                       VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_SEEDS_A, si, fv_images_image(env->images, rc->seeds[0])->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_SEEDS_B, si, fv_images_image(env->images, rc->seeds[1])->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    for (int i = 0; i < 2; i++)
+        fv_vk_write_buffer(env->vk, set, i ? FV_RECON_BINDING_SEEDS_B : FV_RECON_BINDING_SEEDS_A,
+                           VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->seeds[i].buffer, 0, VK_WHOLE_SIZE);
     fv_vk_write_image(env->vk, set, FV_RECON_BINDING_COLOR, si, color->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_VORONOI, si, fv_images_image(env->images, rc->voronoi)->view,
+                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_BLOCKS, si, fv_images_image(env->images, rc->blocks)->view,
+                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     *out_state = rc;
     return FV_OK;
 }
 
-static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, uint32_t step, uint32_t src)
+static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const struct fv_recon_push *pc)
 {
     VkCommandBuffer cmd = f->cmd;
-    /* Every stage's pipeline uses all four images statically: declare them all, so each dispatch waits for the
-     * one before (and the first for the shading that wrote the colour and the fovea pass that wrote the mask). */
+    /* Every stage's pipeline uses all its images and buffers statically: declare them all, so each dispatch waits
+     * for the one before (and the first for the shading that wrote the colour and the fovea pass that wrote the
+     * mask); the seed buffers get a barrier of their own (the first: the previous frame's reads and writes). */
     fv_images_use(f->images, cmd, rc->mask,
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    fv_images_use(f->images, cmd, rc->seeds[0], (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    fv_images_use(f->images, cmd, rc->seeds[1], (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    struct fv_recon_push pc = {.step = step, .src = src};
-    fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, &pc);
+    fv_images_use(f->images, cmd, rc->voronoi, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
+    fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    buffers_barrier(cmd, CS, RW, CS, RW);
+    fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, pc);
     vkCmdDispatch(cmd, (rc->width + FV_RECON_GROUP - 1) / FV_RECON_GROUP,
                   (rc->height + FV_RECON_GROUP - 1) / FV_RECON_GROUP, 2);
     f->counters->dispatches++;
+}
+
+/* The slot's frame is done: its stage timings are the newest retired ones. */
+static void recon_prepare(void *state, const fv_pass_frame *f)
+{
+    recon *rc = state;
+    if (f->slot >= rc->slots || !rc->recorded[f->slot]) return;
+    double ms[2], total;
+    char names[2][FV_VK_TIMER_NAME_MAX];
+    if (fv_vk_timer_collect(&rc->timer, rc->vk, f->slot, ms, names, 2, &total) == 2) {
+        rc->stage_ms[0] = ms[0];
+        rc->stage_ms[1] = ms[1];
+        rc->have_stage_ms = true;
+    }
 }
 
 static void recon_record(void *state, const fv_pass_frame *f)
 {
     recon *rc = state;
     if (!f->samples) return;
-    fv_vk_label_begin(rc->vk, f->cmd, "reconstruct (nearest sample, 1+JFA)");
-    uint32_t steps[8], n = fv_fovea_jfa_steps(f->input->quality.fovea.block, steps, 8), src = 0;
-    recon_stage(rc, f, RSTAGE_INIT, 0, 0);
-    for (uint32_t i = 0; i < n; i++, src ^= 1u) recon_stage(rc, f, RSTAGE_STEP, steps[i], src);
-    recon_stage(rc, f, RSTAGE_RESOLVE, 0, src);
+    fv_vk_timer_reset(&rc->timer, f->cmd, f->slot);
+    const fv_quality_fovea *q = &f->input->quality.fovea;
+    uint32_t method = q->recon == FV_FOVEA_RECON_SIBSON ? FV_RECON_METHOD_SIBSON
+                      : q->recon == FV_FOVEA_RECON_IDW  ? FV_RECON_METHOD_IDW
+                                                        : FV_RECON_METHOD_NEAREST;
+    bool jfa = q->voronoi != FV_FOVEA_VORONOI_BLOCKS;
+    fv_vk_label_begin(rc->vk, f->cmd, "reconstruct");
+    uint32_t steps[8], n = jfa ? fv_fovea_jfa_steps(q->block, steps, 8) : 0, src = 0;
+    /* the nearest sample is at most (B - 1) sqrt 2 away (every block holds one): one block around for B <= 5 */
+    struct fv_recon_push pc = {.method = method, .window = q->block, .block = q->block,
+                               .block_words = block_words(q->block), .reach = q->block <= 5 ? 1u : 2u};
+    /* the voronoi stage: 1+JFA, or the block search for every pixel (sibson); nearest and idw with blocks need no
+     * stage of their own (the fill finds each unsampled pixel's nearest itself) */
+    int t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "voronoi");
+    if (method != FV_RECON_METHOD_IDW && jfa) {
+        recon_stage(rc, f, RSTAGE_INIT, &pc);
+        for (uint32_t i = 0; i < n; i++, src ^= 1u) {
+            pc.step = steps[i];
+            pc.src = src;
+            recon_stage(rc, f, RSTAGE_STEP, &pc);
+        }
+    } else if (method == FV_RECON_METHOD_SIBSON) {
+        recon_stage(rc, f, RSTAGE_BLOCKS, &pc); /* every pixel's nearest, for the window's d(q) */
+    } else {
+        src = FV_RECON_SRC_SEARCH; /* nearest or idw: the fill searches the blocks itself, one pass */
+    }
+    if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+    pc.step = 0;
+    pc.src = src;
+    t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
+    recon_stage(rc, f, RSTAGE_RESOLVE, &pc);
+    if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+    rc->recorded[f->slot] = true;
     rc->last_steps = n;
     rc->last_final = src;
+    rc->last_method = method;
     fv_vk_label_end(rc->vk, f->cmd);
 }
 
 static uint32_t recon_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     recon *rc = state;
-    if (cap < 1) return 0;
-    memset(out, 0, sizeof *out);
-    snprintf(out[0].key, sizeof out[0].key, "jfa_steps_final_seeds");
-    out[0].value[0] = rc->last_steps;
-    out[0].value[1] = rc->last_final; /* 0: "fovea seeds a", 1: "fovea seeds b" */
-    out[0].count = 2;
-    return 1;
+    /* final seeds: 0 a, 1 b, FV_RECON_SRC_SEARCH none (the "fovea voronoi" image always holds the result) */
+    uint32_t n = add_detail(out, 0, cap, "jfa_steps_final_seeds_method", 3, rc->last_steps, rc->last_final,
+                            rc->last_method);
+    if (rc->have_stage_ms) n = add_detail(out, n, cap, "stage_gpu_ms_voronoi_fill", 2, rc->stage_ms[0], rc->stage_ms[1], 0);
+    return n;
 }
 
 const fv_pass fv_reconstruct_pass = {
     .id = "reconstruct",
     .plan = recon_plan,
     .init = recon_init,
+    .prepare = recon_prepare,
     .record = recon_record,
     .fini = recon_fini,
     .details = recon_details,

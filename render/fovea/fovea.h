@@ -1,8 +1,8 @@
 /* @brief Foveated rendering (papers/README.md section 3): the "fovea" pass makes, from the predicted gaze of the
  * frame constants, a sampling probability per pixel (linear MAR) and a sample mask with at least one sample per
- * block, and compacts the sampled pixels of both eyes into the renderer's frame sample list (with its indirect
- * dispatch), which the shade pass then shades instead of the whole frame; the "reconstruct" pass, after shading,
- * gives every unshaded pixel its nearest sample's colour (1+JFA). Images (2-layer scratch, GENERAL): "fovea prob"
+ * block; the "compact" pass turns the sampled pixels of both eyes into the renderer's frame sample list (with its
+ * indirect dispatch), which the shade pass then shades instead of the whole frame; the "reconstruct" pass, after
+ * shading, fills every unshaded pixel from the samples over their 1+JFA Voronoi diagram (nearest or Sibson). Images (2-layer scratch, GENERAL): "fovea prob"
  * (R32F), "fovea mask" (R32UI), "fovea seeds a" / "fovea seeds b" (R32UI); FV_IMAGE_COLOR is read and written by
  * reconstruct in GENERAL. */
 #ifndef FV_FOVEA_H
@@ -10,9 +10,16 @@
 
 #include "fv_pass.h"
 
-/** The entries of the renderer's table: "fovea" before shading, "reconstruct" after it. */
+/** The entries of the renderer's table: "fovea" (the sampling map) and "compact" (the list) before shading,
+ *  "reconstruct" after it. */
 extern const fv_pass fv_fovea_pass;
+extern const fv_pass fv_compact_pass;
 extern const fv_pass fv_reconstruct_pass;
+
+/** The R2 value of pixel (x, y) of a block, as the GPU computes it (float). */
+double fv_fovea_r2(uint32_t x, uint32_t y);
+/** Each pixel's rank (0..B*B-1, row-major) in its block by R2 value, ties by index: the table the GPU reads. */
+void fv_fovea_block_ranks(uint32_t block, uint32_t *out_ranks);
 
 /** The JFA step sizes for a block side (1, then block, halving up to 1); returns how many (<= cap). */
 uint32_t fv_fovea_jfa_steps(uint32_t block, uint32_t *out_steps, uint32_t cap);

@@ -1,33 +1,9 @@
-/* @brief Foveation passes' interface shared by C and GLSL (render/fovea: "fovea" makes the sampling map and the
- * compacted sample list, "reconstruct" fills the unshaded pixels): bindings of their own sets (set 1, after the
- * scene's), workgroup sizes, stages (specialization constant 0), push constants. */
+/* @brief Foveation passes' interface shared by C and GLSL (render/fovea): "fovea" makes the sampling map and the
+ * sample mask (fovea.comp), "compact" turns the mask into the frame sample list (compact.comp), "reconstruct" fills
+ * the unshaded pixels (reconstruct.comp). Bindings of their own sets (set 1, after the scene's), workgroup sizes,
+ * stages (specialization constant 0), push constants. */
 #ifndef FV_FOVEA_INTERFACE_H
 #define FV_FOVEA_INTERFACE_H
-
-/* ---- "fovea": sampling map and compaction (fovea.comp) ---- */
-#define FV_FOVEA_SET 1
-#define FV_FOVEA_BINDING_PROB 0     /* image2DArray r32f: sampling probability p per pixel (written) */
-#define FV_FOVEA_BINDING_MASK 1     /* uimage2DArray r32ui: 1 = shade this pixel, 0 = reconstruct it */
-#define FV_FOVEA_BINDING_SUMS 2     /* storage uint[entries]: samples per tile, then (scan) each tile's list offset */
-#define FV_FOVEA_BINDING_LIST 3     /* storage pixel list (fv_gpu.h FV_GPU_LIST_*): the frame sample list */
-#define FV_FOVEA_BINDING_INDIRECT 4 /* storage uint[4]: the list's VkDispatchIndirectCommand */
-#define FV_FOVEA_BINDING_COUNT 5
-
-#define FV_FOVEA_STAGE_MAP 0     /* per 8x8 tile: p, the mask, the tile's sample count */
-#define FV_FOVEA_STAGE_SCAN 1    /* one workgroup: exclusive prefix sum of the tile counts, list count, dispatch */
-#define FV_FOVEA_STAGE_SCATTER 2 /* per 8x8 tile: write the tile's samples at its offset (local scan) */
-
-#define FV_FOVEA_TILE 8                                /* tiles of 8 x 8 pixels, one workgroup each */
-#define FV_FOVEA_TILE_SIZE (FV_FOVEA_TILE * FV_FOVEA_TILE)
-#define FV_FOVEA_SCAN_SIZE 256                         /* threads of the scan workgroup */
-/* The list is in tile order g -> tile (g % stripes) * tiles_per_stripe + g / stripes (as the shade pass's full
- * frame), so any contiguous half of the list (one lavapipe thread's share of its dispatch) covers both eyes and
- * the whole image: each half gets its share of the fovea. */
-#define FV_FOVEA_STRIPES 32u
-
-/* No valid gaze: the fovea is the view centre (straight ahead), widened by this angle as if it were the gaze's
- * uncertainty (with or without fovea.uncertainty). */
-#define FV_FOVEA_LOST_WIDEN_RAD 0.2617993877991494 /* 15 degrees */
 
 #if defined(GL_core_profile) || defined(VULKAN) || defined(GL_SPIRV)
 #define FV_FOVEA_UINT uint
@@ -36,40 +12,117 @@
 #define FV_FOVEA_UINT uint32_t
 #endif
 
+/* ---- "fovea": the sampling map (fovea.comp) ---- */
+#define FV_FOVEA_SET 1
+#define FV_FOVEA_BINDING_PROB 0  /* image2DArray r32f: sampling probability p per pixel (written) */
+#define FV_FOVEA_BINDING_MASK 1  /* uimage2DArray r32ui: 1 = shade this pixel, 0 = reconstruct it (written) */
+#define FV_FOVEA_BINDING_RANKS 2 /* storage uint[B * B]: rank of each pixel of a block in the R2 order (no turn) */
+#define FV_FOVEA_BINDING_BLOCKS 3 /* uimage2DArray r32ui, (blocks_x * words) x blocks_y: each block's samples as
+                                   * bits (bit k = its pixel k, row-major, B as the row length), cleared, then
+                                   * OR-ed in (atomics) */
+#define FV_FOVEA_BINDING_COUNT 4
+#define FV_FOVEA_BLOCK_WORDS_MAX 8u /* ceil(16 * 16 / 32) */
+#define FV_FOVEA_GROUP 8 /* 8 x 8 pixels per workgroup, z = the eye */
+#define FV_FOVEA_BLOCK_MAX 16u
+
+/* No valid gaze: the fovea is the view centre (straight ahead), widened by this angle as if it were the gaze's
+ * uncertainty (with or without fovea.uncertainty). */
+#define FV_FOVEA_LOST_WIDEN_RAD 0.2617993877991494 /* 15 degrees */
+
 #define FV_FOVEA_FLAG_UNCERTAINTY 1u /* e' = max(0, e - u) */
 
+/* p = clamp(1 - (w - w_min) / w_far, xi, 1), w = m e' + w0 (degrees): w_min = max(w0, w_px), the display's
+ * smallest resolvable angle (p = 1 while the eye resolves a pixel), and w_far = (FV_FOVEA_FAR_PX - 1) w_px, so p
+ * reaches 0 where the eye's MAR spans FV_FOVEA_FAR_PX pixels (one sample per 4 x 4 pixels is all it resolves
+ * there); w_px is the angle of the view's centre pixel, 2 atan(dt / 2), dt the smaller of its tangent steps. */
+#define FV_FOVEA_FAR_PX 4.0
 struct fv_fovea_push {
-    FV_FOVEA_UINT tiles_x, tiles_y; /* per eye */
-    FV_FOVEA_UINT tile_count;       /* tiles_x * tiles_y * 2 */
-    FV_FOVEA_UINT tiles_per_stripe; /* ceil(tile_count / FV_FOVEA_STRIPES) */
-    FV_FOVEA_UINT entries;          /* tiles_per_stripe * FV_FOVEA_STRIPES: tile-order slots (some empty) */
-    FV_FOVEA_UINT groups_x;         /* dispatch width (workgroups are linearised as x + y * groups_x) */
-    FV_FOVEA_UINT block;            /* fovea.block, px */
-    FV_FOVEA_UINT flags;            /* FV_FOVEA_FLAG_* */
-    float mar_slope;                /* fovea.mar_slope, deg / deg */
-    float mar_w0_deg;               /* fovea.mar_w0_deg */
-    float min_prob;                 /* fovea.min_prob (xi) */
-    float pad;
+    FV_FOVEA_UINT block;    /* fovea.block, px */
+    FV_FOVEA_UINT flags;    /* FV_FOVEA_FLAG_* */
+    float mar_slope;        /* fovea.mar_slope, deg / deg */
+    float mar_w0_deg;       /* fovea.mar_w0_deg */
+    float min_prob;         /* fovea.min_prob (xi) */
+    FV_FOVEA_UINT block_words; /* ceil(B * B / 32): words per block in the block masks */
+    FV_FOVEA_UINT pad[2];
 };
 
-/* ---- "reconstruct": nearest sample by jump flooding (reconstruct.comp) ---- */
+/* ---- "compact": the sample mask as the frame sample list (compact.comp) ---- */
+#define FV_COMPACT_SET 1
+#define FV_COMPACT_BINDING_MASK 0     /* uimage2DArray r32ui (read) */
+#define FV_COMPACT_BINDING_SUMS 1     /* storage uint[rows]: rows mode: samples per row, then each row's offset */
+#define FV_COMPACT_BINDING_LIST 2     /* storage pixel list (fv_gpu.h FV_GPU_LIST_*): the frame sample list */
+#define FV_COMPACT_BINDING_INDIRECT 3 /* storage uint[4]: the list's VkDispatchIndirectCommand */
+#define FV_COMPACT_BINDING_STATS 4    /* storage uint[4]: samples of eye 0, eye 1 (host-read after the fence) */
+#define FV_COMPACT_BINDING_COUNT 5
+
+#define FV_COMPACT_STAGE_TILES 0  /* per 8x8 tile (64 threads): append its samples, one atomic per tile */
+#define FV_COMPACT_STAGE_ROWS 1   /* per image row (64 threads): count (pass 0) or scatter at its offset (pass 1) */
+#define FV_COMPACT_STAGE_FINISH 2 /* one workgroup: rows: scan of the row counts; all: count, dispatch arguments */
+#define FV_COMPACT_TILE 8
+#define FV_COMPACT_TILE_SIZE (FV_COMPACT_TILE * FV_COMPACT_TILE)
+#define FV_COMPACT_GROUP 64u      /* threads of the tile and row workgroups */
+#define FV_COMPACT_FINISH_SIZE 256u
+
+/* push.mode: how the list is made (knob fovea.compaction, fv_fovea_compaction) */
+#define FV_COMPACT_MODE_TILES 0u  /* per tile, appended by one atomic per tile (tile order within, any order across) */
+#define FV_COMPACT_MODE_ROWS 1u   /* the paper's row-wise (CSR) reorder: row counts, a prefix sum, rows in order */
+#define FV_COMPACT_MODE_MASKED 2u /* every pixel in the full-frame tile order, unsampled ones masked out */
+/* A masked list entry: layer 3, which the shading skips (it shades layers 0 and 1 only). */
+#define FV_COMPACT_MASKED_LAYER 3u
+
+/* Tiles are visited in an interleaved order (as the shade pass's full frame): workgroup g takes tile
+ * (g % stripes) * tiles_per_stripe + g / stripes, so any contiguous half of a dispatch (one lavapipe thread's share)
+ * covers both eyes and the whole image. In masked mode the list is in this order, so each half of the shading
+ * dispatch gets its share of the fovea; the other modes' lists are dense, and any half of them holds half the
+ * samples. */
+#define FV_COMPACT_STRIPES 32u
+
+struct fv_compact_push {
+    FV_FOVEA_UINT tiles_x, tiles_y; /* per eye */
+    FV_FOVEA_UINT tile_count;       /* tiles_x * tiles_y * 2 */
+    FV_FOVEA_UINT tiles_per_stripe; /* ceil(tile_count / FV_COMPACT_STRIPES) */
+    FV_FOVEA_UINT entries;          /* tiles_per_stripe * FV_COMPACT_STRIPES: tile-order slots (some empty) */
+    FV_FOVEA_UINT groups_x;         /* dispatch width (workgroups are linearised as x + y * groups_x) */
+    FV_FOVEA_UINT mode;             /* FV_COMPACT_MODE_* */
+    FV_FOVEA_UINT pass;             /* rows stage: 0 count, 1 scatter */
+};
+
+/* ---- "reconstruct": Voronoi of the samples by jump flooding, then the fill (reconstruct.comp) ---- */
 #define FV_RECON_SET 1
 #define FV_RECON_BINDING_MASK 0    /* uimage2DArray r32ui (read) */
-#define FV_RECON_BINDING_SEEDS_A 1 /* uimage2DArray r32ui: nearest seed so far, x | y << 16, or FV_RECON_NONE */
+#define FV_RECON_BINDING_SEEDS_A 1 /* storage uint[2 W H] (eye, row, column): nearest seed so far, x | y << 16, or
+                                    * FV_RECON_NONE (buffers: much cheaper than storage images on lavapipe) */
 #define FV_RECON_BINDING_SEEDS_B 2 /* its ping-pong partner */
 #define FV_RECON_BINDING_COLOR 3   /* image2DArray rgba32f: linear colour (unsampled pixels written) */
-#define FV_RECON_BINDING_COUNT 4
+#define FV_RECON_BINDING_VORONOI 4 /* uimage2DArray r32ui: the final nearest seed of every pixel (written by resolve;
+                                    * the voronoi view and the tests read it) */
+#define FV_RECON_BINDING_BLOCKS 5  /* uimage2DArray r32ui: the fovea pass's block masks (read) */
+#define FV_RECON_BINDING_COUNT 6
 #define FV_RECON_NONE 0xffffffffu
 
-#define FV_RECON_STAGE_INIT 0    /* seeds A = the sampled pixels */
+#define FV_RECON_STAGE_INIT 0    /* seeds A and B = the sampled pixels (a seed is its own nearest: steps skip it) */
 #define FV_RECON_STAGE_STEP 1    /* one jump-flooding step of size `step` from seeds[src] to the other */
-#define FV_RECON_STAGE_RESOLVE 2 /* unsampled pixels take their seed's colour from seeds[src] */
+/* Fill the unsampled pixels (push.method): only they are written and only sampled pixels are read, so the colour
+ * is read and written in place. */
+#define FV_RECON_STAGE_RESOLVE 2
+#define FV_RECON_STAGE_BLOCKS 3  /* seeds A = every pixel's exact nearest sample, from the neighbouring block masks */
 #define FV_RECON_GROUP 8
 
+#define FV_RECON_METHOD_NEAREST 0u
+#define FV_RECON_METHOD_SIBSON 1u
+#define FV_RECON_METHOD_IDW 2u
+/* resolve without a Voronoi: each unsampled pixel searches the neighbouring blocks itself (nearest with blocks) */
+#define FV_RECON_SRC_SEARCH 2u
+
 struct fv_recon_push {
-    FV_FOVEA_UINT step; /* px */
-    FV_FOVEA_UINT src;  /* 0: read seeds A (write B), 1: read B (write A) */
-    FV_FOVEA_UINT pad[2];
+    FV_FOVEA_UINT step;   /* px */
+    FV_FOVEA_UINT src;    /* 0: read seeds A (write B), 1: read B (write A); resolve: FV_RECON_SRC_SEARCH */
+    FV_FOVEA_UINT method; /* FV_RECON_METHOD_* */
+    FV_FOVEA_UINT window; /* sibson: the half side of the gather window, px (the jitter block) */
+    FV_FOVEA_UINT block;  /* B, px */
+    FV_FOVEA_UINT block_words;
+    FV_FOVEA_UINT reach;  /* blocks: how many blocks around a pixel's own can hold its nearest sample (1: B <= 5) */
+    FV_FOVEA_UINT pad;
 };
 
 #endif

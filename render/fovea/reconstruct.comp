@@ -1,6 +1,7 @@
 #version 450
-// @brief Reconstruction of the pixels foveation did not shade: each takes the colour of its nearest shaded pixel
-// (the seeds), found by jump flooding (Rong & Tan 2006) in its 1+JFA form: one step of size 1, then steps from the
+// @brief Reconstruction of the pixels foveation did not shade, from the shaded pixels (the seeds): nearest (the
+// colour of the nearest seed) or sibson (approximate discrete natural-neighbour interpolation), both over the
+// Voronoi diagram of the seeds found by jump flooding (Rong & Tan 2006) in its 1+JFA form: one step of size 1, then steps from the
 // block size down to 1 (every block holds a seed, so no seed is farther than two blocks). Seeds ping-pong between
 // two R32UI images; distances are exact integer squared distances, ties go to the smaller packed seed.
 #extension GL_GOOGLE_include_directive : require
@@ -13,17 +14,52 @@ layout(constant_id = 0) const uint STAGE = FV_RECON_STAGE_INIT;
 
 FV_SCENE_SET_DECLARE
 layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_MASK, r32ui) uniform readonly uimage2DArray mask_img;
-layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_SEEDS_A, r32ui) uniform uimage2DArray seeds_a;
-layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_SEEDS_B, r32ui) uniform uimage2DArray seeds_b;
+layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_SEEDS_A) buffer SeedsA { uint seeds_a[]; };
+layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_SEEDS_B) buffer SeedsB { uint seeds_b[]; };
 layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_COLOR, rgba32f) uniform image2DArray color_img;
+layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_VORONOI, r32ui) uniform writeonly uimage2DArray voronoi_img;
+layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_BLOCKS, r32ui) uniform readonly uimage2DArray blocks_img;
 layout(push_constant) uniform Push { fv_recon_push pc; };
 
-uint read_seed(ivec3 c) { return pc.src == 0u ? imageLoad(seeds_a, c).x : imageLoad(seeds_b, c).x; }
+uint at(ivec3 c) { return (uint(c.z) * frame.counts.z + uint(c.y)) * frame.counts.y + uint(c.x); }
+uint read_seed(ivec3 c) { return pc.src == 0u ? seeds_a[at(c)] : seeds_b[at(c)]; }
 
 uint dist2(uint s, ivec2 p)
 {
     ivec2 d = ivec2(int(s & 0xffffu), int(s >> 16)) - p;
     return uint(d.x * d.x + d.y * d.y);
+}
+
+// Every sample of the blocks within pc.reach blocks of p's own: the nearest (ties: the smaller packed seed) and,
+// with `idw`, the sums of Shepard weights (1 - d / r)^2 / d^2 (r = the radius the neighbourhood always covers, so a
+// sample's weight is 0 before it leaves the neighbourhood: no seams at block edges) and weighted colours.
+void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout vec3 sum, inout float wsum)
+{
+    int B = int(pc.block), R = int(pc.reach), words = int(pc.block_words);
+    ivec2 nb = (size + B - 1) / B, b = p.xy / B;
+    float r = float(B * R) + 0.5;
+    for (int by = max(b.y - R, 0); by <= min(b.y + R, nb.y - 1); by++)
+        for (int bx = max(b.x - R, 0); bx <= min(b.x + R, nb.x - 1); bx++)
+            for (int w = 0; w < words; w++) {
+                uint bits = imageLoad(blocks_img, ivec3(bx * words + w, by, p.z)).x;
+                while (bits != 0u) {
+                    int k = w * 32 + findLSB(bits);
+                    bits &= bits - 1u;
+                    ivec2 q = ivec2(bx * B + k % B, by * B + k / B);
+                    ivec2 dq = q - p.xy;
+                    uint d = uint(dq.x * dq.x + dq.y * dq.y), packed = uint(q.x) | (uint(q.y) << 16);
+                    if (d < bd || (d == bd && packed < best)) {
+                        best = packed;
+                        bd = d;
+                    }
+                    if (idw) {
+                        float dist = sqrt(float(d)), f = max(0.0, 1.0 - dist / r);
+                        float wt = f * f / float(d);
+                        sum += wt * imageLoad(color_img, ivec3(q, p.z)).rgb;
+                        wsum += wt;
+                    }
+                }
+            }
 }
 
 void main()
@@ -33,11 +69,23 @@ void main()
     if (p.x >= size.x || p.y >= size.y || p.z > 1) return;
     if (STAGE == FV_RECON_STAGE_INIT) {
         bool s = imageLoad(mask_img, p).x != 0u;
-        imageStore(seeds_a, p, uvec4(s ? uint(p.x) | (uint(p.y) << 16) : FV_RECON_NONE));
+        uint v = s ? uint(p.x) | (uint(p.y) << 16) : FV_RECON_NONE;
+        seeds_a[at(p)] = v;
+        seeds_b[at(p)] = v;
+        return;
+    }
+    if (STAGE == FV_RECON_STAGE_BLOCKS) {
+        uint best = FV_RECON_NONE, bd = 0xffffffffu;
+        vec3 sum = vec3(0.0);
+        float wsum = 0.0;
+        if (imageLoad(mask_img, p).x != 0u) best = uint(p.x) | (uint(p.y) << 16);
+        else gather(p, size, false, best, bd, sum, wsum);
+        seeds_a[at(p)] = best;
         return;
     }
     if (STAGE == FV_RECON_STAGE_STEP) {
         uint best = read_seed(p), bd = best == FV_RECON_NONE ? 0xffffffffu : dist2(best, p.xy);
+        if (bd == 0u) return; // a seed: both buffers hold it since INIT
         int k = int(pc.step);
         for (int dy = -1; dy <= 1; dy++)
             for (int dx = -1; dx <= 1; dx++) {
@@ -51,13 +99,48 @@ void main()
                     bd = d;
                 }
             }
-        if (pc.src == 0u) imageStore(seeds_b, p, uvec4(best));
-        else imageStore(seeds_a, p, uvec4(best));
+        if (pc.src == 0u) seeds_b[at(p)] = best;
+        else seeds_a[at(p)] = best;
         return;
     }
     // FV_RECON_STAGE_RESOLVE: only unsampled pixels are written and only sampled ones are read.
-    if (imageLoad(mask_img, p).x != 0u) return;
+    if (pc.method == FV_RECON_METHOD_IDW || pc.src == FV_RECON_SRC_SEARCH) {
+        uint self = uint(p.x) | (uint(p.y) << 16);
+        if (imageLoad(mask_img, p).x != 0u) {
+            imageStore(voronoi_img, p, uvec4(self));
+            return;
+        }
+        uint best = FV_RECON_NONE, bd = 0xffffffffu;
+        vec3 sum = vec3(0.0);
+        float wsum = 0.0;
+        gather(p, size, pc.method == FV_RECON_METHOD_IDW, best, bd, sum, wsum);
+        imageStore(voronoi_img, p, uvec4(best));
+        if (best == FV_RECON_NONE) return;
+        vec3 c = wsum > 0.0 ? sum / wsum : imageLoad(color_img, ivec3(int(best & 0xffffu), int(best >> 16), p.z)).rgb;
+        imageStore(color_img, p, vec4(c, 1.0));
+        return;
+    }
     uint s = read_seed(p);
-    if (s == FV_RECON_NONE) return;
+    imageStore(voronoi_img, p, uvec4(s));
+    if (s == FV_RECON_NONE || s == (uint(p.x) | (uint(p.y) << 16))) return; // a sample keeps its shaded colour
+    if (pc.method == FV_RECON_METHOD_SIBSON) {
+        // Approximate discrete Sibson interpolation (Park et al. 2006, as the thesis): every pixel q of the window
+        // whose nearest seed is at least as far from q as p is (|p - q| <= d(q), q's Voronoi circle holds p) adds
+        // its seed's colour; the mean of those is the natural-neighbour weighting of the seeds. q = p always counts.
+        int R = int(pc.window);
+        vec3 sum = vec3(0.0);
+        float n = 0.0;
+        for (int dy = -R; dy <= R; dy++)
+            for (int dx = -R; dx <= R; dx++) {
+                ivec2 q = p.xy + ivec2(dx, dy);
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+                uint qs = read_seed(ivec3(q, p.z));
+                if (qs == FV_RECON_NONE || uint(dx * dx + dy * dy) > dist2(qs, q)) continue;
+                sum += imageLoad(color_img, ivec3(int(qs & 0xffffu), int(qs >> 16), p.z)).rgb;
+                n += 1.0;
+            }
+        imageStore(color_img, p, vec4(sum / max(n, 1.0), 1.0));
+        return;
+    }
     imageStore(color_img, p, imageLoad(color_img, ivec3(int(s & 0xffffu), int(s >> 16), p.z)));
 }

@@ -7,6 +7,7 @@
 
 #include "gbuffer_frag.spv.h"
 #include "gbuffer_interface.h"
+#include "gbuffer_mask.h"
 #include "gbuffer_vert.spv.h"
 
 #define MOD "gbuffer"
@@ -37,6 +38,8 @@ typedef struct gbuffer {
     VkImageView eye_views[2][TARGETS];
     VkPipelineLayout layout;
     VkPipeline pipeline;
+    bool masked;        /* the hidden-area mask is drawn (plan variant 1) */
+    gbuffer_mask mask;
 } gbuffer;
 
 static void gbuffer_plan(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -51,9 +54,11 @@ static void gbuffer_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         triangles += s->meshes[n->mesh].index_count / 3;
     }
     out->enabled = true;
-    snprintf(out->reason, sizeof out->reason, "always: stereo G-buffer, %s (%llu triangle%s in %u draw%s)",
+    out->variant = gbuffer_mask_wanted(ctx->quality) ? 1u : 0u;
+    snprintf(out->reason, sizeof out->reason, "always: stereo G-buffer, %s (%llu triangle%s in %u draw%s)%s",
              ctx->multiview ? "both eyes in one multiview pass" : (ctx->multiview_why ? ctx->multiview_why : "one pass per eye"),
-             (unsigned long long)triangles, triangles == 1 ? "" : "s", draws, draws == 1 ? "" : "s");
+             (unsigned long long)triangles, triangles == 1 ? "" : "s", draws, draws == 1 ? "" : "s",
+             out->variant ? "; hidden-area mask of the HMD lens" : "");
 }
 
 static fv_result create_render_pass(gbuffer *gb)
@@ -193,6 +198,7 @@ static void gbuffer_fini(void *state)
             if (gb->eye_views[e][i]) vkDestroyImageView(vk->device, gb->eye_views[e][i], NULL);
     }
     if (gb->render_pass) vkDestroyRenderPass(vk->device, gb->render_pass, NULL);
+    gbuffer_mask_fini(&gb->mask);
     free(gb);
 }
 
@@ -210,6 +216,10 @@ static fv_result gbuffer_init(const fv_pass_env *env, void **out_state)
     for (int i = 0; res == FV_OK && i < TARGETS; i++) res = fv_images_get(env->images, targets[i], &gb->img[i]);
     if (res == FV_OK) res = create_render_pass(gb);
     if (res == FV_OK) res = create_pipeline(gb);
+    gb->masked = env->plan && env->plan->variant == 1u;
+    if (res == FV_OK && gb->masked)
+        res = gbuffer_mask_init(&gb->mask, env->vk, gb->render_pass, gb->multiview, env->slots, env->width,
+                                env->height);
     if (res != FV_OK) {
         FV_ERROR(MOD, "G-buffer %ux%u x2 could not be created: %s", env->width, env->height, fv_result_str(res));
         gbuffer_fini(gb);
@@ -238,6 +248,12 @@ static void record_pass(gbuffer *gb, const fv_pass_frame *f, VkFramebuffer fb, u
     VkRect2D sc = {{0, 0}, {gb->width, gb->height}};
     vkCmdSetViewport(cmd, 0, 1, &vp);
     vkCmdSetScissor(cmd, 0, 1, &sc);
+    if (gb->masked) {
+        /* First, at depth 0: the pixels the lens never shows, so no scene fragment there passes the depth test. */
+        uint32_t t = gbuffer_mask_record(&gb->mask, cmd, f->slot, gb->multiview ? -1 : (int)eye);
+        f->counters->draws += t ? 1 : 0;
+        f->counters->triangles += t;
+    }
     if (gb->scene->loaded && gb->scene->draw_count) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gb->pipeline);
         uint32_t n = fv_scene_gpu_record_draws(gb->scene, cmd, gb->layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
@@ -272,10 +288,30 @@ static void gbuffer_record(void *state, const fv_pass_frame *f)
     }
 }
 
+static void gbuffer_prepare(void *state, const fv_pass_frame *f)
+{
+    gbuffer *gb = state;
+    if (gb->masked) gbuffer_mask_prepare(&gb->mask, f->slot, f->input);
+}
+
+static uint32_t gbuffer_details(void *state, fv_pass_detail *out, uint32_t cap)
+{
+    gbuffer *gb = state;
+    if (!gb->masked || cap < 1) return 0;
+    memset(out, 0, sizeof *out);
+    snprintf(out->key, sizeof out->key, "mask.fraction");
+    out->value[0] = gb->mask.fraction[0];
+    out->value[1] = gb->mask.fraction[1];
+    out->count = 2;
+    return 1;
+}
+
 const fv_pass fv_gbuffer_pass = {
     .id = "gbuffer",
     .plan = gbuffer_plan,
     .init = gbuffer_init,
+    .prepare = gbuffer_prepare,
     .record = gbuffer_record,
     .fini = gbuffer_fini,
+    .details = gbuffer_details,
 };

@@ -63,17 +63,31 @@ float fv_hook_visibility(uint light, fv_surface s)
     return lit / (side * side);
 }
 
-// Indirect irradiance reaching the surface, W/m^2 per channel (one-bounce GI from the light quad-tree). 0 = none.
+// Indirect irradiance reaching the surface, W/m^2 per channel (one-bounce GI from the light quad-tree, render/gi:
+// fv_gi_gather.glsl). 0 while the GI pass is off (its header is the zero dummy: one load).
+#include "fv_gi_gather.glsl"
 vec3 fv_hook_indirect_irradiance(fv_surface s)
 {
-    return vec3(0.0);
+    uint clusters;
+    return fv_gi_irradiance(s.pos_world, s.normal, clusters);
 }
 
 // Outgoing radiance from light that entered elsewhere below the surface (subsurface scattering, dipole over the
-// light hierarchy), W/(m^2 sr) per channel. 0 = opaque.
+// light hierarchy, render/sss: fv_sss_gather.glsl), W/(m^2 sr) per channel. 0 = opaque, or while the SSS pass is
+// off (its header is the zero dummy: one load).
+#include "fv_sss_gather.glsl"
 vec3 fv_hook_subsurface_radiance(fv_surface s)
 {
-    return vec3(0.0);
+    uint clusters;
+    return fv_sss_radiance(s, clusters);
+}
+
+// True where the subsurface term is the surface's diffuse reflection of direct light (a translucent material with
+// SSS on): the dipole's Rd already holds the light that leaves near where it entered (Jensen et al. 2001), so the
+// shading function adds no Lambertian term for the lights there (smooth indirect light still goes through it).
+bool fv_hook_subsurface_replaces_diffuse(fv_surface s)
+{
+    return fv_sss_active(s);
 }
 
 #endif

@@ -98,8 +98,8 @@ const char *fv_knob_type_name(fv_knob_type type);
  *  line. Renderer-side sanitising may rely on this. */
 FV_MUST_CHECK fv_result fv_quality_validate(const fv_quality *q, char *err, size_t err_size);
 
-/** True when a and b hold the same value in every knob and in exposure and debug_view (floats compare with ==, so a
- *  NaN is never equal). */
+/** True when a and b hold the same value in every knob and in exposure, debug_view and overlay (floats compare with
+ *  ==, so a NaN is never equal). */
 bool fv_quality_equal(const fv_quality *a, const fv_quality *b);
 
 #endif

@@ -25,7 +25,12 @@ static const char *const g_filter_names[] = {"none", "pcf3", "pcf5"};
 
 /* The table. Presets: fast, high and exact here; balanced is fv_quality_default() (fv_frame_input.h). Split scheme
  * and its lambda: parallel-split shadow maps, ../shared/papers/README.md §2. */
-static const char *const g_recon_names[] = {"nearest"};
+static const char *const g_recon_names[] = {"nearest", "sibson", "idw"};
+static const char *const g_voronoi_names[] = {"jfa", "blocks"};
+static const char *const g_compaction_names[] = {"tiles", "rows", "masked"};
+static const char *const g_gi_mode_names[] = {"cut", "traverse", "bound", "rsm_sampling", "exact"};
+static const char *const g_gi_limit_names[] = {"16", "32", "64", "leaf"};
+static const char *const g_sss_mode_names[] = {"hierarchy", "exact"};
 
 static const fv_knob g_knobs[] = {
     {.name = "shadow.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(shadow.enabled),
@@ -60,9 +65,8 @@ static const fv_knob g_knobs[] = {
             "shadow draws)"},
     {.name = "fovea.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.enabled),
      .fast = B(false), .high = B(false), .exact = B(false),
-     .doc = "foveated rendering (experimental, off in every preset: on lavapipe its map and compaction still cost "
-            "more than the shading they save): shade a gaze-driven subset of the pixels, fill the rest from the "
-            "nearest sample (off: every pixel shaded)"},
+     .doc = "foveated rendering (off in every preset until temporal reuse keeps the periphery from flickering; "
+            "BENCHMARKS.md): shade a gaze-driven subset of the pixels, reconstruct the rest (off: every pixel shaded)"},
     {.name = "fovea.mar_slope", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "deg/deg", AT(fovea.mar_slope),
      .fast = F(0.03f), .high = F(0.016f), .exact = F(0.022f),
      .doc = "slope m of the linear minimum angle of resolution w = m e + w0 (e: eccentricity from the gaze)"},
@@ -78,10 +82,95 @@ static const fv_knob g_knobs[] = {
     {.name = "fovea.uncertainty", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.uncertainty),
      .fast = B(false), .high = B(true), .exact = B(true),
      .doc = "widen the fovea by the predicted gaze's uncertainty (eccentricity e' = max(0, e - u))"},
-    {.name = "fovea.recon", .type = FV_KNOB_ENUM, .min = 0, .max = 0, .unit = "", .choices = g_recon_names,
-     .choice_count = 1, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_NEAREST), .high = I(FV_FOVEA_RECON_NEAREST),
-     .exact = I(FV_FOVEA_RECON_NEAREST),
-     .doc = "how unshaded pixels are filled: nearest (the nearest sample's colour by jump flooding)"},
+    {.name = "fovea.recon", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_RECON_LAST, .unit = "",
+     .choices = g_recon_names, .choice_count = 3, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_NEAREST),
+     .high = I(FV_FOVEA_RECON_NEAREST), .exact = I(FV_FOVEA_RECON_NEAREST),
+     .doc = "how unshaded pixels are filled: nearest (the nearest sample's colour), sibson (approximate discrete "
+            "natural-neighbour interpolation over the Voronoi diagram, window = the block), idw (inverse-distance-"
+            "squared weights of the neighbouring blocks' samples)"},
+    {.name = "fovea.voronoi", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_VORONOI_LAST, .unit = "",
+     .choices = g_voronoi_names, .choice_count = 2, AT(fovea.voronoi), .fast = I(FV_FOVEA_VORONOI_BLOCKS),
+     .high = I(FV_FOVEA_VORONOI_BLOCKS), .exact = I(FV_FOVEA_VORONOI_BLOCKS),
+     .doc = "how the nearest sample of every pixel is found: jfa (jump flooding, 1+JFA from the block size) or "
+            "blocks (exact: a search of the neighbouring blocks' samples, one pass)"},
+    {.name = "fovea.compaction", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_COMPACTION_LAST, .unit = "",
+     .choices = g_compaction_names, .choice_count = 3, AT(fovea.compaction), .fast = I(FV_FOVEA_COMPACTION_TILES),
+     .high = I(FV_FOVEA_COMPACTION_TILES), .exact = I(FV_FOVEA_COMPACTION_TILES),
+     .doc = "how the samples become the shading's list: tiles (8x8 tiles, one atomic each), rows (the paper's "
+            "row-wise CSR reorder), masked (a full dispatch that skips unsampled pixels)"},
+    /* distort.*: the HMD lens (render/distort, the hidden-area mask in render/gbuffer). Not speed/accuracy trades of
+     * the image but what the panel needs: on in every preset, exact included (an undistorted frame on an HMD panel
+     * is wrong, not more exact; the mask removes only pixels no one can see). They act only with an HMD lens. */
+    {.name = "distort.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(distort.enabled),
+     .fast = B(true), .high = B(true), .exact = B(true),
+     .doc = "pre-distort each eye for its HMD lens (radial polynomial, per-channel scale for chromatic aberration); "
+            "off: the undistorted eye images reach the target"},
+    {.name = "distort.mask", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(distort.mask),
+     .fast = B(true), .high = B(true), .exact = B(true),
+     .doc = "hidden-area mask: the pixels the lens never shows are never shaded (depth pre-fill in the G-buffer; "
+            "later passes skip them as nothing drawn)"},
+    /* gi.*: one-bounce GI from the light quad-tree (render/gi; Ki & Oh 2007, ../shared/papers/README.md §1). The
+     * threshold pairs of the paper: (0.45, 0.3), (0.25, 0.6), (0.05, 0.9). */
+    {.name = "gi.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(gi.enabled),
+     .fast = B(true), .high = B(true), .exact = B(true),
+     .doc = "one-bounce indirect light: a reflective shadow map per spot or directional light, clustered in a light "
+            "quad-tree (off: direct light only)"},
+    {.name = "gi.mode", .type = FV_KNOB_ENUM, .min = 0, .max = 4, .unit = "", .choices = g_gi_mode_names,
+     .choice_count = 5, AT(gi.mode), .fast = I(FV_GI_CUT), .high = I(FV_GI_CUT), .exact = I(FV_GI_EXACT),
+     .doc = "gather: cut (the flat cut list), traverse (the paper's per-pixel traversal), bound (refine while a "
+            "cluster's bound is large), rsm_sampling (Dachsbacher & Stamminger 2005), exact (every VPL)"},
+    {.name = "gi.rsm_size", .type = FV_KNOB_INT, .min = 1, .max = 1024, .pow2 = true, .unit = "px", AT(gi.rsm_size),
+     .fast = I(128), .high = I(512), .exact = I(64),
+     .doc = "side of each light's reflective shadow map: one VPL per texel",
+     .exact_note = "the exact sum visits every VPL at every pixel (N^2 each); 64 px (4096 VPLs) keeps a frame "
+                   "within seconds on lavapipe — exact for that RSM"},
+    {.name = "gi.start_level", .type = FV_KNOB_INT, .min = 1, .max = 64, .pow2 = true, .unit = "nodes",
+     AT(gi.start_level), .fast = I(16), .high = I(8), .exact = I(8),
+     .doc = "nodes per side of the level the traversal and the cut start from (coarser nodes are never one light)"},
+    {.name = "gi.limit_level", .type = FV_KNOB_ENUM, .min = 0, .max = 3, .unit = "nodes", .choices = g_gi_limit_names,
+     .choice_count = 4, AT(gi.limit_level), .fast = I(FV_GI_LIMIT_16), .high = I(FV_GI_LIMIT_64),
+     .exact = I(FV_GI_LIMIT_LEAF),
+     .doc = "nodes per side of the level always taken as valid: bounds the clusters per pixel (16: 256, 32: 1024, "
+            "64: 4096), leaf: no bound"},
+    {.name = "gi.depth_threshold", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(gi.depth_threshold),
+     .fast = F(0.45f), .high = F(0.05f), .exact = F(0.05f),
+     .doc = "a cluster is valid when each child's depth from the light is within this of the mean (a fraction of "
+            "the scene's size)"},
+    {.name = "gi.normal_threshold", .type = FV_KNOB_FLOAT, .min = -1, .max = 1, .unit = "", AT(gi.normal_threshold),
+     .fast = F(0.3f), .high = F(0.9f), .exact = F(0.9f),
+     .doc = "a cluster is valid when each child's normal has a dot product above this with the mean normal"},
+    {.name = "gi.samples", .type = FV_KNOB_INT, .min = 1, .max = 8192, .unit = "", AT(gi.samples),
+     .fast = I(128), .high = I(1024), .exact = I(4096),
+     .doc = "RSM samples per pixel of gi.mode=rsm_sampling"},
+    {.name = "gi.bound_fraction", .type = FV_KNOB_FLOAT, .min = 0.00001, .max = 1, .unit = "", AT(gi.bound_fraction),
+     .fast = F(0.05f), .high = F(0.002f), .exact = F(0.0001f),
+     .doc = "gi.mode=bound: a cluster is one light when its bound is at most this fraction of the start level's "
+            "estimate"},
+    /* sss.*: subsurface scattering, dipole diffusion over a quad-tree of light-view samples (render/sss; Ki & Oh,
+     * ../shared/papers/README.md section 4). Levels count from the root (level k: 2^k x 2^k clusters). */
+    {.name = "sss.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(sss.enabled),
+     .fast = B(true), .high = B(true), .exact = B(true),
+     .doc = "subsurface light on translucent materials (dipole, Jensen et al. 2001); off: shaded as opaque"},
+    {.name = "sss.map_size", .type = FV_KNOB_INT, .min = 16, .max = 512, .pow2 = true, .unit = "px",
+     AT(sss.map_size_px), .fast = I(64), .high = I(256), .exact = I(128),
+     .doc = "side of each light-view sample map (one per light and translucent material): map_size^2 samples",
+     .exact_note = "the exact sum is over every sample, so its cost grows with map_size^2; 128 keeps it measurable"},
+    {.name = "sss.start_level", .type = FV_KNOB_INT, .min = 0, .max = 9, .unit = "", AT(sss.start_level),
+     .fast = I(3), .high = I(3), .exact = I(3),
+     .doc = "the level the per-pixel cut starts from (3: 8 x 8 clusters, as the paper)"},
+    {.name = "sss.limit_level", .type = FV_KNOB_INT, .min = 0, .max = 9, .unit = "", AT(sss.limit_level),
+     .fast = I(5), .high = I(8), .exact = I(9),
+     .doc = "the finest level the cut reaches; its clusters are always accepted (the paper's 4 = 16 x 16 bounds the "
+            "work at 4^limit clusters per pixel but blurs: see BENCHMARKS.md); at the leaves only the distance rule "
+            "refines"},
+    {.name = "sss.distance_scale", .type = FV_KNOB_FLOAT, .min = 0, .max = 100, .unit = "1/m",
+     AT(sss.distance_scale), .fast = F(2.0f), .high = F(1.0f), .exact = F(0.0f),
+     .doc = "a cluster of radius r at distance d is accepted when r <= distance_scale x eye distance (m) x "
+            "similarity x d: coarser clusters farther from the eye; 0 refines to the limit level"},
+    {.name = "sss.mode", .type = FV_KNOB_ENUM, .min = 0, .max = 1, .unit = "", .choices = g_sss_mode_names,
+     .choice_count = 2, AT(sss.mode), .fast = I(FV_SSS_MODE_HIERARCHY), .high = I(FV_SSS_MODE_HIERARCHY),
+     .exact = I(FV_SSS_MODE_EXACT),
+     .doc = "hierarchy: a cut through the quad-tree per pixel; exact: every sample (brute force)"},
 };
 
 #define KNOB_COUNT (sizeof g_knobs / sizeof g_knobs[0])
@@ -387,6 +476,8 @@ bool fv_quality_equal(const fv_quality *a, const fv_quality *b)
 {
     if (!a || !b) return a == b;
     if (!(a->exposure == b->exposure) || a->debug_view != b->debug_view) return false;
+    if (a->overlay != b->overlay) return false; /* a view setting: the overlay pass runs or not */
+    if (!fv_lens_equal(&a->distort.lens, &b->distort.lens)) return false; /* the HMD's lens: not a knob */
     for (size_t i = 0; i < KNOB_COUNT; i++) {
         const fv_knob *k = &g_knobs[i];
         fv_knob_value x = fv_knob_get(k, a), y = fv_knob_get(k, b);

@@ -37,6 +37,8 @@ typedef struct fv_pass_env {
     bool multiview;
     const fv_plan_entry *plan;  /* this pass's decision */
     fv_frame_samples *samples;  /* the renderer's frame sample list (a producer reserves it at init) */
+    const fv_scene *scene_model; /* the loaded scene's structure as planning sees it (nodes, meshes without vertex
+                                  * data, materials, lights; NULL: none), valid until fini */
 } fv_pass_env;
 
 /** A list of packed pixels to re-shade (fv_gpu.h: FV_GPU_LIST_*), its indirect dispatch arguments, and the count

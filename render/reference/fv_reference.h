@@ -62,6 +62,8 @@ typedef struct fv_reference_desc {
     uint32_t eye_width, eye_height; /* pixels per eye; 0 = 720 x 800, as fv_renderer_desc */
     bool aa;               /* jitter each sample uniformly inside its pixel (box filter); false = pixel centres */
     uint32_t shadow_light; /* the light FV_REFERENCE_VIEW_SHADOW shows (default 0) */
+    bool gi;               /* model mode: add the exact one-bounce VPL sum of in->quality.gi (render/gi's model, when
+                            * gi.enabled); false = direct light only, as before GI existed */
     fv_reference_progress_fn progress; /* NULL = none */
     void *progress_user;
 } fv_reference_desc;

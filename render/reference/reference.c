@@ -169,6 +169,14 @@ static bool ray_from_inverse(const double inv[16], uint32_t width, uint32_t heig
     return true;
 }
 
+bool ref_invert4(const double m[16], double out[16]) { return invert4(m, out); }
+
+bool ref_ray_from_inverse(const double inv[16], uint32_t width, uint32_t height, double px, double py, dvec3 *o,
+                          dvec3 *d, double *t_max)
+{
+    return ray_from_inverse(inv, width, height, px, py, o, d, t_max);
+}
+
 bool fv_reference_pixel_ray(const fv_eye_view *view, uint32_t width, uint32_t height, double px, double py,
                             double out_origin_world[3], double out_dir_world[3], double *out_t_max)
 {
@@ -327,12 +335,27 @@ static fv_result render(const fv_scene *scene, const fv_frame_input *in, const f
         return res;
     }
     job->w = &world;
+    ref_gi gi; /* model mode's one-bounce GI: the exact VPL sum (path mode traces its bounces instead) */
+    memset(&gi, 0, sizeof gi);
+    res = d.mode == FV_REFERENCE_MODEL && d.gi ? ref_gi_init(&gi, &world, scene, in) : FV_OK;
+    ref_sss sss; /* model mode's subsurface light: the exact dipole sum (path mode shades it as Lambert) */
+    memset(&sss, 0, sizeof sss);
+    if (res == FV_OK && d.mode == FV_REFERENCE_MODEL) res = ref_sss_init(&sss, &world, scene, in);
+    if (res != FV_OK) {
+        ref_sss_fini(&sss);
+        ref_gi_fini(&gi);
+        ref_world_fini(&world);
+        free(job);
+        free(threads);
+        return res;
+    }
     job->desc = d;
     for (uint32_t e = 0; e < 2; e++) {
         eye_job *ej = &job->eyes[e];
         ej->out = out[e];
         ej->out_f64 = out_f64[e];
-        ej->ctx = (ref_pixel_ctx){.w = &world, .desc = &job->desc, .eye_pos = dv_from_f(in->eye[e].pos_world)};
+        ej->ctx = (ref_pixel_ctx){.w = &world, .desc = &job->desc, .eye_pos = dv_from_f(in->eye[e].pos_world),
+                                  .gi = gi.enabled ? &gi : NULL, .sss = sss.enabled ? &sss : NULL};
         view_proj(&in->eye[e], ej->ctx.vp);
         ej->valid = invert4(ej->ctx.vp, ej->inv_vp) && dv_finite(ej->ctx.eye_pos);
         if (out[e] || out_f64[e]) job->eye_index[job->eye_count++] = e;
@@ -377,6 +400,8 @@ static fv_result render(const fv_scene *scene, const fv_frame_input *in, const f
         FV_WARN(REF_MOD, "%s: %llu samples were not finite and count as 0", scene->source,
                 (unsigned long long)job->counts.nonfinite);
     pthread_mutex_destroy(&job->lock);
+    ref_sss_fini(&sss);
+    ref_gi_fini(&gi);
     ref_world_fini(&world);
     free(job);
     free(threads);

@@ -135,9 +135,65 @@ double ref_rng_next(ref_rng *r);
 /* ---- shading ------------------------------------------------------------------------------------------------- */
 /** One sample of one pixel: the primary ray (o, d, t_max) from the eye at eye_pos (its view-projection vp, column
  *  major, for the depth view). Writes linear RGB. */
+/* ---- one-bounce GI (reference_gi.c) -------------------------------------------------------------------------- */
+/** One VPL: a texel of a light's reflective shadow map, as render/gi stores it, in double. */
+typedef struct ref_vpl {
+    dvec3 flux, pos, n; /* reflected flux (W), world position, unit normal facing the light */
+    double r;           /* the texel's disk radius (m), bounding the 1/d^4 near the VPL */
+} ref_vpl;
+typedef struct ref_gi {
+    bool enabled;
+    ref_vpl *vpl;
+    uint32_t count;
+} ref_gi;
+/** The VPLs of in->quality.gi (nothing when gi.enabled is off): ray-cast RSMs of the GPU's light views. */
+FV_MUST_CHECK fv_result ref_gi_init(ref_gi *g, const ref_world *w, const fv_scene *scene, const fv_frame_input *in);
+void ref_gi_fini(ref_gi *g);
+/** The exact VPL sum at x (unit normal n), no visibility (the model). */
+dvec3 ref_gi_irradiance(const ref_gi *g, dvec3 x, dvec3 n);
+
+/** Invert a column-major 4x4 in double (false when singular), and the ray through image point (px, py) of a
+ *  width x height view with inverse view-projection inv (near to far plane, unit direction), as the primary rays. */
+bool ref_invert4(const double m[16], double out[16]);
+bool ref_ray_from_inverse(const double inv[16], uint32_t width, uint32_t height, double px, double py, dvec3 *o,
+                          dvec3 *d, double *t_max);
+
+/* ---- subsurface scattering (reference_sss.c) ----------------------------------------------------------------- */
+#include "fv_dipole.h"
+#include "fv_sss_math.h"
+/** One light-view sample, as render/sss stores it, in double. */
+typedef struct ref_sss_sample {
+    dvec3 pos, flux; /* world position; flux entering the surface E A (W) */
+    double area;     /* the surface area the texel covers (m^2) */
+} ref_sss_sample;
+typedef struct ref_sss_map {
+    uint32_t material;
+    double eta;
+    fv_dipole dipole[3]; /* per channel, per metre */
+    ref_sss_sample *samples;
+    uint32_t count;
+} ref_sss_map;
+typedef struct ref_sss {
+    bool enabled;
+    ref_sss_map map[FV_SSS_MAX_LAYERS];
+    uint32_t count;
+} ref_sss;
+/** The samples of in->quality.sss (nothing when sss.enabled is off): ray-cast maps of the GPU's light views. */
+FV_MUST_CHECK fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_scene *scene, const fv_frame_input *in);
+void ref_sss_fini(ref_sss *s);
+/** Whether `material` has a map (its diffuse light is then the dipole's, as on the GPU). */
+bool ref_sss_active(const ref_sss *s, uint32_t material);
+/** Lo toward the eye at x (unit normal n, to_eye toward the eye): (1/pi) Ft(eta, wo) sum of flux x kernel. */
+dvec3 ref_sss_radiance(const ref_sss *s, dvec3 x, dvec3 n, dvec3 to_eye, uint32_t material);
+/** fv_light_irradiance in double (reference_shade.c): irradiance of L at pos with unit normal n; the unit direction
+ *  toward the light and its distance (INFINITY for a directional light). */
+dvec3 ref_light_irradiance(const ref_light *L, dvec3 pos, dvec3 n, dvec3 *out_l, double *out_dist);
+
 typedef struct ref_pixel_ctx {
     const ref_world *w;
     const fv_reference_desc *desc; /* defaults applied */
+    const ref_gi *gi;              /* model mode's one-bounce GI (NULL or empty: none) */
+    const ref_sss *sss;            /* model mode's subsurface light (NULL or disabled: none) */
     dvec3 eye_pos;
     double vp[16];
 } ref_pixel_ctx;

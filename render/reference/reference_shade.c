@@ -40,6 +40,11 @@ static dvec3 light_irradiance(const ref_light *L, dvec3 pos, dvec3 n, dvec3 *out
     return dv_scale(L->intensity, falloff * cos_surface / d2);
 }
 
+dvec3 ref_light_irradiance(const ref_light *L, dvec3 pos, dvec3 n, dvec3 *out_l, double *out_dist)
+{
+    return light_irradiance(L, pos, n, out_l, out_dist);
+}
+
 /* Exact visibility of a point at distance dist along unit l from the hit (a shadow ray, counted). */
 static bool visible_toward(const ref_world *w, const ref_hit *h, dvec3 l, double dist, double dist_eps,
                            ref_counts *counts)
@@ -113,7 +118,15 @@ dvec3 ref_shade_model(const ref_pixel_ctx *c, dvec3 o, dvec3 d, double t_max, re
     default: break;
     }
     dvec3 albedo = ref_albedo(w, &h);
+    if (view == FV_REFERENCE_VIEW_COLOR && ref_sss_active(c->sss, h.material)) {
+        /* Translucent with SSS on: the dipole carries the direct light (fv_shade_surface); indirect light, emission
+         * and ambient as on any surface. */
+        dvec3 sss = ref_sss_radiance(c->sss, h.pos, h.n, dv_sub(c->eye_pos, h.pos), h.material);
+        if (c->gi) sss = dv_add(sss, dv_mul(dv_scale(albedo, 1.0 / FV_PI), ref_gi_irradiance(c->gi, h.pos, h.n)));
+        return finite_color(dv_add(sss, dv_add(w->materials[h.material].emissive, dv_mul(albedo, w->ambient))));
+    }
     dvec3 irradiance = punctual_irradiance(w, &h, UINT32_MAX, NULL, counts);
+    if (view == FV_REFERENCE_VIEW_COLOR && c->gi) irradiance = dv_add(irradiance, ref_gi_irradiance(c->gi, h.pos, h.n));
     /* fv_shade_combine: Lambert albedo / pi times irradiance, plus emission and albedo x ambient */
     dvec3 color = dv_mul(dv_scale(albedo, 1.0 / FV_PI), irradiance);
     if (view == FV_REFERENCE_VIEW_COLOR)

@@ -282,7 +282,11 @@ static fv_result ply_header_parse(const char *origin, const uint8_t *b, size_t l
             e->property_count++;
             continue;
         }
-        /* other lines: assimp decides */
+        /* The PLY header has no other keywords; assimp's parser can spin forever on one it does not know (a fuzzed
+         * "element`" line), so an unknown keyword is refused here. */
+        FV_ERROR("scene", "%s: PLY header line %d: unknown keyword '%s' (format, element, property, comment, obj_info, "
+                 "end_header)", origin, lineno, tok_str(t, a, sizeof a));
+        return FV_ERR_PARSE;
     }
     FV_ERROR("scene", "%s: PLY header has no end_header line", origin);
     return FV_ERR_PARSE;

@@ -37,6 +37,12 @@ typedef struct fv_target_ops {
     /** After the submit. NULL: nothing to do. */
     fv_result (*end)(fv_target *t, const fv_target_frame *f);
     void (*destroy)(fv_target *t);
+    /** Before the renderer creates its device: what the target needs of it (a window: its surface's instance
+     *  extensions and the callback that creates the surface; fv_vk_desc's presentation fields). NULL: nothing. */
+    void (*configure_vk)(fv_target *t, fv_vk_desc *desc);
+    /** The renderer's device is about to go (the GPU is idle): free everything made with it (a swapchain). NULL:
+     *  nothing. */
+    void (*detach)(fv_target *t, fv_vk *vk);
 } fv_target_ops;
 
 struct fv_target {

@@ -97,6 +97,10 @@ typedef struct fv_vk_desc {
     uint32_t device_extension_count;
     fv_result (*create_surface)(VkInstance instance, void *user, VkSurfaceKHR *out_surface);
     void *surface_user;
+    /* Device extensions enabled only when the chosen device has them (a device without them stays usable); the
+     * strings must outlive the fv_vk (static names). fv_vk_optional_enabled says which were. */
+    const char *const *optional_device_extensions;
+    uint32_t optional_device_extension_count;
 } fv_vk_desc;
 
 typedef struct fv_vk {
@@ -125,6 +129,8 @@ typedef struct fv_vk {
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name;
     PFN_vkCmdBeginDebugUtilsLabelEXT cmd_label_begin;
     PFN_vkCmdEndDebugUtilsLabelEXT cmd_label_end;
+    const char *optional_enabled[FV_VK_MAX_EXTENSIONS]; /* the optional device extensions this device enabled */
+    uint32_t optional_enabled_count;
 } fv_vk;
 
 /** Create instance, messenger, device, queue and pool. Logs why when no device qualifies. */
@@ -132,6 +138,8 @@ FV_MUST_CHECK fv_result fv_vk_create(const fv_vk_desc *desc, fv_vk **out_vk);
 /** Wait for the device, destroy everything, set *vk to NULL. Safe on NULL. Logs leaked allocations. */
 void fv_vk_destroy(fv_vk **vk);
 uint32_t fv_vk_validation_messages(const fv_vk *vk);
+/** Whether an optional device extension (fv_vk_desc.optional_device_extensions) was enabled on this device. */
+bool fv_vk_optional_enabled(const fv_vk *vk, const char *extension);
 
 /** Give a Vulkan object a debug name (printf-style); no-op without debug utils. */
 void fv_vk_name(fv_vk *vk, VkObjectType type, uint64_t handle, const char *fmt, ...) FV_PRINTF(4, 5);

@@ -432,7 +432,8 @@ fv_result fv_vk_create(const fv_vk_desc *desc_in, fv_vk **out_vk)
     atomic_init(&vk->validation_messages, 0u);
     vk->validation = desc.validation > 0 || (desc.validation == 0 && env_on("FOVEA_VALIDATION"));
 
-    if (desc.instance_extension_count > FV_VK_MAX_EXTENSIONS || desc.device_extension_count > FV_VK_MAX_EXTENSIONS) {
+    if (desc.instance_extension_count > FV_VK_MAX_EXTENSIONS || desc.device_extension_count > FV_VK_MAX_EXTENSIONS ||
+        desc.optional_device_extension_count > FV_VK_MAX_EXTENSIONS) {
         FV_ERROR(MOD, "more than %d instance or device extensions asked for", FV_VK_MAX_EXTENSIONS);
         res = FV_ERR_RANGE;
         goto fail;
@@ -498,8 +499,7 @@ fv_result fv_vk_create(const fv_vk_desc *desc_in, fv_vk **out_vk)
     }
     VkResult er = vkEnumerateDeviceExtensionProperties(vk->phys, NULL, &ne, exts);
     bool portability_subset = er >= 0 && has_extension(exts, ne, "VK_KHR_portability_subset");
-    free(exts);
-    const char *dev_exts[FV_VK_MAX_EXTENSIONS + 2];
+    const char *dev_exts[2 * FV_VK_MAX_EXTENSIONS + 2];
     uint32_t dev_ext_count = 0;
     if (portability_subset) dev_exts[dev_ext_count++] = "VK_KHR_portability_subset";
     if (vk->surface) dev_exts[dev_ext_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
@@ -508,9 +508,19 @@ fv_result fv_vk_create(const fv_vk_desc *desc_in, fv_vk **out_vk)
         for (uint32_t k = 0; k < dev_ext_count; k++) dup = dup || strcmp(dev_exts[k], desc.device_extensions[i]) == 0;
         if (!dup) dev_exts[dev_ext_count++] = desc.device_extensions[i];
     }
+    /* Optional extensions: enabled when this device has them (e.g. a presenter's display timing). */
+    for (uint32_t i = 0; i < desc.optional_device_extension_count && er >= 0; i++) {
+        const char *x = desc.optional_device_extensions[i];
+        bool dup = false;
+        for (uint32_t k = 0; k < dev_ext_count; k++) dup = dup || strcmp(dev_exts[k], x) == 0;
+        if (dup || !has_extension(exts, ne, x)) continue;
+        dev_exts[dev_ext_count++] = x;
+        vk->optional_enabled[vk->optional_enabled_count++] = x;
+    }
+    free(exts);
 
-    /* Presenting: prefer the rendering family itself; else the first family that can present (then images
-     * change hands between the two families, which the presenter handles with ownership transfers). */
+    /* Presenting: prefer the rendering family itself; else the first family that can present (then the window's
+     * swapchain images are shared concurrently by the two families, so no ownership transfer is needed). */
     vk->present_family = vk->queue_family;
     if (vk->surface) {
         int pf = present_family(vk->phys, vk->surface, vk->queue_family);
@@ -592,6 +602,13 @@ void fv_vk_destroy(fv_vk **pvk)
     if (vk->instance) vkDestroyInstance(vk->instance, NULL);
     free(vk);
     *pvk = NULL;
+}
+
+bool fv_vk_optional_enabled(const fv_vk *vk, const char *extension)
+{
+    for (uint32_t i = 0; vk && extension && i < vk->optional_enabled_count; i++)
+        if (strcmp(vk->optional_enabled[i], extension) == 0) return true;
+    return false;
 }
 
 uint32_t fv_vk_validation_messages(const fv_vk *vk)

@@ -46,27 +46,15 @@ void fv_near_far_from_bounds(const fv_head_pose *head, fv_vec3 bounds_min, fv_ve
     if (out_far_m) *out_far_m = f;
 }
 
-void fv_eye_views_build(const fv_head_pose *head, float near_m, float far_m, uint32_t eye_width, uint32_t eye_height,
-                        fv_eye_view out[2])
+/* Both eyes' views from the head and each eye's frustum extents (tangents of its left, right, up and down half-angles,
+ * all magnitudes); near/far already sanitized. */
+static void build_views(const fv_head_pose *head, float near_m, float far_m, double ext[2][4], fv_eye_view out[2])
 {
     fv_vec3 pos = head && fv_v3_isfinite(head->position_m) ? head->position_m : fv_v3(0, 0, 0);
     fv_quat q = head ? fv_quat_normalize(head->orientation) : fv_quat_identity();
     if (!(isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w))) q = fv_quat_identity();
     float ipd_mm = head && isfinite(head->ipd_mm) ? head->ipd_mm : FV_DEFAULT_IPD_MM;
     ipd_mm = fv_clampf(ipd_mm, 0.0f, FV_MAX_IPD_MM);
-    fv_near_far_sanitize(&near_m, &far_m);
-
-    /* Field of view: the vertical extent of the HMD default; the horizontal extent follows the image aspect so that
-     * pixels stay square, split between the outer and inner side in the HMD's proportion (outer wider). Without an
-     * image size, the HMD's own horizontal extent. */
-    double t_up = tan(fv_deg_to_rad(FV_HMD_FOV_UP_DEG)), t_down = tan(fv_deg_to_rad(FV_HMD_FOV_DOWN_DEG));
-    double t_outer = tan(fv_deg_to_rad(FV_HMD_FOV_OUTER_DEG)), t_inner = tan(fv_deg_to_rad(FV_HMD_FOV_INNER_DEG));
-    double outer = t_outer, inner = t_inner;
-    if (eye_width && eye_height) {
-        double span_x = (t_up + t_down) * (double)eye_width / (double)eye_height;
-        outer = span_x * t_outer / (t_outer + t_inner);
-        inner = span_x - outer;
-    }
 
     fv_mat4 rot = fv_mat4_from_quat(q);
     fv_mat4 rot_t = fv_mat4_transpose(&rot);
@@ -82,12 +70,49 @@ void fv_eye_views_build(const fv_head_pose *head, float near_m, float far_m, uin
         v->view.m[3][0] = -t.x;
         v->view.m[3][1] = -t.y;
         v->view.m[3][2] = -t.z;
-        v->tan_left = (float)(e == 0 ? -outer : -inner);
-        v->tan_right = (float)(e == 0 ? inner : outer);
-        v->tan_up = (float)t_up;
-        v->tan_down = (float)-t_down;
+        v->tan_left = (float)-ext[e][0];
+        v->tan_right = (float)ext[e][1];
+        v->tan_up = (float)ext[e][2];
+        v->tan_down = (float)-ext[e][3];
         v->near_m = near_m;
         v->far_m = far_m;
         v->proj = fv_mat4_perspective_tan(v->tan_left, v->tan_right, v->tan_up, v->tan_down, near_m, far_m);
     }
+}
+
+void fv_eye_views_build(const fv_head_pose *head, float near_m, float far_m, uint32_t eye_width, uint32_t eye_height,
+                        fv_eye_view out[2])
+{
+    fv_near_far_sanitize(&near_m, &far_m);
+
+    /* Field of view: the vertical extent of the HMD default; the horizontal extent follows the image aspect so that
+     * pixels stay square, split between the outer and inner side in the HMD's proportion (outer wider). Without an
+     * image size, the HMD's own horizontal extent. */
+    double t_up = tan(fv_deg_to_rad(FV_HMD_FOV_UP_DEG)), t_down = tan(fv_deg_to_rad(FV_HMD_FOV_DOWN_DEG));
+    double t_outer = tan(fv_deg_to_rad(FV_HMD_FOV_OUTER_DEG)), t_inner = tan(fv_deg_to_rad(FV_HMD_FOV_INNER_DEG));
+    double outer = t_outer, inner = t_inner;
+    if (eye_width && eye_height) {
+        double span_x = (t_up + t_down) * (double)eye_width / (double)eye_height;
+        outer = span_x * t_outer / (t_outer + t_inner);
+        inner = span_x - outer;
+    }
+    double ext[2][4] = {{outer, inner, t_up, t_down}, {inner, outer, t_up, t_down}};
+    build_views(head, near_m, far_m, ext, out);
+}
+
+void fv_eye_views_build_fov(const fv_head_pose *head, float near_m, float far_m, const float fov[8],
+                            fv_eye_view out[2])
+{
+    fv_near_far_sanitize(&near_m, &far_m);
+    /* the default's extents stand in for any that is not a finite tangent in [1e-3, 100] (0.06..89.4 degrees) */
+    const double def[4] = {tan(fv_deg_to_rad(FV_HMD_FOV_OUTER_DEG)), tan(fv_deg_to_rad(FV_HMD_FOV_INNER_DEG)),
+                           tan(fv_deg_to_rad(FV_HMD_FOV_UP_DEG)), tan(fv_deg_to_rad(FV_HMD_FOV_DOWN_DEG))};
+    double ext[2][4];
+    for (int e = 0; e < 2; e++)
+        for (int i = 0; i < 4; i++) {
+            double t = fov ? (double)fov[4 * e + i] : NAN;
+            int d = i < 2 && e == 1 ? 1 - i : i; /* the default mirrored: the right eye's outer side is its right */
+            ext[e][i] = isfinite(t) && t >= 1e-3 && t <= 100.0 ? t : def[d];
+        }
+    build_views(head, near_m, far_m, ext, out);
 }

@@ -10,6 +10,7 @@
 #include "fv_clock.h"
 #include "fv_gaze_clock.h"
 #include "fv_gaze_filter.h"
+#include "fv_gaze_noise.h"
 #include "fv_gaze_saccade.h"
 #include "fv_log.h"
 #include "fv_stats.h"
@@ -26,6 +27,15 @@
 #define PURSUIT_ON_DEG_S 4.0
 #define PURSUIT_OFF_DEG_S 2.5
 #define PURSUIT_MIN_SIGNIFICANCE 3.0
+#define SCORE_HORIZON_NS (20 * FV_NS_PER_MS)      /* candidates are scored at this horizon */
+#define SCORE_MIN 8                              /* scores needed before a candidate other than the model is used */
+#define SCORE_MEMORY 512.0                        /* the running scores average over about this many */
+#define SELECT_SES 1.25                           /* a candidate replaces the newest sample only when its mean
+                                                   * error stays below the sample's by 1.25 standard errors */
+#define PEND_SLOTS 32
+#define RADIUS_PER_MEAN_ERROR 1.72                /* Rayleigh: P(r < 1.72 mean) = 0.90 */
+#define MID_WINDOW_NS (50 * FV_NS_PER_MS)         /* extrapolated velocity: regression over the newest 50 ms */
+#define SHRINK_SDS 2.0                            /* velocity shrinkage: nothing of a velocity within 2 SE */
 #define VERGENCE_TAU_S 0.2
 #define PUPIL_TAU_S 0.15
 #define PUPIL_MIN_MM 0.5
@@ -36,6 +46,12 @@
 #define FIXATION_GROWTH_DEG_S 2.0
 
 enum { CH_LEFT = 0, CH_RIGHT = 1, CH_COMBINED = 2 };
+/* the candidate predictions (see candidates()): the newest sample, the filtered position, the model, the newest
+ * sample moved by the shrunk velocity, and by half of it (inside a saccade: by the 20 ms velocity) */
+enum { CAND_SAMPLE = 0, CAND_FILTERED = 1, CAND_MODEL = 2, CAND_SAMPLE_VEL = 3, CAND_SAMPLE_HALF = 4, CAND_BLEND = 5,
+       CANDS = 6 };
+/* scoring contexts: the motion state x the speed of the newest 50 ms (SPEED_BINS bins) */
+enum { STATES = FV_GAZE_EVENT_LOST + 1, SPEED_BINS = 4, CONTEXTS = STATES * SPEED_BINS };
 
 typedef struct channel {
     fv_gaze_one_euro filter;
@@ -48,6 +64,10 @@ struct fv_gaze_pipeline {
     fv_gaze_pipeline_desc desc;
     fv_gaze_main_sequence ms;
     fv_gaze_clock_map clock;
+    fv_gaze_noise noise;      /* the tracker's noise and rate, measured online during fixations */
+    bool adaptive_filter;     /* the 1€ parameters follow the noise (none given in the desc) */
+    double sacc_on, sacc_off; /* saccade thresholds in use: the desc's, raised above the noise's velocity */
+    double sacc_on2;          /* the same for the speed between the two newest samples */
     bool have_dev;
     int64_t last_dev_ns, last_host_ns;
     channel ch[3];
@@ -67,10 +87,32 @@ struct fv_gaze_pipeline {
     int64_t fit_onset_ns;
     double v_short[2], v_long[2], reg_pos[2];
     double v_long_sig;     /* significance of v_long (standard errors) */
+    double v_mid[2], mid_pos[2], v_mid_sig; /* velocity over the newest MID_WINDOW of the segment, its line's
+                                             * value at the newest sample, and its significance */
     bool long_ok;
     bool have_valid, last_sample_valid;
     int64_t last_valid_ns;
     double hold_pos[2];    /* the last fixation (held through blinks) */
+    /* online scoring of the candidate predictors (see score_candidates) */
+    struct {
+        int64_t t_ns;
+        int context;
+        double c[CANDS][2];
+    } pend[PEND_SLOTS];
+    int pend_head, pend_count;
+    double mae[CONTEXTS][CANDS];   /* running mean angular error per context and candidate, deg */
+    uint32_t scored[CONTEXTS];
+    double mae_state[STATES][CANDS]; /* the same per motion state alone (the fallback of a context not scored yet) */
+    uint32_t scored_state[STATES];
+    /* the paired difference to the newest sample's error (candidate - sample): running mean and mean square */
+    double dmean[CONTEXTS][CANDS], dsq[CONTEXTS][CANDS];
+    double dmean_state[STATES][CANDS], dsq_state[STATES][CANDS];
+    /* the blend's share of the model's step from the newest sample: running means of (truth - sample).(model -
+     * sample) and |model - sample|^2 per context and per state */
+    double lam_num[CONTEXTS], lam_den[CONTEXTS], lam_num_state[STATES], lam_den_state[STATES];
+    bool have_prev_raw;
+    int64_t prev_raw_ns;
+    double prev_raw[2];
     bool pupil_valid;
     double pupil_mm;
     int64_t pupil_ns;
@@ -100,6 +142,8 @@ fv_result fv_gaze_pipeline_create(const fv_gaze_pipeline_desc *desc, fv_gaze_pip
     *out = NULL;
     fv_gaze_pipeline_desc d = {0};
     if (desc) d = *desc;
+    bool adaptive = !(isfinite(d.filter_min_cutoff_hz) && d.filter_min_cutoff_hz > 0.0f) &&
+                    !(isfinite(d.filter_beta) && d.filter_beta > 0.0f);
     d.accuracy_deg = pos_or(d.accuracy_deg, 0.5f);
     d.filter_min_cutoff_hz = pos_or(d.filter_min_cutoff_hz, 1.0f);
     d.filter_beta = pos_or(d.filter_beta, 0.3f);
@@ -122,6 +166,11 @@ fv_result fv_gaze_pipeline_create(const fv_gaze_pipeline_desc *desc, fv_gaze_pip
     fv_gaze_pipeline *p = calloc(1, sizeof *p);
     if (!p) return FV_ERR_NO_MEMORY;
     p->desc = d;
+    p->adaptive_filter = adaptive;
+    fv_gaze_noise_init(&p->noise);
+    p->sacc_on = d.saccade_on_deg_s;
+    p->sacc_on2 = INFINITY;
+    p->sacc_off = d.saccade_off_deg_s;
     p->ms.vmax_deg_s = d.main_sequence_vmax_deg_s;
     p->ms.c_deg = d.main_sequence_c_deg;
     fv_gaze_clock_map_init(&p->clock, 0, 0);
@@ -141,7 +190,7 @@ void fv_gaze_pipeline_destroy(fv_gaze_pipeline **p)
 
 /* ---- angles ---- */
 
-static bool dir_to_angles(fv_vec3 d, double max_ecc_deg, double out[2])
+bool fv_gaze_dir_to_angles(fv_vec3 d, double max_ecc_deg, double out[2])
 {
     if (!fv_v3_isfinite(d)) return false;
     double x = d.x, y = d.y, z = d.z;
@@ -157,7 +206,7 @@ static bool dir_to_angles(fv_vec3 d, double max_ecc_deg, double out[2])
     return isfinite(out[0]) && isfinite(out[1]);
 }
 
-static fv_vec3 angles_to_dir(const double a[2])
+fv_vec3 fv_gaze_angles_to_dir(const double a[2])
 {
     double yaw = isfinite(a[0]) ? fmax(-179.0, fmin(179.0, a[0])) : 0.0;
     double pitch = isfinite(a[1]) ? fmax(-89.0, fmin(89.0, a[1])) : 0.0;
@@ -308,15 +357,19 @@ static bool predict_saccade(const fv_gaze_pipeline *p, int64_t t_target_ns, doub
 static bool eye_usable(const fv_gaze_pipeline *p, const fv_eye_sample *e, double out[2])
 {
     if (!(e->flags & FV_EYE_DIRECTION_VALID) || (e->flags & FV_EYE_BLINK)) return false;
-    return dir_to_angles(e->direction, p->desc.max_eccentricity_deg, out);
+    return fv_gaze_dir_to_angles(e->direction, p->desc.max_eccentricity_deg, out);
 }
 
 static void reset_motion(fv_gaze_pipeline *p, int64_t t)
 {
     hist_clear(p);
+    fv_gaze_noise_break(&p->noise);
+    p->pend_count = 0; /* predictions across a hole are not scored */
+    p->have_prev_raw = false;
     p->state = FV_GAZE_EVENT_FIXATION;
     p->segment_start_ns = t;
     p->long_ok = false;
+    p->v_mid_sig = 0.0;
     p->v_short[0] = p->v_short[1] = p->v_long[0] = p->v_long[1] = 0.0;
     for (int c = 0; c < 3; c++) p->ch[c].filter.started = false;
 }
@@ -379,7 +432,16 @@ static void classify(fv_gaze_pipeline *p, int64_t t)
     double pitch = p->h_p[hist_index(p, 0)][1];
     double speed = ns >= 2 ? ang_norm(p->v_short, pitch) : 0.0;
     if (p->state != FV_GAZE_EVENT_SACCADE) {
-        if (speed > p->desc.saccade_on_deg_s) {
+        double speed2 = 0.0;
+        if (p->h_count >= 2) {
+            int k0 = hist_index(p, 0), k1 = hist_index(p, 1);
+            double dt = (double)(p->h_t[k0] - p->h_t[k1]) * 1e-9;
+            if (dt > 0.0) {
+                double dv[2] = {(p->h_p[k0][0] - p->h_p[k1][0]) / dt, (p->h_p[k0][1] - p->h_p[k1][1]) / dt};
+                speed2 = ang_norm(dv, pitch);
+            }
+        }
+        if (speed > p->sacc_on || speed2 > p->sacc_on2) {
             p->state = FV_GAZE_EVENT_SACCADE;
             p->stats.saccades++;
             p->sacc_start_ns = t;
@@ -393,7 +455,7 @@ static void classify(fv_gaze_pipeline *p, int64_t t)
             return;
         }
     } else {
-        if (speed < p->desc.saccade_off_deg_s || fv_i64_sub_sat(t, p->sacc_start_ns) > MAX_SACCADE_NS) {
+        if (speed < p->sacc_off || fv_i64_sub_sat(t, p->sacc_start_ns) > MAX_SACCADE_NS) {
             p->state = FV_GAZE_EVENT_FIXATION;
             p->segment_start_ns = t;
         } else {
@@ -407,11 +469,216 @@ static void classify(fv_gaze_pipeline *p, int64_t t)
     double vl = p->long_ok ? ang_norm(p->v_long, pitch) : 0.0;
     /* a pursuit velocity must stand out of the noise (3 standard errors), or extrapolating it only adds error */
     p->v_long_sig = p->long_ok ? slope_significance(p, nl, p->v_long, p->reg_pos) : 0.0;
+    /* the extrapolated velocity: over the newest 50 ms of the segment (>= 4 samples), and how far it stands out */
+    int nm = regress(p, MID_WINDOW_NS, 4, p->segment_start_ns, p->v_mid, p->mid_pos);
+    p->v_mid_sig = slope_significance(p, nm, p->v_mid, p->mid_pos);
     if (p->state == FV_GAZE_EVENT_PURSUIT) {
-        if (!p->long_ok || vl < PURSUIT_OFF_DEG_S) p->state = FV_GAZE_EVENT_FIXATION;
+        /* hysteresis on the significance too: a noisy tracker's fitted velocity is rarely below 2.5 deg/s */
+        if (!p->long_ok || vl < PURSUIT_OFF_DEG_S || p->v_long_sig < 0.5 * PURSUIT_MIN_SIGNIFICANCE)
+            p->state = FV_GAZE_EVENT_FIXATION;
     } else if (p->long_ok && vl > PURSUIT_ON_DEG_S && p->v_long_sig > PURSUIT_MIN_SIGNIFICANCE) {
         p->state = FV_GAZE_EVENT_PURSUIT;
     }
+}
+
+/* The candidate predictions at horizon h_s (clamped) after the newest valid sample for motion state ev:
+ * the newest raw sample, the filtered position, and the model (fixation and pursuit: the filtered position moved
+ * toward the line through the newest 50 ms, extrapolated by the share of its velocity that stands out of the noise,
+ * g = 1 - (k/z)^2 for a velocity z standard errors from zero (James-Stein shrinkage; 0 below k): a fixation's drift
+ * is within the noise, g = 0, the filtered position; a pursuit's velocity is not, g -> 1, the line free of the
+ * filter's lag. Saccade: the main-sequence landing once the fit is confident, else the newest position).
+ * *extra_unc: what the model adds to the uncertainty beyond the fixation growth. */
+static int context(const fv_gaze_pipeline *p, fv_gaze_event ev);
+
+/* The blend: the newest sample moved by the share lambda of the model's step from it that has paid off in this
+ * context (least squares on the scored samples: lambda = E[(truth - sample).(model - sample)] / E[|model -
+ * sample|^2], clamped to [0, 1]) -- shrinkage of the predicted displacement toward zero by its measured benefit. */
+static void blend(const fv_gaze_pipeline *p, fv_gaze_event ev, double cand[CANDS][2])
+{
+    int cx = context(p, ev), st = cx / SPEED_BINS;
+    double num = 0.0, den = 0.0;
+    if (p->scored[cx] >= SCORE_MIN) num = p->lam_num[cx], den = p->lam_den[cx];
+    else if (p->scored_state[st] >= SCORE_MIN) num = p->lam_num_state[st], den = p->lam_den_state[st];
+    double lam = den > 1e-12 ? fmax(0.0, fmin(1.0, num / den)) : 0.0;
+    if (!isfinite(lam)) lam = 0.0;
+    for (int a = 0; a < 2; a++)
+        cand[CAND_BLEND][a] = cand[CAND_SAMPLE][a] + lam * (cand[CAND_MODEL][a] - cand[CAND_SAMPLE][a]);
+}
+
+static void candidates(const fv_gaze_pipeline *p, fv_gaze_event ev, double h_s, double cand[CANDS][2],
+                       double *extra_unc)
+{
+    const double *raw = p->h_p[hist_index(p, 0)];
+    const channel *cc = &p->ch[CH_COMBINED];
+    double hpos = fmax(0.0, h_s);
+    for (int a = 0; a < 2; a++) {
+        cand[CAND_SAMPLE][a] = p->h_count > 0 ? raw[a] : cc->pos[a];
+        cand[CAND_FILTERED][a] = cc->pos[a];
+        cand[CAND_MODEL][a] = cc->pos[a];
+        cand[CAND_SAMPLE_VEL][a] = cand[CAND_SAMPLE][a];
+        cand[CAND_SAMPLE_HALF][a] = cand[CAND_SAMPLE][a];
+        cand[CAND_BLEND][a] = cand[CAND_SAMPLE][a];
+    }
+    if (ev == FV_GAZE_EVENT_SACCADE) {
+        double remaining = 0.0;
+        int64_t target = fv_i64_add_sat(p->last_valid_ns, (int64_t)(h_s * 1e9));
+        if (!p->fit_confident || !predict_saccade(p, target, cand[CAND_MODEL], &remaining)) {
+            /* no trustworthy landing yet: the newest position (the saccade's extent is unknown) */
+            cand[CAND_MODEL][0] = cc->pos[0];
+            cand[CAND_MODEL][1] = cc->pos[1];
+            remaining = ang_norm(p->v_short, cc->pos[1]) * hpos;
+        }
+        *extra_unc = 0.5 + 0.25 * remaining;
+        /* the velocity slot: the landing fit even before it is confident (from its first two samples, the
+         * amplitude prior decides); the scorer keeps it only where it pays */
+        double r2;
+        if (p->fit_ok && !predict_saccade(p, target, cand[CAND_SAMPLE_VEL], &r2)) {
+            cand[CAND_SAMPLE_VEL][0] = cand[CAND_SAMPLE][0];
+            cand[CAND_SAMPLE_VEL][1] = cand[CAND_SAMPLE][1];
+        }
+        /* inside a saccade the half-velocity slot holds the newest sample moved by the 20 ms velocity (a head
+         * movement read as a saccade continues; the velocity slot stays the sample) */
+        double lim = p->desc.max_eccentricity_deg;
+        for (int a = 0; a < 2; a++)
+            cand[CAND_SAMPLE_HALF][a] = fmax(-lim, fmin(lim, cand[CAND_SAMPLE_HALF][a] + p->v_short[a] * hpos));
+        blend(p, ev, cand);
+        return;
+    }
+    double z = p->v_mid_sig, k = SHRINK_SDS, g = z > k ? 1.0 - (k / z) * (k / z) : 0.0;
+    for (int a = 0; a < 2; a++) {
+        cand[CAND_MODEL][a] += g * (p->mid_pos[a] + p->v_mid[a] * h_s - cc->pos[a]);
+        cand[CAND_SAMPLE_VEL][a] += g * p->v_mid[a] * h_s;
+        cand[CAND_SAMPLE_HALF][a] += 0.5 * g * p->v_mid[a] * h_s;
+    }
+    *extra_unc = 0.25 * g * ang_norm(p->v_mid, cc->pos[1]) * hpos;
+    blend(p, ev, cand);
+}
+
+/* The scoring context of state ev now: the state and a bin of the speed over the newest 50 ms (< 5, < 20, < 60,
+ * >= 60 deg/s): the best candidate of a slow pursuit is not that of a fast one. */
+static int context(const fv_gaze_pipeline *p, fv_gaze_event ev)
+{
+    int st = (int)ev >= 0 && (int)ev < STATES ? (int)ev : 0;
+    double v = ang_norm(p->v_mid, p->h_count > 0 ? p->h_p[hist_index(p, 0)][1] : 0.0);
+    int bin = !(v >= 5.0) ? 0 : v < 20.0 ? 1 : v < 60.0 ? 2 : 3;
+    return st * SPEED_BINS + bin;
+}
+
+/* Prediction earns its place: every valid sample leaves the candidates' predictions for SCORE_HORIZON ahead; when
+ * the samples around that time arrive, each candidate's angular error against the raw gaze interpolated there
+ * enters a running mean per context (motion state x speed bin; the state alone until the context has SCORE_MIN).
+ * choose_candidate() keeps the newest sample unless another candidate has led it by SELECT_SES standard errors in
+ * this context (a tracker whose own filtering leaves nothing to gain, a noisy one where the saccade fit misleads).
+ * The raw truth carries the tracker's noise, which is independent of every candidate 20 ms earlier. The mean
+ * absolute error, not the mean square, ranks them: a candidate with rare large misses (a landing fit on a head
+ * movement) loses less to them, and the 95th percentile followed better on the recordings. */
+static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2])
+{
+    while (p->pend_count > 0) {
+        int i = (p->pend_head - p->pend_count + PEND_SLOTS) % PEND_SLOTS;
+        if (p->pend[i].t_ns > t) break;
+        p->pend_count--;
+        int64_t gap = fv_i64_sub_sat(t, p->prev_raw_ns);
+        if (!p->have_prev_raw || p->pend[i].t_ns < p->prev_raw_ns || gap > GAP_RESET_NS) continue;
+        double w = gap > 0 ? ((double)p->pend[i].t_ns - (double)p->prev_raw_ns) / (double)gap : 1.0;
+        double truth[2] = {p->prev_raw[0] + w * (pos[0] - p->prev_raw[0]), p->prev_raw[1] + w * (pos[1] - p->prev_raw[1])};
+        int cx = p->pend[i].context, st = cx / SPEED_BINS;
+        double lr = fmax(1.0 / ((double)p->scored[cx] + 1.0), 1.0 / SCORE_MEMORY);
+        double ls = fmax(1.0 / ((double)p->scored_state[st] + 1.0), 1.0 / SCORE_MEMORY);
+        double e[CANDS];
+        for (int c = 0; c < CANDS; c++) {
+            double d[2] = {p->pend[i].c[c][0] - truth[0], p->pend[i].c[c][1] - truth[1]};
+            e[c] = ang_norm(d, truth[1]);
+        }
+        if (!isfinite(e[CAND_SAMPLE])) continue;
+        {
+            const double *s0 = p->pend[i].c[CAND_SAMPLE], *m0 = p->pend[i].c[CAND_MODEL];
+            double dm[2] = {m0[0] - s0[0], m0[1] - s0[1]}, dr[2] = {truth[0] - s0[0], truth[1] - s0[1]};
+            double num = dm[0] * dr[0] + dm[1] * dr[1], den = dm[0] * dm[0] + dm[1] * dm[1];
+            if (isfinite(num) && isfinite(den)) {
+                p->lam_num[cx] += lr * (num - p->lam_num[cx]);
+                p->lam_den[cx] += lr * (den - p->lam_den[cx]);
+                p->lam_num_state[st] += ls * (num - p->lam_num_state[st]);
+                p->lam_den_state[st] += ls * (den - p->lam_den_state[st]);
+            }
+        }
+        for (int c = 0; c < CANDS; c++) {
+            if (!isfinite(e[c])) e[c] = e[CAND_SAMPLE] + 90.0; /* never chosen */
+            double dd = e[c] - e[CAND_SAMPLE];
+            p->mae[cx][c] += lr * (e[c] - p->mae[cx][c]);
+            p->mae_state[st][c] += ls * (e[c] - p->mae_state[st][c]);
+            p->dmean[cx][c] += lr * (dd - p->dmean[cx][c]);
+            p->dsq[cx][c] += lr * (dd * dd - p->dsq[cx][c]);
+            p->dmean_state[st][c] += ls * (dd - p->dmean_state[st][c]);
+            p->dsq_state[st][c] += ls * (dd * dd - p->dsq_state[st][c]);
+        }
+        if (p->scored[cx] < UINT32_MAX) p->scored[cx]++;
+        if (p->scored_state[st] < UINT32_MAX) p->scored_state[st]++;
+    }
+    p->have_prev_raw = true;
+    p->prev_raw_ns = t;
+    p->prev_raw[0] = pos[0];
+    p->prev_raw[1] = pos[1];
+    if (p->state != FV_GAZE_EVENT_FIXATION && p->state != FV_GAZE_EVENT_PURSUIT && p->state != FV_GAZE_EVENT_SACCADE)
+        return;
+    int i = p->pend_head;
+    if (p->pend_count == PEND_SLOTS) p->pend_count--; /* the oldest gives way */
+    p->pend_head = (p->pend_head + 1) % PEND_SLOTS;
+    p->pend_count++;
+    p->pend[i].t_ns = fv_i64_add_sat(t, SCORE_HORIZON_NS);
+    p->pend[i].context = context(p, p->state);
+    double extra;
+    candidates(p, p->state, (double)SCORE_HORIZON_NS * 1e-9, p->pend[i].c, &extra);
+}
+
+/* The candidate predict() uses in state ev: the model until the context (or its state) has SCORE_MIN scores; then
+ * the newest sample unless a candidate's mean error stays below the sample's by SELECT_SES standard errors of the
+ * paired difference (the one with the lowest upper bound): a tie, or a gain within the scores' noise, is the latest
+ * sample itself, exactly. */
+static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
+{
+    int cx = context(p, ev), st = cx / SPEED_BINS;
+    const double *dm = NULL, *dq = NULL;
+    double n = 0.0;
+    if (p->scored[cx] >= SCORE_MIN) dm = p->dmean[cx], dq = p->dsq[cx], n = p->scored[cx];
+    else if (p->scored_state[st] >= SCORE_MIN) dm = p->dmean_state[st], dq = p->dsq_state[st], n = p->scored_state[st];
+    if (!dm) return CAND_MODEL;
+    n = fmin(n, SCORE_MEMORY);
+    int best = CAND_SAMPLE;
+    double best_ub = 0.0;
+    for (int c = 0; c < CANDS; c++) {
+        double var = fmax(0.0, dq[c] - dm[c] * dm[c]);
+        double ub = dm[c] + SELECT_SES * sqrt(var / n);
+        if (ub < best_ub) best = c, best_ub = ub;
+    }
+    return best;
+}
+
+/* The tracker's noise and rate, measured during fixations, set the 1€ parameters (unless the desc fixed them) and
+ * raise the saccade thresholds above the speed noise alone produces: SACCADE_NOISE_SDS standard errors of the
+ * classifier's speed are needed to start a saccade. */
+#define SACCADE_NOISE_SDS 4.0
+#define SACCADE_ONSET2_SDS 6.0 /* the speed between the two newest samples: 6 of its standard errors start one too */
+static void adapt_to_noise(fv_gaze_pipeline *p, int64_t t, const double pos[2], bool fixating)
+{
+    fv_gaze_noise_push(&p->noise, t, pos, fixating);
+    double sigma = fv_gaze_noise_sigma_deg(&p->noise), rate = fv_gaze_noise_rate_hz(&p->noise);
+    if (!isfinite(sigma) || !(rate > 0.0)) return;
+    if (p->adaptive_filter) {
+        float fc, beta;
+        fv_gaze_noise_filter_params(sigma, rate, &fc, &beta);
+        for (int c = 0; c < 3; c++) {
+            p->ch[c].filter.min_cutoff_hz = fc;
+            p->ch[c].filter.beta = beta;
+        }
+    }
+    /* the classifier's speed is a least-squares slope over SHORT_WINDOW (n samples, n >= 2): its SE per axis is
+     * sigma sqrt(12 / (n (n^2 - 1))) / dt, sqrt(2) sigma / dt for two samples */
+    double ns = fmax(2.0, floor((double)SHORT_WINDOW_NS * 1e-9 * rate) + 1.0);
+    double noise_speed = SACCADE_NOISE_SDS * sigma * sqrt(12.0 / (ns * (ns * ns - 1.0))) * rate;
+    p->sacc_on = fmax((double)p->desc.saccade_on_deg_s, noise_speed);
+    p->sacc_on2 = fmax((double)p->desc.saccade_on_deg_s, SACCADE_ONSET2_SDS * sigma * sqrt(2.0) * rate);
+    p->sacc_off = p->sacc_on * (double)p->desc.saccade_off_deg_s / (double)p->desc.saccade_on_deg_s;
 }
 
 fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
@@ -481,6 +748,11 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
     fv_gaze_event was = p->state;
     classify(p, t);
     bool sacc = p->state == FV_GAZE_EVENT_SACCADE;
+    /* until the noise is known every difference measures it (the classifier's thresholds depend on it: a tracker
+     * noisier than the default saccade threshold would otherwise never show a fixation); then fixations only */
+    bool fixating = (was == FV_GAZE_EVENT_FIXATION && p->state == FV_GAZE_EVENT_FIXATION) ||
+                    !isfinite(fv_gaze_noise_sigma_deg(&p->noise));
+    adapt_to_noise(p, t, a[CH_COMBINED], fixating);
     /* through a saccade the estimate follows the raw signal; the first sample after it starts the fixation afresh
      * (at low rates the filter would otherwise lag the landing by several samples) */
     bool restart = sacc || was == FV_GAZE_EVENT_SACCADE;
@@ -496,13 +768,17 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
     double rem;
     if (sacc) fit_saccade(p);
     else p->fit_ok = false;
-    if (!sacc || !p->fit_confident || !predict_saccade(p, INT64_MAX / 2, p->hold_pos, &rem)) {
-        p->hold_pos[0] = p->ch[CH_COMBINED].pos[0];
-        p->hold_pos[1] = p->ch[CH_COMBINED].pos[1];
+    int choice = choose_candidate(p, p->state);
+    if (!sacc || choice != CAND_MODEL || !p->fit_confident || !predict_saccade(p, INT64_MAX / 2, p->hold_pos, &rem)) {
+        /* the candidate that has earned its place in this state, at the newest sample */
+        bool raw = choice == CAND_SAMPLE && p->h_count > 0;
+        p->hold_pos[0] = raw ? a[CH_COMBINED][0] : p->ch[CH_COMBINED].pos[0];
+        p->hold_pos[1] = raw ? a[CH_COMBINED][1] : p->ch[CH_COMBINED].pos[1];
     }
     p->have_valid = true;
     p->last_sample_valid = true;
     p->last_valid_ns = t;
+    score_candidates(p, t, a[CH_COMBINED]);
     return FV_OK;
 }
 
@@ -549,30 +825,32 @@ void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_
     } else if (p->desc.disable_prediction) {
         double v = ev == FV_GAZE_EVENT_SACCADE ? ang_norm(p->v_short, pred[1]) : ang_norm(p->v_long, pred[1]);
         unc += FIXATION_GROWTH_DEG_S * hpos + 0.5 * v * hpos;
-    } else if (ev == FV_GAZE_EVENT_SACCADE) {
-        double remaining = 0.0;
-        int64_t target = fv_i64_add_sat(p->last_valid_ns, (int64_t)(h_s * 1e9)); /* clamped horizon */
-        if (!p->fit_confident || !predict_saccade(p, target, pred, &remaining)) {
-            /* no trustworthy landing yet: the newest position (the saccade's extent is unknown) */
-            pred[0] = cc->pos[0];
-            pred[1] = cc->pos[1];
-            remaining = ang_norm(p->v_short, pred[1]) * hpos;
-        }
-        unc += 0.5 + 0.25 * remaining;
-    } else if (ev == FV_GAZE_EVENT_PURSUIT && p->long_ok && p->v_long_sig > PURSUIT_MIN_SIGNIFICANCE) {
-        /* regression line at the newest sample + velocity over the horizon (the 1€ output lags in pursuit). A
-         * fixation is not extrapolated: its drift velocity is within the noise (tried: no gain, worse at 90 Hz) */
-        for (int k = 0; k < 2; k++) pred[k] = p->reg_pos[k] + p->v_long[k] * h_s;
-        unc += FIXATION_GROWTH_DEG_S * hpos + 0.25 * ang_norm(p->v_long, pred[1]) * hpos;
     } else {
-        unc += FIXATION_GROWTH_DEG_S * hpos; /* fixation: hold the filtered position */
+        /* fixation, pursuit, saccade: the candidate that has earned its place in this state (the model at first) */
+        double cand[CANDS][2], extra = 0.0;
+        candidates(p, ev, h_s, cand, &extra);
+        int c = choose_candidate(p, ev);
+        pred[0] = cand[c][0];
+        pred[1] = cand[c][1];
+        unc += FIXATION_GROWTH_DEG_S * hpos + (c == CAND_MODEL ? extra : 0.0);
+        if (c != CAND_MODEL) {
+            double v = ev == FV_GAZE_EVENT_SACCADE ? ang_norm(p->v_short, pred[1]) : ang_norm(p->v_mid, pred[1]);
+            unc += 0.5 * v * hpos;
+        }
+        /* calibrated by experience: at least the chosen candidate's measured mean error at SCORE_HORIZON times the
+         * factor that covers ~90% of a Rayleigh-distributed error (1.72 x its mean), scaled with the horizon */
+        int cx = context(p, ev);
+        if (p->scored[cx] >= SCORE_MIN) {
+            double scale = fmin(3.0, fmax(0.25, hpos / ((double)SCORE_HORIZON_NS * 1e-9)));
+            unc = fmax(unc, acc + RADIUS_PER_MEAN_ERROR * p->mae[cx][c] * scale);
+        }
     }
     if (!isfinite(pred[0]) || !isfinite(pred[1])) {
         pred[0] = p->hold_pos[0];
         pred[1] = p->hold_pos[1];
     }
     out->combined_valid = true;
-    out->combined_dir_head = angles_to_dir(pred);
+    out->combined_dir_head = fv_gaze_angles_to_dir(pred);
     for (int e = 0; e < 2; e++) {
         const channel *ce = &p->ch[e];
         double pe[2];
@@ -588,7 +866,7 @@ void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_
             pe[1] = pred[1];
         }
         out->eye_valid[e] = true;
-        out->dir_head[e] = angles_to_dir(pe);
+        out->dir_head[e] = fv_gaze_angles_to_dir(pe);
     }
     out->uncertainty_deg = finite_clamp(unc, acc, MAX_UNCERTAINTY_DEG);
     if (p->pupil_valid && ev != FV_GAZE_EVENT_LOST && isfinite(p->pupil_mm)) out->pupil_mm = (float)p->pupil_mm;
@@ -606,6 +884,10 @@ void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stat
     *out = p->stats;
     out->clock_resets += (uint64_t)p->clock.resets;
     out->clock_skew_ppm = fv_gaze_clock_map_skew_ppm(&p->clock);
+    out->noise_deg = fv_gaze_noise_sigma_deg(&p->noise);
+    out->rate_hz = fv_gaze_noise_rate_hz(&p->noise);
+    out->filter_min_cutoff_hz = p->ch[CH_COMBINED].filter.min_cutoff_hz;
+    out->filter_beta = p->ch[CH_COMBINED].filter.beta;
 }
 
 fv_gaze_event fv_gaze_pipeline_event(const fv_gaze_pipeline *p)

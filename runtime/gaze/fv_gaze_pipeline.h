@@ -3,7 +3,10 @@
  * The frame loop pushes every sample it drains from a device ring, then asks for a prediction per frame.
  * Time: samples are ordered by t_device_ns (it must advance); with FV_GAZE_HOST_TIME_VALID the pipeline maps the
  * device clock onto the host clock from the receipt times (lower envelope: the mapped time is the capture time plus
- * the smallest transport delay, free of jitter). Details, defaults and measured figures: docs/gaze.md. */
+ * the smallest transport delay, free of jitter). The 1€ parameters and the saccade threshold follow the tracker's
+ * noise, measured online during fixations; each candidate prediction (latest sample, filtered, model, ...) is scored
+ * on the tracker's own later samples and used only where it has done best. Details, defaults and measured figures:
+ * docs/gaze.md. */
 #ifndef FV_GAZE_PIPELINE_H
 #define FV_GAZE_PIPELINE_H
 
@@ -24,6 +27,12 @@ typedef enum fv_gaze_event {
 
 const char *fv_gaze_event_str(fv_gaze_event e);
 
+/** (yaw, pitch) in degrees of a head-frame direction (yaw right, pitch up, (0, 0) = -z). false when the direction
+ *  is not finite, zero, or further than max_ecc_deg from straight ahead. */
+bool fv_gaze_dir_to_angles(fv_vec3 d, double max_ecc_deg, double out_deg[2]);
+/** The unit direction of (yaw, pitch) degrees (clamped to +-179 / +-89; non-finite = 0). */
+fv_vec3 fv_gaze_angles_to_dir(const double a_deg[2]);
+
 typedef struct fv_gaze_prediction {
     int64_t t_target_ns;         /* host time the prediction is for */
     int64_t t_sample_ns;         /* host time of the newest sample used */
@@ -39,8 +48,8 @@ typedef struct fv_gaze_prediction {
 
 typedef struct fv_gaze_pipeline_desc {
     float accuracy_deg;          /* tracker accuracy floor for the uncertainty; 0 = 0.5 */
-    float filter_min_cutoff_hz;  /* 1€ filter f_cmin; 0 = default */
-    float filter_beta;           /* 1€ filter β; 0 = default */
+    float filter_min_cutoff_hz;  /* 1€ filter f_cmin; both 0 = set from the tracker's noise, measured online */
+    float filter_beta;           /* 1€ filter β; (one given: the other 1 Hz / 0.3 per deg, fixed) */
     float saccade_on_deg_s;      /* velocity threshold to enter a saccade; 0 = default */
     float saccade_off_deg_s;     /* hysteresis: velocity to leave it; 0 = default */
     bool disable_prediction;     /* true: predict() returns the latest filtered sample (the baseline) */
@@ -70,6 +79,9 @@ typedef struct fv_gaze_pipeline_stats {
     uint64_t saccades;       /* saccade onsets detected */
     uint64_t clock_resets;   /* device clock discontinuities (mapper restarted) */
     double clock_skew_ppm;   /* current device-to-host skew estimate */
+    double noise_deg;        /* online tracker noise estimate (deg RMS per axis, from fixations); NaN before one */
+    double rate_hz;          /* online sample-rate estimate; 0 before one */
+    double filter_min_cutoff_hz, filter_beta; /* the 1€ parameters in use */
 } fv_gaze_pipeline_stats;
 
 void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stats *out);

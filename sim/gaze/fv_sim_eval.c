@@ -2,7 +2,9 @@
  * (see fv_sim_eval.h). */
 #include "fv_sim_eval.h"
 
+#include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -10,7 +12,29 @@
 #include "fv_sim_driver.h"
 #include "fv_stats.h"
 
-static const int g_horizons_ms[FV_SIM_EVAL_HORIZONS] = {0, 10, 20, 40};
+static const int g_horizons_ms[FV_SIM_EVAL_HORIZONS] = {0, 10, 20, 40, 60};
+
+const char *fv_sim_eval_truth_name(fv_sim_eval_truth t)
+{
+    switch (t) {
+    case FV_SIM_EVAL_TRUTH_RAW: return "raw";
+    case FV_SIM_EVAL_TRUTH_SMOOTHED: return "smoothed";
+    case FV_SIM_EVAL_TRUTH_TRUE: return "true";
+    case FV_SIM_EVAL_TRUTHS: break;
+    }
+    return "unknown";
+}
+
+const char *fv_sim_eval_method_name(fv_sim_eval_method m)
+{
+    switch (m) {
+    case FV_SIM_EVAL_PREDICTED: return "predicted";
+    case FV_SIM_EVAL_LATEST_FILTERED: return "latest_filtered";
+    case FV_SIM_EVAL_LATEST_SAMPLE: return "latest_sample";
+    case FV_SIM_EVAL_METHODS: break;
+    }
+    return "unknown";
+}
 
 typedef struct rec {
     fv_gaze_sample s;
@@ -18,6 +42,7 @@ typedef struct rec {
     bool has_truth;
     bool raw_valid;     /* a usable combined direction in the raw sample */
     fv_vec3 raw_dir;
+    fv_vec3 smooth_dir; /* zero-phase smoothing of the valid raw directions (when raw_valid) */
     int64_t t_ns;       /* the sample's time on the evaluation timeline (receipt, host clock) */
 } rec;
 
@@ -60,7 +85,7 @@ static bool raw_combined(const fv_gaze_sample *s, fv_vec3 *out)
 
 static fv_sim_eval_error summarize(double *v, uint64_t n)
 {
-    fv_sim_eval_error e = {0.0, 0.0, n};
+    fv_sim_eval_error e = {0.0, 0.0, n, NAN};
     if (n == 0) return e;
     double sum = 0.0;
     for (uint64_t i = 0; i < n; i++) sum += v[i];
@@ -71,7 +96,8 @@ static fv_sim_eval_error summarize(double *v, uint64_t n)
 
 /* ---- reading ---- */
 
-static fv_result collect(fv_device *dev, fv_clock *clock, double seconds, rec **out_recs, size_t *out_n)
+static fv_result collect(fv_device *dev, fv_clock *clock, double seconds, rec **out_recs, size_t *out_n,
+                          bool *out_whole)
 {
     size_t cap = 4096, n = 0;
     rec *recs = malloc(cap * sizeof *recs);
@@ -85,6 +111,7 @@ static fv_result collect(fv_device *dev, fv_clock *clock, double seconds, rec **
         size_t got = 0;
         r = fv_device_read(dev, buf, 64, &got, 100);
         if (r == FV_END_OF_STREAM) {
+            *out_whole = true;
             r = FV_OK;
             break;
         }
@@ -139,17 +166,94 @@ fail:
     return r;
 }
 
-/* the raw gaze interpolated at time t from the recording itself (valid neighbours within 50 ms) */
-static bool reference_from_samples(const rec *recs, size_t n, size_t from, int64_t t, fv_vec3 *out)
+#define REF_MAX_GAP_NS (50 * FV_NS_PER_MS) /* the truth is never interpolated across a longer hole */
+
+/* The recording itself at time t: the raw (or smoothed) gaze interpolated between the valid neighbours of t (at
+ * most 50 ms apart). */
+static bool reference_from_samples(const rec *recs, size_t n, size_t from, int64_t t, bool smoothed, fv_vec3 *out)
 {
     size_t j = from;
     while (j + 1 < n && recs[j + 1].t_ns <= t) j++;
     if (j + 1 >= n || recs[j].t_ns > t) return false;
     const rec *a = &recs[j], *b = &recs[j + 1];
-    if (!a->raw_valid || !b->raw_valid || b->t_ns - a->t_ns > 50 * FV_NS_PER_MS || b->t_ns <= a->t_ns) return false;
+    if (!a->raw_valid || !b->raw_valid || b->t_ns - a->t_ns > REF_MAX_GAP_NS || b->t_ns <= a->t_ns) return false;
+    fv_vec3 da = smoothed ? a->smooth_dir : a->raw_dir, db = smoothed ? b->smooth_dir : b->raw_dir;
     float w = (float)((double)(t - a->t_ns) / (double)(b->t_ns - a->t_ns));
-    *out = fv_v3_normalize_or(fv_v3_add(fv_v3_scale(a->raw_dir, 1.0f - w), fv_v3_scale(b->raw_dir, w)), a->raw_dir);
+    *out = fv_v3_normalize_or(fv_v3_add(fv_v3_scale(da, 1.0f - w), fv_v3_scale(db, w)), da);
     return true;
+}
+
+/* Median interval between consecutive samples (ns); 0 with fewer than 2. */
+static int64_t median_interval_ns(const rec *recs, size_t n)
+{
+    if (n < 2) return 0;
+    double *dt = malloc((n - 1) * sizeof *dt);
+    if (!dt) return 0;
+    for (size_t i = 1; i < n; i++) dt[i - 1] = (double)(recs[i].t_ns - recs[i - 1].t_ns);
+    double m = fv_percentile_f64(dt, n - 1, 50.0);
+    free(dt);
+    return m > 0.0 && isfinite(m) ? (int64_t)m : 0;
+}
+
+/* Zero-phase smoothing of the valid raw directions: per sample, a least-squares quadratic in time (yaw and pitch)
+ * through the valid samples within +-half_ns of the same valid run (no hole > 50 ms), evaluated at the sample's
+ * time (a Savitzky-Golay filter on an irregular time axis). Fewer than 5 samples in reach: the local mean of those
+ * there; the samples themselves when fewer than 3. */
+static void smooth_recording(rec *recs, size_t n, int64_t half_ns)
+{
+    int64_t *run = malloc(n * sizeof *run);
+    if (!run) {
+        for (size_t i = 0; i < n; i++) recs[i].smooth_dir = recs[i].raw_dir;
+        return;
+    }
+    int64_t id = 0, last_valid_t = INT64_MIN;
+    for (size_t i = 0; i < n; i++) {
+        if (!recs[i].raw_valid) continue;
+        if (last_valid_t == INT64_MIN || recs[i].t_ns - last_valid_t > REF_MAX_GAP_NS) id++;
+        run[i] = id;
+        last_valid_t = recs[i].t_ns;
+    }
+    double hs = (double)half_ns * 1e-9;
+    for (size_t i = 0; i < n; i++) {
+        rec *ri = &recs[i];
+        if (!ri->raw_valid) continue;
+        ri->smooth_dir = ri->raw_dir;
+        double a0[2];
+        if (!fv_gaze_dir_to_angles(ri->raw_dir, 90.0, a0)) continue;
+        /* normal equations in u = (t_j - t_i) / half: sums of u^k (k = 0..4) and of u^k * angle (k = 0..2) */
+        double su[5] = {0}, sy[2][3] = {{0}};
+        size_t lo = i, hi = i;
+        while (lo > 0 && ri->t_ns - recs[lo - 1].t_ns <= half_ns) lo--;
+        while (hi + 1 < n && recs[hi + 1].t_ns - ri->t_ns <= half_ns) hi++;
+        for (size_t j = lo; j <= hi; j++) {
+            double aj[2];
+            if (!recs[j].raw_valid || run[j] != run[i] || !fv_gaze_dir_to_angles(recs[j].raw_dir, 90.0, aj)) continue;
+            double u = (double)(recs[j].t_ns - ri->t_ns) * 1e-9 / hs, uk = 1.0;
+            for (int k = 0; k < 5; k++, uk *= u) su[k] += uk;
+            for (int c = 0; c < 2; c++) {
+                double d = aj[c] - a0[c];
+                sy[c][0] += d, sy[c][1] += u * d, sy[c][2] += u * u * d;
+            }
+        }
+        double cnt = su[0], out[2];
+        if (cnt < 3.0) continue;
+        /* 3x3 solve by Cramer's rule for c0 (the value at u = 0); a degenerate layout falls back to the mean */
+        double m[3][3] = {{su[0], su[1], su[2]}, {su[1], su[2], su[3]}, {su[2], su[3], su[4]}};
+        double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+        for (int c = 0; c < 2; c++) {
+            double b0 = sy[c][0], b1 = sy[c][1], b2 = sy[c][2];
+            double c0 = b0 / cnt;
+            if (cnt >= 5.0 && fabs(det) > 1e-9 * cnt * cnt * cnt) {
+                double d0 = b0 * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (b1 * m[2][2] - m[1][2] * b2) +
+                            m[0][2] * (b1 * m[2][1] - m[1][1] * b2);
+                c0 = d0 / det;
+            }
+            out[c] = a0[c] + (isfinite(c0) ? c0 : 0.0);
+        }
+        ri->smooth_dir = fv_gaze_angles_to_dir(out);
+    }
+    free(run);
 }
 
 static bool overlaps_blink(const interval *blinks, size_t nb, int64_t t0, int64_t t1)
@@ -233,27 +337,60 @@ static void bench(const rec *recs, size_t n, const fv_sim_eval_desc *desc, fv_si
     out->ns_per_sample = isfinite(best) ? best : 0.0;
 }
 
+static fv_sim_eval_error summarize_with(double *v, const unsigned char *inside, uint64_t n, bool has_radius)
+{
+    fv_sim_eval_error e = summarize(v, n);
+    e.inside_radius = NAN;
+    if (has_radius && n > 0) {
+        uint64_t k = 0;
+        for (uint64_t i = 0; i < n; i++) k += inside[i];
+        e.inside_radius = (double)k / (double)n;
+    }
+    return e;
+}
+
+static void csv_angles(FILE *f, bool ok, fv_vec3 d)
+{
+    double a[2];
+    if (ok && fv_gaze_dir_to_angles(d, 90.0, a)) fprintf(f, ",%.4f,%.4f", a[0], a[1]);
+    else fputs(",NaN,NaN", f);
+}
+
 fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_desc *desc, fv_sim_eval_result *out)
 {
     if (!dev || !clock || !desc || !out) return FV_ERR_INVALID_ARG;
     memset(out, 0, sizeof *out);
     for (int h = 0; h < FV_SIM_EVAL_HORIZONS; h++) out->horizon_ms[h] = g_horizons_ms[h];
-    double seconds = desc->seconds > 0.0 ? desc->seconds : 60.0;
     fv_sim_eye *eye = fv_sim_device_eye(dev);
+    double seconds = desc->seconds > 0.0 ? desc->seconds : eye ? 60.0 : FV_SIM_EVAL_MAX_SECONDS;
     int64_t origin = fv_sim_device_host_origin_ns(dev);
     out->has_truth = eye != NULL;
 
     rec *recs = NULL;
     size_t n = 0;
     double *err = NULL;
+    unsigned char *inside = NULL;
     interval *det = NULL;
+    FILE *tl = NULL;
     fv_gaze_pipeline *pp = NULL, *pb = NULL;
-    fv_result r = collect(dev, clock, seconds, &recs, &n);
+    fv_result r = collect(dev, clock, seconds, &recs, &n, &out->whole);
     if (r != FV_OK) return r;
     if (n < 2) {
         FV_ERROR("gaze", "%s: only %zu samples: nothing to evaluate", dev->info.uri, n);
         r = FV_ERR_NOT_FOUND;
         goto fail;
+    }
+    int64_t med = median_interval_ns(recs, n);
+    int64_t half = (int64_t)fmax(FV_SIM_EVAL_SMOOTH_HALF_MS * 1e6, FV_SIM_EVAL_SMOOTH_HALF_SAMPLES * (double)med);
+    out->smooth_half_ms = (double)half * 1e-6;
+    smooth_recording(recs, n, half);
+    /* blinks as `fovea trace info` counts them: runs of samples the source flags as a blink */
+    bool in_rec_blink = false;
+    for (size_t i = 0; i < n; i++) {
+        const fv_gaze_sample *g = &recs[i].s;
+        bool b = ((g->eye[0].flags | g->eye[1].flags | g->combined.flags) & FV_EYE_BLINK) != 0;
+        if (b && !in_rec_blink) out->recorded_blinks++;
+        in_rec_blink = b;
     }
     fv_gaze_pipeline_desc base = desc->pipeline;
     base.disable_prediction = true;
@@ -263,15 +400,30 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
     if (r != FV_OK) goto fail;
     r = fv_gaze_pipeline_create(&base, &pb);
     if (r != FV_OK) goto fail;
-    err = malloc(sizeof *err * n * 3 * FV_SIM_EVAL_HORIZONS);
+    size_t slots = (size_t)FV_SIM_EVAL_TRUTHS * FV_SIM_EVAL_METHODS * FV_SIM_EVAL_HORIZONS;
+    err = malloc(sizeof *err * n * slots);
+    inside = malloc(n * slots);
     size_t det_cap = n / 2 + 2;
     det = malloc(sizeof *det * det_cap);
-    if (!err || !det) {
+    if (!err || !det || !inside) {
         r = FV_ERR_NO_MEMORY;
         goto fail;
     }
-    uint64_t cnt[3][FV_SIM_EVAL_HORIZONS] = {{0}};
-#define ERR(m, h) (err + ((size_t)(m) * FV_SIM_EVAL_HORIZONS + (size_t)(h)) * n)
+    if (desc->timeline_csv) {
+        tl = fopen(desc->timeline_csv, "w");
+        if (!tl) {
+            FV_ERROR("gaze", "%s: cannot write the timeline: %s", desc->timeline_csv, strerror(errno));
+            r = FV_ERR_IO;
+            goto fail;
+        }
+        fprintf(tl, "t_s,raw_yaw,raw_pitch,pred_yaw,pred_pitch,truth_yaw,truth_pitch,event,saccade,uncertainty_deg\n");
+    }
+    int tl_h = desc->timeline_horizon_ms > 0 ? desc->timeline_horizon_ms : 20;
+    uint64_t cnt[FV_SIM_EVAL_TRUTHS][FV_SIM_EVAL_METHODS][FV_SIM_EVAL_HORIZONS];
+    memset(cnt, 0, sizeof cnt);
+#define SLOT(t, m, h) (((size_t)(t) * FV_SIM_EVAL_METHODS + (size_t)(m)) * FV_SIM_EVAL_HORIZONS + (size_t)(h))
+#define ERR(t, m, h) (err + SLOT(t, m, h) * n)
+#define INS(t, m, h) (inside + SLOT(t, m, h) * n)
     size_t nd = 0;
     bool in_sacc = false;
     fv_gaze_event prev_ev = FV_GAZE_EVENT_NONE;
@@ -296,11 +448,10 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
             latest = rc->raw_dir;
             have_latest = true;
         }
-        /* events: onsets, and saccade intervals on the capture timeline */
+        /* events: onsets, and saccade intervals on the capture timeline (a blink inside a saccade continues it) */
         fv_gaze_event ev = fv_gaze_pipeline_event(pp);
         int64_t t_cap = rc->has_truth ? rc->truth.t_ns : rc->t_ns;
         if (ev != prev_ev) {
-            if (ev == FV_GAZE_EVENT_SACCADE) out->det_saccades++;
             if (ev == FV_GAZE_EVENT_PURSUIT) out->det_pursuits++;
             if (ev == FV_GAZE_EVENT_BLINK) out->det_blinks++;
         }
@@ -312,19 +463,21 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
             in_sacc = false;
         }
         prev_ev = ev;
-        /* errors at photon time = receipt + horizon */
+        /* errors at photon time = receipt + horizon, against each truth */
         for (int h = 0; h < FV_SIM_EVAL_HORIZONS; h++) {
             int64_t target = rc->t_ns + (int64_t)g_horizons_ms[h] * FV_NS_PER_MS;
-            fv_vec3 ref;
-            bool ok;
+            fv_vec3 ref[FV_SIM_EVAL_TRUTHS];
+            bool ok[FV_SIM_EVAL_TRUTHS];
+            ok[FV_SIM_EVAL_TRUTH_RAW] = reference_from_samples(recs, n, i, target, false, &ref[FV_SIM_EVAL_TRUTH_RAW]);
+            ok[FV_SIM_EVAL_TRUTH_SMOOTHED] =
+                reference_from_samples(recs, n, i, target, true, &ref[FV_SIM_EVAL_TRUTH_SMOOTHED]);
+            ok[FV_SIM_EVAL_TRUTH_TRUE] = false;
             if (eye) {
                 fv_sim_truth tr;
-                ok = fv_sim_eye_truth_at(eye, target - origin, &tr);
-                ref = tr.dir_cyc;
-            } else {
-                ok = reference_from_samples(recs, n, i, target, &ref);
+                ok[FV_SIM_EVAL_TRUTH_TRUE] = fv_sim_eye_truth_at(eye, target - origin, &tr);
+                ref[FV_SIM_EVAL_TRUTH_TRUE] = tr.dir_cyc;
             }
-            if (!ok || !have_latest) continue;
+            if (!have_latest) continue;
             fv_gaze_prediction pa, pbp;
             fv_gaze_pipeline_predict(pp, target, &pa);
             fv_gaze_pipeline_predict(pb, target, &pbp);
@@ -333,36 +486,81 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
                 unc_sum += pa.uncertainty_deg;
                 unc_n++;
             }
-            ERR(0, h)[cnt[0][h]++] = angle_deg(pa.combined_dir_head, ref);
-            ERR(1, h)[cnt[1][h]++] = angle_deg(pbp.combined_dir_head, ref);
-            ERR(2, h)[cnt[2][h]++] = angle_deg(latest, ref);
+            for (int t = 0; t < FV_SIM_EVAL_TRUTHS; t++) {
+                if (!ok[t]) continue;
+                fv_vec3 dirs[FV_SIM_EVAL_METHODS] = {pa.combined_dir_head, pbp.combined_dir_head, latest};
+                float radius[FV_SIM_EVAL_METHODS] = {pa.uncertainty_deg, pbp.uncertainty_deg, 0.0f};
+                for (int m = 0; m < FV_SIM_EVAL_METHODS; m++) {
+                    double e = angle_deg(dirs[m], ref[t]);
+                    uint64_t k = cnt[t][m][h]++;
+                    ERR(t, m, h)[k] = e;
+                    INS(t, m, h)[k] = e <= (double)radius[m];
+                }
+            }
+        }
+        if (tl) {
+            int64_t target = rc->t_ns + (int64_t)tl_h * FV_NS_PER_MS;
+            fv_gaze_prediction pa;
+            fv_gaze_pipeline_predict(pp, target, &pa);
+            fv_vec3 ref = fv_v3(0, 0, -1);
+            bool ok;
+            if (eye) {
+                fv_sim_truth tr;
+                ok = fv_sim_eye_truth_at(eye, target - origin, &tr);
+                ref = tr.dir_cyc;
+            } else {
+                ok = reference_from_samples(recs, n, i, target, true, &ref);
+            }
+            fprintf(tl, "%.6f", (double)(rc->t_ns - recs[0].t_ns) * 1e-9);
+            csv_angles(tl, rc->raw_valid, rc->raw_dir);
+            csv_angles(tl, pa.combined_valid, pa.combined_dir_head);
+            csv_angles(tl, ok, ref);
+            fprintf(tl, ",%s,%d,%.4f\n", fv_gaze_event_str(ev), ev == FV_GAZE_EVENT_SACCADE, (double)pa.uncertainty_deg);
         }
     }
-    for (int h = 0; h < FV_SIM_EVAL_HORIZONS; h++) {
-        out->predicted[h] = summarize(ERR(0, h), cnt[0][h]);
-        out->filtered[h] = summarize(ERR(1, h), cnt[1][h]);
-        out->latest[h] = summarize(ERR(2, h), cnt[2][h]);
-    }
+    for (int t = 0; t < FV_SIM_EVAL_TRUTHS; t++)
+        for (int m = 0; m < FV_SIM_EVAL_METHODS; m++)
+            for (int h = 0; h < FV_SIM_EVAL_HORIZONS; h++)
+                out->err[t][m][h] = summarize_with(ERR(t, m, h), INS(t, m, h), cnt[t][m][h], m != FV_SIM_EVAL_LATEST_SAMPLE);
 #undef ERR
+#undef INS
+#undef SLOT
+    fv_sim_eval_truth primary = eye ? FV_SIM_EVAL_TRUTH_TRUE : FV_SIM_EVAL_TRUTH_RAW;
+    for (int h = 0; h < FV_SIM_EVAL_HORIZONS; h++) {
+        out->predicted[h] = out->err[primary][FV_SIM_EVAL_PREDICTED][h];
+        out->filtered[h] = out->err[primary][FV_SIM_EVAL_LATEST_FILTERED][h];
+        out->latest[h] = out->err[primary][FV_SIM_EVAL_LATEST_SAMPLE][h];
+    }
     out->mean_uncertainty_deg = unc_n ? unc_sum / (double)unc_n : 0.0;
     fv_gaze_pipeline_stats st;
     fv_gaze_pipeline_get_stats(pp, &st);
     out->invalid = st.invalid;
     out->one_eye = st.one_eye;
     out->skew_ppm = st.clock_skew_ppm;
+    out->noise_deg = st.noise_deg;
+    out->filter_min_cutoff_hz = st.filter_min_cutoff_hz;
+    out->filter_beta = st.filter_beta;
     out->seconds = ((double)recs[n - 1].s.t_device_ns - (double)recs[0].s.t_device_ns) * 1e-9;
     out->rate_hz = out->seconds > 0.0 ? (double)(n - 1) / out->seconds : 0.0;
     if (eye) {
         int64_t span0 = recs[0].has_truth ? recs[0].truth.t_ns : 0;
         int64_t span1 = recs[n - 1].has_truth ? recs[n - 1].truth.t_ns : 0;
         match_saccades(eye, span0, span1, det, nd, out);
+        out->det_saccades = out->tp + out->fp; /* the scored detections; det_in_blink more */
+    } else {
+        out->det_saccades = nd;
     }
     if (desc->bench_repeats > 0) bench(recs, n, desc, out);
     r = FV_OK;
 fail:
+    if (tl && fclose(tl) != 0 && r == FV_OK) {
+        FV_ERROR("gaze", "%s: cannot write the timeline", desc->timeline_csv);
+        r = FV_ERR_IO;
+    }
     fv_gaze_pipeline_destroy(&pp);
     fv_gaze_pipeline_destroy(&pb);
     free(err);
+    free(inside);
     free(det);
     free(recs);
     return r;

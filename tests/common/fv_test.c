@@ -2,6 +2,7 @@
 #include "fv_test.h"
 
 #include <errno.h>
+#include <math.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -166,4 +167,14 @@ int fv_test_log_count(fv_log_level at_most)
     int n = 0;
     for (int l = 0; l <= (int)at_most && l <= FV_LOG_LEVEL_TRACE; l++) n += g_counts[l];
     return n;
+}
+
+double fv_test_normal(uint64_t *rng)
+{
+    double u[2];
+    for (int i = 0; i < 2; i++) {
+        *rng = *rng * 6364136223846793005ULL + 1442695040888963407ULL;
+        u[i] = ((double)(*rng >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+    }
+    return sqrt(-2.0 * log(u[0])) * cos(2.0 * 3.14159265358979323846 * u[1]);
 }

@@ -32,6 +32,9 @@ typedef struct fv_test_cmd {
 /** Run `ENV PROGRAM ARGS` through the shell (env and args may be NULL), stdout and stderr captured separately
  *  through temp files. */
 void fv_test_run_cmd(fv_test_cmd *res, const char *env, const char *program, const char *args);
+/** A standard normal deviate from the 64-bit LCG state *rng (Knuth's MMIX constants) by Box-Muller: reproducible
+ *  noise for tests. */
+double fv_test_normal(uint64_t *rng);
 /** The first line of s (without its newline), in a static buffer of 1024 bytes (longer lines are cut). */
 const char *fv_test_first_line(const char *s);
 /** Fail unless `hay` contains `needle`, printing both. */

@@ -6,15 +6,7 @@
 #include "fv_test.h"
 
 static uint64_t g_rng = 777;
-static double normal(void)
-{
-    double u[2];
-    for (int i = 0; i < 2; i++) {
-        g_rng = g_rng * 6364136223846793005ULL + 1442695040888963407ULL;
-        u[i] = ((double)(g_rng >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-    }
-    return sqrt(-2.0 * log(u[0])) * cos(2.0 * 3.14159265358979 * u[1]);
-}
+static double normal(void) { return fv_test_normal(&g_rng); }
 
 static void gaze_filter_holds_fixation_within_0p1_deg(void **state)
 {

@@ -13,15 +13,7 @@
 #define DT_NS INT64_C(8333333) /* 120 Hz */
 
 static uint64_t g_rng = 4242;
-static double normal(void)
-{
-    double u[2];
-    for (int i = 0; i < 2; i++) {
-        g_rng = g_rng * 6364136223846793005ULL + 1442695040888963407ULL;
-        u[i] = ((double)(g_rng >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-    }
-    return sqrt(-2.0 * log(u[0])) * cos(2.0 * 3.14159265358979 * u[1]);
-}
+static double normal(void) { return fv_test_normal(&g_rng); }
 
 static fv_vec3 dir_of(double yaw, double pitch)
 {

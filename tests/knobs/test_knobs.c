@@ -29,7 +29,10 @@ static void table_rows_are_well_formed(void **state)
     (void)state;
     size_t n = 0;
     const fv_knob *k = fv_knobs(&n);
-    assert_int_equal(n, 14); /* 7 shadow.*, 7 fovea.* */
+    size_t gi = 0;
+    for (size_t i = 0; i < n; i++) gi += strncmp(k[i].name, "gi.", 3) == 0;
+    assert_int_equal(gi, 9); /* gi.*: enabled, mode, rsm_size, start_level, limit_level, two thresholds, samples,
+                              * bound_fraction */
     for (size_t i = 0; i < n; i++) {
         const fv_knob *r = &k[i];
         if (!r->name || !strchr(r->name, '.') || !r->doc || !*r->doc || strchr(r->doc, '\n') || !r->unit)
@@ -394,7 +397,25 @@ static void equal_sees_every_knob_and_view_setting(void **state)
                 snprintf(text, sizeof text, "%s",
                          strcmp(fv_knob_format(&k[i], &a, (char[48]){0}, 48), "on") == 0 ? "off" : "on");
         }
-        if (k[i].type == FV_KNOB_ENUM && k[i].choice_count == 1) continue; /* fovea.recon: one choice so far */
+        if (k[i].type == FV_KNOB_ENUM && k[i].choice_count == 1) continue; /* one choice: nothing else to set */
+        if (k[i].type == FV_KNOB_ENUM && strcmp(text, fv_knob_format(&k[i], &a, (char[48]){0}, 48)) == 0)
+            for (size_t v = 0; v < k[i].choice_count; v++) /* every preset agrees: any other choice */
+                if (strcmp(k[i].choices[v], text) != 0) {
+                    snprintf(text, sizeof text, "%s", k[i].choices[v]);
+                    break;
+                }
+        if ((k[i].type == FV_KNOB_INT || k[i].type == FV_KNOB_FLOAT) &&
+            strcmp(text, fv_knob_format(&k[i], &a, (char[48]){0}, 48)) == 0) { /* every preset agrees: the range's end */
+            fv_quality lo = a, hi = a;
+            char lo_text[48], hi_text[48];
+            snprintf(lo_text, sizeof lo_text, k[i].type == FV_KNOB_INT ? "%.0f" : "%.9g", k[i].min);
+            snprintf(hi_text, sizeof hi_text, k[i].type == FV_KNOB_INT ? "%.0f" : "%.9g", k[i].max);
+            set_text(&lo, &k[i], lo_text);
+            set_text(&hi, &k[i], hi_text);
+            snprintf(text, sizeof text, "%s",
+                     strcmp(fv_knob_format(&k[i], &lo, (char[48]){0}, 48), fv_knob_format(&k[i], &a, (char[48]){0}, 48))
+                         ? lo_text : hi_text);
+        }
         set_text(&c, &k[i], text);
         if (fv_quality_equal(&a, &c)) fail_msg("%s=%s is not seen as a difference", k[i].name, text);
     }
@@ -402,6 +423,9 @@ static void equal_sees_every_knob_and_view_setting(void **state)
     assert_false(fv_quality_equal(&a, &b));
     b = a;
     b.debug_view = FV_DEBUG_VIEW_GAZE;
+    assert_false(fv_quality_equal(&a, &b));
+    b = a;
+    b.overlay = true; /* the overlay view setting (render/overlay): the plan must run again */
     assert_false(fv_quality_equal(&a, &b));
     b = a;
     b.shadow.lambda = NAN;

@@ -53,7 +53,8 @@ static void plan_for_cornell_runs_gbuffer_shade_present_and_explains_the_rest(vo
 
     assert_int_equal(fv_scene_load("cornell-translucent", &s), FV_OK);
     fv_frame_plan_build(s, &p);
-    assert_non_null(strstr(fv_frame_plan_find(&p, "sss")->reason, "needed (1 translucent material) — not implemented yet"));
+    assert_true(fv_frame_plan_find(&p, "sss")->enabled);
+    assert_non_null(strstr(fv_frame_plan_find(&p, "sss")->reason, "1 translucent material: 1 light-view map of"));
     fv_scene_destroy(&s);
 }
 

@@ -379,6 +379,7 @@ static void stats_report_per_pass_gpu_time_and_memory(void **state)
         in.quality.shadow.enabled = false; /* the three passes of direct lighting; shadows: test_render_shadow */
         /* ... and no foveation (on by default): the full-resolution pass list; test_render_fovea checks the other */
         in.quality.fovea.enabled = false;
+        in.quality.gi.enabled = false; /* ... and no GI pass (on by default; tests/gi) */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
     }
     assert_int_equal(fv_renderer_finish(g_r), FV_OK);

@@ -445,6 +445,7 @@ static void passes_report_what_they_did_per_frame(void **state)
         /* The full-resolution pass list (foveation, on by default, adds "fovea" and "reconstruct"): its meaning is
          * every pass's counters of a whole frame. test_render_fovea checks the foveated list. */
         in.quality.fovea.enabled = false;
+        in.quality.gi.enabled = false; /* and no GI pass (on by default): tests/gi checks it */
         draw(&in);
         assert_int_equal(fv_renderer_finish(g_r), FV_OK);
         fv_render_stats st;

@@ -1,12 +1,16 @@
 /* @brief GPU tests of foveation (render/fovea) on lavapipe with validation on: the sampling probability against a
  * CPU evaluation in double for a grid of gazes (incl. the image corner, off-screen, NaN, pupils 0 and 12 mm), one
- * sample per block at least, the sample count against the sum of p, the pass list and the shade counter, and the
- * jump-flooding seeds against a brute-force nearest-seed search. */
+ * sample per block at least, the sample count against the sum of p, the jump-flooding Voronoi against a
+ * brute-force nearest-seed search; the three compaction orders shade the same pixels into the same image; the
+ * Sibson fill against a brute-force discrete natural-neighbour interpolation; the fovea following fixed: gazes left
+ * and right; the foveal band (0-5 degrees) of a foveated frame against full-resolution shading. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "fv_fixed_driver.h"
+#include "fv_metrics.h"
 #include "fv_renderer.h"
 #include "fv_scene.h"
 #include "fv_test.h"
@@ -17,12 +21,14 @@
 #define NPIX ((size_t)W * H)
 #define DEG (FV_PI / 180.0)
 #define P_TOL 1e-4
+#define NONE 0xffffffffu
 
 FV_GPU_TEST_GROUP(W, H)
 static uint64_t g_frame_id = 1;
 
 /* p in double: e between the pixel ray and the gaze (invalid: straight ahead, widened 15 deg), e' = max(0, e - u),
- * w = m e' + w0, p = clamp(1 - (w - w0) / (m E + w0), xi, 1), E the view's corner eccentricity. */
+ * w = m e' + w0, p = clamp(1 - (w - w_min) / w_far, xi, 1), w_min = max(w0, w_px), w_far = 3 w_px, w_px the angle
+ * of the centre pixel (fovea_interface.h). */
 static double ref_p(const fv_frame_input *in, int e, int x, int y, double u_rad, bool valid)
 {
     const fv_eye_view *v = &in->eye[e];
@@ -39,11 +45,11 @@ static double ref_p(const fv_frame_input *in, int e, int x, int y, double u_rad,
     double ecc = atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), r[0] * g[0] + r[1] * g[1] + r[2] * g[2]);
     double u = valid ? u_rad : 15.0 * DEG;
     double ep = fmax(0.0, ecc - u);
-    double tx = fmax(fabs(v->tan_left), fabs(v->tan_right)), ty = fmax(fabs(v->tan_up), fabs(v->tan_down));
-    double E = atan(sqrt(tx * tx + ty * ty));
+    double dtx = fabs((double)v->tan_right - v->tan_left) / W, dty = fabs((double)v->tan_down - v->tan_up) / H;
+    double w_px = 2.0 * atan(0.5 * fmin(dtx, dty)) / DEG;
     double m = q->mar_slope, w0 = q->mar_w0_deg;
-    double w = m * ep / DEG + w0, wfar = m * E / DEG + w0;
-    return fmin(1.0, fmax((double)q->min_prob, 1.0 - (w - w0) / wfar));
+    double w = m * ep / DEG + w0, w_min = fmax(w0, w_px), w_far = 3.0 * w_px;
+    return fmin(1.0, fmax((double)q->min_prob, 1.0 - (w - w_min) / w_far));
 }
 
 typedef struct gaze_case {
@@ -53,15 +59,60 @@ typedef struct gaze_case {
     float pupil_mm, unc_deg;
 } gaze_case;
 
+static void load(const char *scene, fv_scene **s)
+{
+    assert_int_equal(fv_scene_load(scene, s), FV_OK);
+    assert_int_equal(fv_renderer_load_scene(g_r, *s), FV_OK);
+}
+
+static fv_frame_input frame_in(void)
+{
+    fv_frame_input in;
+    assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame_id++, 0.0, &in), FV_OK);
+    in.quality.fovea.enabled = true;
+    return in;
+}
+
+static void set_gaze(fv_frame_input *in, fv_vec3 dir, float unc_deg)
+{
+    for (int e = 0; e < 2; e++) {
+        in->gaze[e].valid = true;
+        in->gaze[e].dir_eye = dir;
+        in->gaze[e].uncertainty_deg = unc_deg;
+    }
+}
+
+/* The exact nearest sample of every pixel (ties: the smaller packed x | y << 16, as the GPU) by brute force. */
+static void brute_nearest(const uint32_t *mask, uint32_t *out)
+{
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            long best = -1;
+            uint32_t bs = NONE;
+            for (int yy = 0; yy < H; yy++)
+                for (int xx = 0; xx < W; xx++) {
+                    if (!mask[(size_t)yy * W + xx]) continue;
+                    long dd = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
+                    uint32_t s = (uint32_t)xx | ((uint32_t)yy << 16);
+                    if (best < 0 || dd < best || (dd == best && s < bs)) best = dd, bs = s;
+                }
+            out[(size_t)y * W + x] = bs;
+        }
+}
+
+static long dist2(uint32_t s, int x, int y)
+{
+    long dx = (long)(s & 0xffffu) - x, dy = (long)(s >> 16) - y;
+    return dx * dx + dy * dy;
+}
+
 static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state)
 {
     (void)state;
     FV_NEED_GPU(g_r);
     fv_scene *s = NULL;
-    assert_int_equal(fv_scene_load("cornell", &s), FV_OK);
-    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
-    fv_frame_input in;
-    assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame_id, 0.0, &in), FV_OK);
+    load("cornell", &s);
+    fv_frame_input in = frame_in();
     /* the image corner of eye 0 (top left) and beyond the frustum */
     fv_vec3 corner = fv_v3_normalize_or(fv_v3(in.eye[0].tan_left, in.eye[0].tan_up, -1.0f), fv_v3(0, 0, -1));
     const gaze_case cases[] = {
@@ -72,20 +123,19 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
         {"NaN", fv_v3(NAN, 0, -1), true, 12.0f, 1.0f},
         {"invalid", fv_v3(0, 0, -1), false, 0.0f, 1.0f},
     };
-    float *prob = malloc(NPIX * 4), *rgba = malloc(NPIX * 16);
-    uint32_t *mask = malloc(NPIX * 4), *seeds = malloc(NPIX * 4);
-    assert_true(prob && mask && rgba && seeds);
+    float *prob = malloc(NPIX * 4);
+    uint32_t *mask = malloc(NPIX * 4), *vor = malloc(NPIX * 4), *exact_seed = malloc(NPIX * 4);
+    assert_true(prob && mask && vor && exact_seed);
     double worst = 0, exact = 0, total = 0;
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const gaze_case *c = &cases[k];
-        assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame_id++, 0.0, &in), FV_OK);
+        in = frame_in();
         in.pupil_mm = c->pupil_mm;
-        for (int e = 0; e < 2; e++) {
-            in.gaze[e].valid = c->valid;
-            in.gaze[e].dir_eye = c->dir;
-            in.gaze[e].uncertainty_deg = c->unc_deg;
-        }
-        in.quality.fovea.enabled = true; /* experimental: off in every preset */
+        set_gaze(&in, c->dir, c->unc_deg);
+        for (int e = 0; e < 2; e++) in.gaze[e].valid = c->valid;
+        in.quality.fovea.mar_slope = 0.2f; /* a fovea that fits the small test image */
+        in.quality.fovea.block = 3 + (uint32_t)(k % 3); /* 3, 4, 5: blocks cut by the 96x80 image's edges too */
+        in.quality.fovea.voronoi = FV_FOVEA_VORONOI_JFA; /* the paper's; the block search is checked below */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         bool valid = c->valid && isfinite(c->dir.x);
         for (int e = 0; e < 2; e++) {
@@ -104,70 +154,327 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
                     count += mask[(size_t)y * W + x] != 0;
                 }
             uint32_t B = in.quality.fovea.block, blocks = 0;
+            double expect = 0; /* per block: its sum of p, but one sample at least */
             for (uint32_t by = 0; by < H; by += B)
                 for (uint32_t bx = 0; bx < W; bx += B) {
                     int n = 0;
+                    double bp = 0;
                     for (uint32_t y = by; y < by + B && y < H; y++)
-                        for (uint32_t x = bx; x < bx + B && x < W; x++) n += mask[(size_t)y * W + x] != 0;
+                        for (uint32_t x = bx; x < bx + B && x < W; x++) {
+                            n += mask[(size_t)y * W + x] != 0;
+                            bp += ref_p(&in, e, (int)x, (int)y, c->unc_deg * DEG, valid);
+                        }
                     if (n < 1) fail_msg("%s eye %d: block (%u, %u) holds no sample", c->name, e, bx, by);
+                    expect += fmax(1.0, bp);
                     blocks++;
                 }
-            /* Per block the count is round(p n) for the block's ranks (each in [p n - 0.5, p n + 0.5]) or the one
-             * forced sample: |count - sum p| <= 0.5 per block bounds it; in practice it averages out. */
-            print_message("%s eye %d: %.0f samples, sum p %.1f (%.2f%%), %u blocks\n", c->name, e, count, sum_p,
-                          100.0 * (count - sum_p) / sum_p, blocks);
-            assert_true(fabs(count - sum_p) <= 0.5 * blocks + 1.0);
+            /* Per block the count is round(p n) for the block's ranks (each in [p n - 0.5, p n + 0.5]), or the one
+             * forced sample: |count - expected| <= 0.5 per block bounds it, and in practice it averages out. */
+            print_message("%s eye %d (B %u): %.0f samples, sum p %.1f, expected %.1f (%+.2f%%), %u blocks\n", c->name,
+                          e, B, count, sum_p, expect, 100.0 * (count - expect) / expect, blocks);
+            assert_true(fabs(count - expect) <= 0.5 * blocks + 1.0);
+            assert_true(fabs(count - expect) <= 0.1 * expect);
 
-            /* JFA (the reconstruction's final seeds) against a brute-force nearest sample */
-            fv_pass_detail d;
-            assert_int_equal(fv_renderer_pass_details(g_r, "reconstruct", &d, 1), 1);
-            const char *final = d.value[1] == 0 ? "fovea seeds a" : "fovea seeds b";
-            assert_int_equal(fv_renderer_read_image(g_r, final, e, seeds, NPIX * 4, 4), FV_OK);
+            /* the Voronoi of 1+JFA against the exact nearest sample */
+            assert_int_equal(fv_renderer_read_image(g_r, "fovea voronoi", e, vor, NPIX * 4, 4), FV_OK);
+            brute_nearest(mask, exact_seed);
             for (int y = 0; y < H; y++)
                 for (int x = 0; x < W; x++) {
-                    uint32_t sd = seeds[(size_t)y * W + x];
-                    long best = -1;
-                    for (int yy = 0; yy < H; yy++)
-                        for (int xx = 0; xx < W; xx++)
-                            if (mask[(size_t)yy * W + xx]) {
-                                long dd = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
-                                if (best < 0 || dd < best) best = dd;
-                            }
-                    long sx = (long)(sd & 0xffffu), sy = (long)(sd >> 16);
-                    long got = sd == 0xffffffffu ? -1 : (sx - x) * (sx - x) + (sy - y) * (sy - y);
-                    exact += got == best && mask[(size_t)sy * W + sx] != 0;
+                    uint32_t sd = vor[(size_t)y * W + x], want = exact_seed[(size_t)y * W + x];
+                    assert_true(sd != NONE);
+                    assert_true(mask[(size_t)(sd >> 16) * W + (sd & 0xffffu)] != 0); /* a seed is a sample */
+                    exact += dist2(sd, x, y) == dist2(want, x, y);
                     total++;
                 }
         }
         assert_int_equal(fv_renderer_validation_messages(g_r), 0);
     }
-    print_message("worst p error %.2e; JFA exact nearest seed for %.4f%% of %.0f pixels\n", worst,
+    print_message("worst p error %.2e; 1+JFA exact nearest seed for %.4f%% of %.0f pixels\n", worst,
                   100.0 * exact / total, total);
-    assert_true(exact / total >= 0.99);
+    assert_true(exact / total >= 0.995);
 
-    /* the plan and the counters: shade shades the list the GPU made */
+    /* the block search (fovea.voronoi=blocks, sibson needs every pixel's seed) is exact, with B = 4 and 7 */
+    for (uint32_t B = 4; B <= 7; B += 3) {
+        in = frame_in();
+        set_gaze(&in, fv_v3_normalize_or(fv_v3(0.2f, 0.2f, -1.0f), fv_v3(0, 0, -1)), 0.5f);
+        in.quality.fovea.mar_slope = 0.2f;
+        in.quality.fovea.block = B;
+        in.quality.fovea.voronoi = FV_FOVEA_VORONOI_BLOCKS;
+        in.quality.fovea.recon = FV_FOVEA_RECON_SIBSON;
+        assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+        for (int e = 0; e < 2; e++) {
+            assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "fovea voronoi", e, vor, NPIX * 4, 4), FV_OK);
+            brute_nearest(mask, exact_seed);
+            for (size_t i = 0; i < NPIX; i++)
+                if (vor[i] != exact_seed[i]) fail_msg("B %u eye %d pixel %zu: seed %x, exact %x", B, e, i, vor[i], exact_seed[i]);
+        }
+    }
+
+    /* the plan and the counters: shade shades the list the GPU made; the stats report the fraction per eye */
     assert_int_equal(fv_renderer_finish(g_r), FV_OK);
     fv_render_stats st;
     assert_int_equal(fv_renderer_stats(g_r, &st), FV_OK);
-    bool saw_fovea = false, saw_recon = false;
+    bool saw[3] = {false};
     for (uint32_t i = 0; i < st.pass_count; i++) {
-        saw_fovea |= strcmp(st.pass_name[i], "fovea") == 0;
-        saw_recon |= strcmp(st.pass_name[i], "reconstruct") == 0;
+        saw[0] |= strcmp(st.pass_name[i], "fovea") == 0;
+        saw[1] |= strcmp(st.pass_name[i], "compact") == 0;
+        saw[2] |= strcmp(st.pass_name[i], "reconstruct") == 0;
         if (strcmp(st.pass_name[i], "shade") == 0) {
             print_message("shade: %llu of %zu pixels\n", (unsigned long long)st.pass_counters[i].pixels_shaded,
                           2 * NPIX);
-            assert_true(st.pass_counters[i].pixels_shaded > 0 && st.pass_counters[i].pixels_shaded <= 2 * NPIX);
+            assert_true(st.pass_counters[i].pixels_shaded > 0 && st.pass_counters[i].pixels_shaded < 2 * NPIX);
         }
     }
-    assert_true(saw_fovea && saw_recon);
+    assert_true(saw[0] && saw[1] && saw[2]);
+    /* the per-eye counts are taken when a slot comes round again (its fence passed): two more frames */
+    for (int i = 0; i < 3; i++) {
+        fv_frame_input again = in;
+        again.frame_id = g_frame_id++;
+        assert_int_equal(fv_renderer_draw(g_r, &again), FV_OK);
+    }
+    fv_pass_detail d[4];
+    uint32_t nd = fv_renderer_pass_details(g_r, "compact", d, 4);
+    assert_true(nd >= 1);
+    assert_string_equal(d[0].key, "sampled_fraction");
+    assert_true(d[0].value[0] > 0.0 && d[0].value[0] < 1.0 && d[0].value[1] > 0.0 && d[0].value[1] < 1.0);
     const fv_plan_entry *pe = fv_frame_plan_find(fv_renderer_plan(g_r), "fovea");
     assert_non_null(pe);
     assert_true(pe->enabled);
     assert_non_null(strstr(pe->reason, "sampling map"));
     free(prob);
     free(mask);
+    free(vor);
+    free(exact_seed);
+    fv_scene_destroy(&s);
+}
+
+/* tiles, rows and masked lists shade the same pixels by the same function: the same image, bit for bit; the shade
+ * counter is the list's size (every pixel for masked). */
+static void compaction_orders_shade_the_same_image(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    float *img[3][2];
+    uint64_t shaded[3] = {0};
+    uint32_t *mask = malloc(NPIX * 4);
+    double samples = 0;
+    for (int m = 0; m < 3; m++) {
+        fv_frame_input in = frame_in();
+        in.frame_id = 77; /* the same pattern each time */
+        set_gaze(&in, fv_v3_normalize_or(fv_v3(-0.2f, 0.1f, -1.0f), fv_v3(0, 0, -1)), 1.0f);
+        in.quality.fovea.mar_slope = 0.2f;
+        in.quality.fovea.compaction = (fv_fovea_compaction)m;
+        assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+        assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+        for (int e = 0; e < 2; e++) {
+            img[m][e] = malloc(NPIX * 16);
+            assert_int_equal(fv_renderer_read_linear(g_r, e, img[m][e], NPIX * 4), FV_OK);
+            if (m == 0) {
+                assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
+                for (size_t i = 0; i < NPIX; i++) samples += mask[i] != 0;
+            }
+        }
+        fv_render_stats st;
+        assert_int_equal(fv_renderer_stats(g_r, &st), FV_OK);
+        for (uint32_t i = 0; i < st.pass_count; i++)
+            if (strcmp(st.pass_name[i], "shade") == 0) shaded[m] = st.pass_counters[i].pixels_shaded;
+    }
+    print_message("samples %.0f; shaded: tiles %llu, rows %llu, masked %llu\n", samples,
+                  (unsigned long long)shaded[0], (unsigned long long)shaded[1], (unsigned long long)shaded[2]);
+    assert_true(shaded[0] == (uint64_t)samples && shaded[1] == (uint64_t)samples);
+    assert_true(shaded[2] >= 2 * NPIX); /* every tile slot listed */
+    for (int m = 1; m < 3; m++)
+        for (int e = 0; e < 2; e++)
+            if (memcmp(img[0][e], img[m][e], NPIX * 16) != 0) fail_msg("compaction %d eye %d: another image", m, e);
+    for (int m = 0; m < 3; m++) free(img[m][0]), free(img[m][1]);
+    free(mask);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
+/* The discrete natural-neighbour colour of pixel (x, y): the mean of the seed colours of every q with
+ * |p - q| <= d(q) (q's nearest seed no nearer than p), over a window of half side R (R < 0: the whole image). */
+static void natural_neighbour(const uint32_t *seed, const float *rgba, int x, int y, int R, double out[3])
+{
+    double sum[3] = {0, 0, 0}, n = 0;
+    int y0 = R < 0 ? 0 : y - R, y1 = R < 0 ? H - 1 : y + R, x0 = R < 0 ? 0 : x - R, x1 = R < 0 ? W - 1 : x + R;
+    for (int qy = y0; qy <= y1; qy++)
+        for (int qx = x0; qx <= x1; qx++) {
+            if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+            uint32_t s = seed[(size_t)qy * W + qx];
+            long pq = (long)(qx - x) * (qx - x) + (long)(qy - y) * (qy - y);
+            if (pq > dist2(s, qx, qy)) continue;
+            const float *c = &rgba[((size_t)(s >> 16) * W + (s & 0xffffu)) * 4];
+            for (int k = 0; k < 3; k++) sum[k] += c[k];
+            n++;
+        }
+    for (int k = 0; k < 3; k++) out[k] = sum[k] / (n > 0 ? n : 1);
+}
+
+static void sibson_matches_brute_force_natural_neighbours(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    fv_frame_input in = frame_in();
+    set_gaze(&in, fv_v3_normalize_or(fv_v3(0.3f, -0.1f, -1.0f), fv_v3(0, 0, -1)), 0.5f);
+    in.quality.fovea.mar_slope = 0.3f;
+    in.quality.fovea.block = 4;
+    in.quality.fovea.recon = FV_FOVEA_RECON_SIBSON;
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    float *rgba = malloc(NPIX * 16);
+    uint32_t *mask = malloc(NPIX * 4), *vor = malloc(NPIX * 4), *exact_seed = malloc(NPIX * 4);
+    assert_true(rgba && mask && vor && exact_seed);
+    double same_window = 0, same_full = 0, filled = 0, worst_window = 0, sum_full = 0;
+    for (int e = 0; e < 2; e++) {
+        assert_int_equal(fv_renderer_read_linear(g_r, e, rgba, NPIX * 4), FV_OK);
+        assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
+        assert_int_equal(fv_renderer_read_image(g_r, "fovea voronoi", e, vor, NPIX * 4, 4), FV_OK);
+        brute_nearest(mask, exact_seed);
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                const float *got = &rgba[((size_t)y * W + x) * 4];
+                for (int k = 0; k < 3; k++) assert_true(isfinite(got[k]));
+                if (mask[(size_t)y * W + x]) continue; /* samples keep their shaded colour */
+                filled++;
+                /* the GPU's rule on the GPU's Voronoi: equal but for float summation order */
+                double want[3], full[3];
+                natural_neighbour(vor, rgba, x, y, 4, want);
+                double err = 0;
+                for (int k = 0; k < 3; k++) err = fmax(err, fabs(got[k] - want[k]) / fmax(1e-3, fabs(want[k])));
+                worst_window = fmax(worst_window, err);
+                same_window += err <= 1e-4;
+                /* the exact discrete natural neighbours: the exact Voronoi, no window */
+                natural_neighbour(exact_seed, rgba, x, y, -1, full);
+                double ef = 0;
+                for (int k = 0; k < 3; k++) ef = fmax(ef, fabs(got[k] - full[k]) / fmax(1e-3, fabs(full[k])));
+                same_full += ef <= 1e-4;
+                sum_full += ef;
+            }
+    }
+    print_message("sibson: %.0f filled pixels; windowed rule on the GPU's Voronoi: %.3f%% equal (worst rel %.2e); "
+                  "exact natural neighbours without window: %.3f%% equal, mean rel error %.2e\n",
+                  filled, 100.0 * same_window / filled, worst_window, 100.0 * same_full / filled, sum_full / filled);
+    assert_true(filled > 0);
+    assert_true(same_window == filled);
+    assert_true(same_full / filled >= 0.95);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
     free(rgba);
-    free(seeds);
+    free(mask);
+    free(vor);
+    free(exact_seed);
+    fv_scene_destroy(&s);
+}
+
+/* fixed: gazes 20 degrees left and right (the driver's own sample): the sampled fraction per column peaks on the
+ * gaze's side, and the disc around the gaze is sampled more densely than its mirror image. */
+static void fovea_follows_fixed_gazes(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    uint32_t *mask = malloc(NPIX * 4);
+    for (int side = -1; side <= 1; side += 2) {
+        char uri[64];
+        snprintf(uri, sizeof uri, "fixed:yaw_deg=%d,pitch_deg=0", side * 20);
+        fv_fixed_desc fd;
+        assert_int_equal(fv_fixed_parse_uri(uri, &fd), FV_OK);
+        fv_gaze_sample gs;
+        fv_fixed_sample(&fd, &gs);
+        fv_frame_input in = frame_in();
+        for (int e = 0; e < 2; e++) {
+            in.gaze[e].valid = true;
+            in.gaze[e].dir_eye = gs.eye[e].direction; /* the head is not turned: eye space = head frame */
+            in.gaze[e].uncertainty_deg = 0.5f;
+        }
+        in.quality.fovea.mar_slope = 0.2f;
+        assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+        for (int e = 0; e < 2; e++) {
+            assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
+            const fv_eye_view *v = &in.eye[e];
+            fv_vec3 d = in.gaze[e].dir_eye;
+            double gx = ((d.x / -d.z) - v->tan_left) / ((double)v->tan_right - v->tan_left) * W;
+            double gy = ((d.y / -d.z) - v->tan_up) / ((double)v->tan_down - v->tan_up) * H;
+            int best_col = 0;
+            double best = -1;
+            for (int x = 0; x < W; x++) {
+                double n = 0;
+                for (int y = 0; y < H; y++) n += mask[(size_t)y * W + x] != 0;
+                if (n > best) best = n, best_col = x;
+            }
+            double at = 0, mirror = 0, na = 0, nm = 0, mx = W - gx;
+            for (int y = 0; y < H; y++)
+                for (int x = 0; x < W; x++) {
+                    bool m = mask[(size_t)y * W + x] != 0;
+                    if (hypot(x + 0.5 - gx, y + 0.5 - gy) < 10) at += m, na++;
+                    if (hypot(x + 0.5 - mx, y + 0.5 - gy) < 10) mirror += m, nm++;
+                }
+            print_message("%s eye %d: gaze at (%.1f, %.1f) px, densest column %d; disc %.3f, mirror %.3f\n", uri, e,
+                          gx, gy, best_col, at / na, mirror / nm);
+            assert_true(side < 0 ? best_col < W / 2 : best_col >= W / 2);
+            assert_true(fabs(best_col + 0.5 - gx) < 12);
+            assert_true(at / na > mirror / nm + 0.2);
+        }
+    }
+    free(mask);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
+/* A static scene and a fixed gaze: within 5 degrees of the gaze the foveated frame is the full-resolution frame
+ * (PSNR >= 40 dB on sRGB values), with both reconstructions. */
+static void foveal_band_equals_full_resolution(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    float *full[2], *fov = malloc(NPIX * 16), *ecc = malloc(NPIX * 4);
+    fv_vec3 gaze = fv_metrics_gaze_dir_from_deg(-8.0, 4.0);
+    fv_frame_input in = frame_in();
+    in.quality.fovea.enabled = false;
+    set_gaze(&in, gaze, 0.5f);
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    for (int e = 0; e < 2; e++) {
+        full[e] = malloc(NPIX * 16);
+        assert_int_equal(fv_renderer_read_linear(g_r, e, full[e], NPIX * 4), FV_OK);
+    }
+    for (int r = 0; r <= FV_FOVEA_RECON_LAST; r++) {
+        in = frame_in();
+        set_gaze(&in, gaze, 0.5f);
+        in.quality.fovea.mar_slope = 0.2f;
+        in.quality.fovea.recon = (fv_fovea_recon)r;
+        assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+        double se_band = 0, n_band = 0, se_all = 0;
+        for (int e = 0; e < 2; e++) {
+            assert_int_equal(fv_renderer_read_linear(g_r, e, fov, NPIX * 4), FV_OK);
+            fv_metrics_eccentricity_deg(&in.eye[e], gaze, W, H, ecc, W);
+            for (size_t i = 0; i < NPIX; i++)
+                for (int k = 0; k < 3; k++) {
+                    double a = fv_metrics_linear_to_srgb(fov[i * 4 + k]), b = fv_metrics_linear_to_srgb(full[e][i * 4 + k]);
+                    assert_true(isfinite(fov[i * 4 + k]));
+                    se_all += (a - b) * (a - b);
+                    if (ecc[i] < 5.0f) se_band += (a - b) * (a - b), n_band++;
+                }
+        }
+        double band_db = fv_metrics_psnr_db(n_band ? se_band / n_band : NAN);
+        double all_db = fv_metrics_psnr_db(se_all / (2.0 * NPIX * 3));
+        print_message("recon %d: foveal band (0-5 deg, %.0f values) PSNR %.1f dB, whole image %.1f dB\n", r, n_band,
+                      band_db, all_db);
+        assert_true(n_band > 0);
+        assert_true(band_db >= 40.0);
+        assert_true(all_db > 15.0 && all_db < INFINITY); /* the periphery is reconstructed, not shaded */
+    }
+    free(full[0]);
+    free(full[1]);
+    free(fov);
+    free(ecc);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
     fv_scene_destroy(&s);
 }
 
@@ -175,6 +482,10 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(sampling_map_matches_cpu_and_every_block_holds_a_sample),
+        cmocka_unit_test(compaction_orders_shade_the_same_image),
+        cmocka_unit_test(sibson_matches_brute_force_natural_neighbours),
+        cmocka_unit_test(fovea_follows_fixed_gazes),
+        cmocka_unit_test(foveal_band_equals_full_resolution),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

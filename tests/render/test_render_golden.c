@@ -268,6 +268,8 @@ static void check_scene(const golden_scene *gs)
         in.quality.shadow.enabled = false;
         /* ... and every pixel shaded: the golden images predate foveation (render/fovea), which is on by default. */
         in.quality.fovea.enabled = false;
+        /* ... and direct light only: they predate one-bounce GI (render/gi, on by default; tests/gi checks it). */
+        in.quality.gi.enabled = false;
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         assert_int_equal(fv_renderer_read_rgba8(g_r, true, 0, sbs[id], sbs_size), FV_OK);
     }

@@ -96,6 +96,9 @@ static fv_frame_input frame_input(const fv_quality *q)
     in.quality = *q;
     /* Full resolution: the reference shades every pixel (foveation, on by default, would fill the periphery). */
     in.quality.fovea.enabled = false;
+    /* Direct light: these bounds are about visibility (shadow maps against rays); the GI gather against the
+     * reference's exact VPL sum is tests/gi's. */
+    in.quality.gi.enabled = false;
     return in;
 }
 

@@ -227,6 +227,29 @@ static int run_gnuplot(const char *const args[], bool quiet)
     return WIFEXITED(status) ? WEXITSTATUS(status) : 126;
 }
 
+const char *fv_gnuplot_terminal(const char *what_remains)
+{
+    const char *probe_cairo[] = {"gnuplot", "-e", "set terminal pngcairo", NULL};
+    int rc = run_gnuplot(probe_cairo, true);
+    if (rc == 127) {
+        FV_WARN("plot", "gnuplot not found: no plots (%s; Debian: gnuplot-nox)", what_remains);
+        return NULL;
+    }
+    if (rc == 0) return "pngcairo";
+    const char *probe_png[] = {"gnuplot", "-e", "set terminal png", NULL};
+    if (run_gnuplot(probe_png, true) != 0) {
+        FV_WARN("plot", "gnuplot has neither the pngcairo nor the png terminal: no plots");
+        return NULL;
+    }
+    return "png";
+}
+
+int fv_gnuplot_script(const char *script)
+{
+    const char *draw[] = {"gnuplot", script, NULL};
+    return run_gnuplot(draw, false);
+}
+
 /* A string for a gnuplot single-quoted literal: ' doubled. */
 static void gp_quoted(FILE *f, const char *s)
 {
@@ -237,6 +260,8 @@ static void gp_quoted(FILE *f, const char *s)
     }
     fputc('\'', f);
 }
+
+void fv_gnuplot_quoted(FILE *f, const char *s) { gp_quoted(f, s); }
 
 /* A string inside a gnuplot double-quoted literal: backslash and double quote escaped. */
 static void gp_escaped(FILE *f, const char *s)
@@ -346,21 +371,9 @@ fv_result fv_bench_plot(const fv_bench_result *r, const char *dir, size_t *out_p
 {
     *out_plots = 0;
     if (r->point_count == 0 || r->plan->sweep_count == 0) return FV_OK;
-    const char *probe_cairo[] = {"gnuplot", "-e", "set terminal pngcairo", NULL};
-    int rc = run_gnuplot(probe_cairo, true);
-    if (rc == 127) {
-        FV_WARN(MOD, "gnuplot not found: no plots (bench.json and bench.csv are written; Debian: gnuplot-nox)");
-        return FV_ERR_UNSUPPORTED;
-    }
-    const char *terminal = "pngcairo";
-    if (rc != 0) {
-        const char *probe_png[] = {"gnuplot", "-e", "set terminal png", NULL};
-        if (run_gnuplot(probe_png, true) != 0) {
-            FV_WARN(MOD, "gnuplot has neither the pngcairo nor the png terminal: no plots");
-            return FV_ERR_UNSUPPORTED;
-        }
-        terminal = "png";
-    }
+    const char *terminal = fv_gnuplot_terminal("bench.json and bench.csv are written");
+    if (!terminal) return FV_ERR_UNSUPPORTED;
+    int rc;
     double *x = malloc(r->point_count * sizeof *x), *y = malloc(r->point_count * sizeof *y);
     bool *front = malloc(r->point_count * sizeof *front);
     char script[1200];

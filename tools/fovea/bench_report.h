@@ -4,6 +4,7 @@
 #define FV_BENCH_REPORT_H
 
 #include <stdbool.h>
+#include <stdio.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -63,6 +64,14 @@ cJSON *fv_bench_json(const fv_bench_result *r);
 
 /** Write bench.csv: a header, then one row per point. FV_ERR_IO (logged) when it cannot be written. */
 FV_MUST_CHECK fv_result fv_bench_write_csv(const fv_bench_result *r, const char *path);
+
+/** The PNG terminal gnuplot has ("pngcairo", else "png"); NULL with a warning (naming what_remains, the outputs
+ *  written anyway) when gnuplot is missing or has neither. Shared by every command that plots. */
+const char *fv_gnuplot_terminal(const char *what_remains);
+/** Run `gnuplot SCRIPT` (its output on stderr); its exit status, 127 when it could not be started. */
+int fv_gnuplot_script(const char *script);
+/** Write s as a gnuplot single-quoted string literal (a file name). */
+void fv_gnuplot_quoted(FILE *f, const char *s);
 
 /** Draw pareto_<knob>.png in dir for each swept knob with gnuplot (pngcairo, else png), from a script written to
  *  dir/bench_plots.gp. Without gnuplot (or when it fails): a warning and FV_ERR_UNSUPPORTED; the caller goes on.

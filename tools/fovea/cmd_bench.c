@@ -20,6 +20,7 @@
 #include "fv_renderer.h"
 #include "fv_scene.h"
 #include "fv_stats.h"
+#include "run_hmd.h"
 #include "run_measure.h"
 #include "tool_knobs.h"
 
@@ -30,7 +31,7 @@
 static const char *USAGE_FMT =
     "usage: fovea bench --sweep NAME=V1,V2,... [--sweep ...] [--scene NAME|FILE] [--quality PRESET]\n"
     "                   [--set NAME=VALUE]... [--frames N] [--eye-size WxH] [--gaze-deg YAW,PITCH]\n"
-    "                   [--reference model|path|none] [--spp N] [--out DIR] [--json]\n"
+    "                   [--reference model|path|none] [--spp N] [--out DIR] [--hmd PROFILE|FILE] [--json]\n"
     "  --sweep     a knob and the values to try (repeatable); the points are the cross product of the sweeps\n"
     "              (at most %d). NAME=VALUE is checked as --set checks it; `fovea knobs` lists the knobs.\n"
     "              The pseudo-knob `preset` sweeps the presets: --sweep preset=%s\n"
@@ -47,6 +48,7 @@ static const char *USAGE_FMT =
     "  --spp       samples per pixel of the path reference (default 64; 1..1048576)\n"
     "  --out       where bench.json, bench.csv and pareto_<knob>.png go (default out/bench; created)\n"
     "  --json      print bench.json as one JSON object on stdout (and nothing else there)\n"
+    "  --hmd       distort and mask every point for this HMD's lens (fovea run --hmd; default none: undistorted)\n"
     "  Every point is also measured against the `exact` preset on the GPU (same scene, views and size). Errors:\n"
     "  psnr_db and ssim on the sRGB values (as fovea compare), rel_mean on the linear values; both eyes side by\n"
     "  side. The plots show frame time against 1 - SSIM vs the reference (vs exact with --reference none).\n";
@@ -79,6 +81,8 @@ typedef struct bench_opts {
     int64_t spp;
     const char *out_dir;
     bool json;
+    const char *hmd;      /* --hmd: the lens every point (and exact) is drawn with; NULL = none */
+    fv_lens lens;
 } bench_opts;
 
 static int parse_args(int argc, char **argv, bench_opts *o)
@@ -149,6 +153,12 @@ static int parse_args(int argc, char **argv, bench_opts *o)
         }
         if ((r = OPT("--out")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->out_dir = v; continue; }
+        if ((r = OPT("--hmd")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (run_hmd_lens("bench", v, &o->lens) != 0) return FV_EXIT_FAIL;
+            o->hmd = v;
+            continue;
+        }
 #undef OPT
         if ((r = fv_tool_quality_option(&o->plan.tq, argc, argv, &i, "bench", USAGE)) == FV_EXIT_USAGE) return r;
         else if (r) continue;
@@ -356,8 +366,10 @@ int fv_cmd_bench(int argc, char **argv)
     }
     st.r = r;
     fv_quality exact;
-    if (FV_FAILED(fv_quality_preset("exact", &exact, err, sizeof err)) || FV_FAILED(fv_renderer_set_quality(r, &exact)))
-        goto done;
+    if (FV_FAILED(fv_quality_preset("exact", &exact, err, sizeof err))) goto done;
+    exact.distort.lens = o.lens;
+    o.base.distort.lens = o.lens; /* the preset's own point is still recognised */
+    if (FV_FAILED(fv_renderer_set_quality(r, &exact))) goto done;
     if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
         fprintf(stderr, "fovea bench: cannot upload scene '%s'\n", o.scene);
         goto done;
@@ -405,6 +417,7 @@ int fv_cmd_bench(int argc, char **argv)
             fprintf(stderr, "fovea bench: point %zu: %s\n", i + 1, err);
             goto done;
         }
+        p->quality.distort.lens = o.lens;
         p->is_preset = fv_quality_equal(&p->quality, &o.base);
         progress(&st, i, n, &o.plan, p);
         if (FV_FAILED(bench_point(&st, &p->quality, p, &img))) {

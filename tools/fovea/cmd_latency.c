@@ -11,12 +11,14 @@
 #include "fv_frame_loop.h"
 #include "fv_log.h"
 #include "fv_sim_display.h"
-#include "fv_sim_driver.h" /* to read the simulated eye's declared latency from a sim: URI */
 #include "fv_standin_render.h"
+#include "run_frame_log.h"
+#include "fv_stats.h"
 #include "tool_devices.h"
 
 static const char *g_usage =
     "usage: fovea latency --gaze URI [--hz HZ] [--render-ms MS] [--frames N] [--json] [options]\n"
+    "       fovea latency --frame-log FILE.csv [--json]\n"
     "  Run the frame loop on a simulated clock: a simulated display, the gaze device read each frame, the gaze\n"
     "  pipeline predicting to photon time, and a stand-in renderer of the given cost. Reports gaze-to-photon\n"
     "  p50/p95/p99, missed refreshes and the share of each stage.\n"
@@ -32,10 +34,15 @@ static const char *g_usage =
     "  --persistence-ms MS    panel persistence (default 2, at most the period)\n"
     "  --global               global (strobed) panel instead of a rolling scan-out\n"
     "  --seed N               seed for the jitters (default 1)\n"
-    "  --json                 machine-readable output\n";
+    "  --json                 machine-readable output\n"
+    "  --frame-log FILE.csv   instead of simulating: the statistics of a real run's per-frame record\n"
+    "                         (fovea run --frame-log FILE.csv): gaze-to-photon percentiles, missed refreshes,\n"
+    "                         stages, GPU time and uncertainty per frame\n";
 
 typedef struct options {
     const char *uri;
+    const char *frame_log;
+    const char *sim_option; /* the first simulation option given (refused with --frame-log) */
     double hz, render_ms, cpu_share, render_jitter_ms, tracker_ms, vsync_jitter_us, persistence_ms;
     bool tracker_given, global, json;
     int64_t frames, seed;
@@ -59,6 +66,7 @@ static int parse(int argc, char **argv, options *o)
 #define F64(name, lo, hi, dst)                                                                                         \
     if (OPT(name)) {                                                                                                   \
         NEED(name);                                                                                                    \
+        if (!o->sim_option) o->sim_option = name;                                                                      \
         if (!fv_cli_parse_f64(v, lo, hi, dst))                                                                         \
             return fv_cli_usage_error("latency", g_usage, "%s '%s': expected a number in %g..%g", name, v,            \
                                       (double)(lo), (double)(hi));                                                     \
@@ -73,6 +81,7 @@ static int parse(int argc, char **argv, options *o)
             continue;
         }
         if (strcmp(argv[i], "--global") == 0) {
+            if (!o->sim_option) o->sim_option = "--global";
             o->global = true;
             continue;
         }
@@ -81,14 +90,21 @@ static int parse(int argc, char **argv, options *o)
             o->uri = v;
             continue;
         }
+        if (OPT("--frame-log")) {
+            NEED("--frame-log");
+            o->frame_log = v;
+            continue;
+        }
         if (OPT("--frames")) {
             NEED("--frames");
+            if (!o->sim_option) o->sim_option = "--frames";
             if (!fv_cli_parse_i64(v, 1, 1000000, &o->frames))
                 return fv_cli_usage_error("latency", g_usage, "--frames '%s': expected an integer in 1..1000000", v);
             continue;
         }
         if (OPT("--seed")) {
             NEED("--seed");
+            if (!o->sim_option) o->sim_option = "--seed";
             if (!fv_cli_parse_i64(v, 0, INT64_MAX, &o->seed))
                 return fv_cli_usage_error("latency", g_usage, "--seed '%s': expected a non-negative integer", v);
             continue;
@@ -101,6 +117,7 @@ static int parse(int argc, char **argv, options *o)
         F64("--persistence-ms", 0.0, 1000.0, &o->persistence_ms)
         if (OPT("--tracker-ms")) {
             NEED("--tracker-ms");
+            if (!o->sim_option) o->sim_option = "--tracker-ms";
             if (!fv_cli_parse_f64(v, 0.0, 1000.0, &o->tracker_ms))
                 return fv_cli_usage_error("latency", g_usage, "--tracker-ms '%s': expected a number in 0..1000", v);
             o->tracker_given = true;
@@ -111,6 +128,13 @@ static int parse(int argc, char **argv, options *o)
 #undef F64
         return fv_cli_usage_error("latency", g_usage, "unknown argument '%s'", argv[i]);
     }
+    if (o->frame_log && o->uri)
+        return fv_cli_usage_error("latency", g_usage, "--frame-log reads a recorded run; --gaze simulates one: give "
+                                  "one of them");
+    if (o->frame_log && o->sim_option)
+        return fv_cli_usage_error("latency", g_usage, "%s sets up the simulation and has no effect with --frame-log",
+                                  o->sim_option);
+    if (o->frame_log) return 0;
     if (!o->uri) return fv_cli_usage_error("latency", g_usage, "--gaze URI is required");
     if (o->render_jitter_ms > o->render_ms)
         return fv_cli_usage_error("latency", g_usage, "--render-jitter-ms %g exceeds --render-ms %g",
@@ -133,11 +157,11 @@ static fv_result tracker_latency_ms(const options *o, double *out_ms, const char
     *out_ms = 0.0;
     *out_origin = "unknown, counted as 0 (use --tracker-ms)";
     if (strncmp(o->uri, "sim:", 4) == 0) {
-        fv_sim_eye_desc d;
-        FV_TRY(fv_sim_driver_parse_uri(o->uri, &d, NULL));
-        if (!o->tracker_given && isfinite(d.latency_ms) && d.latency_ms >= 0) {
+        double ms;
+        FV_TRY(fv_tool_declared_latency_ms(o->uri, &ms)); /* the same as `fovea run` counts */
+        if (!o->tracker_given) {
             *out_origin = "the simulated eye's latency_ms";
-            *out_ms = d.latency_ms;
+            *out_ms = ms;
         }
     }
     if (o->tracker_given) {
@@ -237,12 +261,113 @@ static int print_json(const options *o, const fv_latency_summary *s, const fv_ga
     return rc;
 }
 
+/* Median and p95 of the finite values (NaN when there are none). */
+static void finite_pcts(const double *v, size_t n, double *out_p50, double *out_p95, size_t *out_count)
+{
+    *out_p50 = *out_p95 = NAN;
+    *out_count = 0;
+    double *tmp = malloc((n ? n : 1) * sizeof *tmp);
+    if (!tmp) return;
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++)
+        if (isfinite(v[i])) tmp[k++] = v[i];
+    if (k) {
+        *out_p50 = fv_percentile_f64(tmp, k, 50);
+        *out_p95 = fv_percentile_f64(tmp, k, 95);
+    }
+    *out_count = k;
+    free(tmp);
+}
+
+/* `fovea latency --frame-log FILE`: the same statistics from a real run's per-frame record. */
+static int frame_log_stats(const options *o)
+{
+    run_frame_log log;
+    if (FV_FAILED(run_frame_log_read(o->frame_log, &log))) {
+        fprintf(stderr, "fovea latency: cannot read the frame log '%s' (see the message above)\n", o->frame_log);
+        return FV_EXIT_FAIL;
+    }
+    int rc = FV_EXIT_FAIL;
+    fv_latency_summary s;
+    double gpu50, gpu95, unc50, unc95;
+    size_t gpu_n, unc_n;
+    if (FV_FAILED(fv_latency_summarize(log.records, log.n, &s))) goto done;
+    finite_pcts(log.gpu_ms, log.n, &gpu50, &gpu95, &gpu_n);
+    finite_pcts(log.uncertainty_deg, log.n, &unc50, &unc95, &unc_n);
+    if (o->json) {
+        cJSON *root = cJSON_CreateObject();
+        if (!root) goto done;
+        fv_cli_json_add_string(root, "frame_log", o->frame_log);
+        cJSON_AddNumberToObject(root, "frames", (double)log.n);
+        cJSON_AddNumberToObject(root, "frames_from_gaze_run", (double)log.rows_with_gaze_columns);
+        cJSON_AddNumberToObject(root, "frames_with_gaze", (double)s.frames_with_gaze);
+        cJSON *g = cJSON_AddObjectToObject(root, "gaze_to_photon_ms");
+        fv_cli_json_number(g, "p50", s.frames_with_gaze ? s.g2p_p50_ms : NAN);
+        fv_cli_json_number(g, "p95", s.frames_with_gaze ? s.g2p_p95_ms : NAN);
+        fv_cli_json_number(g, "p99", s.frames_with_gaze ? s.g2p_p99_ms : NAN);
+        fv_cli_json_number(g, "min", s.frames_with_gaze ? s.g2p_min_ms : NAN);
+        fv_cli_json_number(g, "mean", s.frames_with_gaze ? s.g2p_mean_ms : NAN);
+        fv_cli_json_number(g, "max", s.frames_with_gaze ? s.g2p_max_ms : NAN);
+        cJSON_AddNumberToObject(root, "missed", (double)s.missed);
+        cJSON_AddNumberToObject(root, "late_frames", (double)s.late_frames);
+        cJSON_AddNumberToObject(root, "repeated_vsyncs", (double)s.repeated_vsyncs);
+        cJSON_AddNumberToObject(root, "lost_frames", (double)s.lost_frames);
+        cJSON_AddNumberToObject(root, "stale_frames", (double)s.stale_frames);
+        cJSON *stages = cJSON_AddObjectToObject(root, "stages");
+        for (int i = 0; i < FV_LATENCY_STAGE_COUNT; i++) {
+            cJSON *x = cJSON_AddObjectToObject(stages, fv_latency_stage_str((fv_latency_stage)i));
+            cJSON_AddNumberToObject(x, "mean_ms", s.stage_mean_ms[i]);
+            cJSON_AddNumberToObject(x, "share", s.stage_share[i]);
+        }
+        cJSON *gp = cJSON_AddObjectToObject(root, "gpu_ms");
+        cJSON_AddNumberToObject(gp, "frames", (double)gpu_n);
+        fv_cli_json_number(gp, "p50", gpu50);
+        fv_cli_json_number(gp, "p95", gpu95);
+        cJSON *un = cJSON_AddObjectToObject(root, "uncertainty_deg");
+        cJSON_AddNumberToObject(un, "frames", (double)unc_n);
+        fv_cli_json_number(un, "p50", unc50);
+        fv_cli_json_number(un, "p95", unc95);
+        rc = fv_cli_json_print(root, true);
+        cJSON_Delete(root);
+    } else {
+        char b1[32], b2[32];
+        printf("fovea latency: frame log %s: %zu frames (%zu from a --gaze run)\n", o->frame_log, log.n,
+               log.rows_with_gaze_columns);
+        if (s.frames_with_gaze)
+            printf("gaze-to-photon  p50 %.2f ms  p95 %.2f ms  p99 %.2f ms  (min %.2f, mean %.2f, max %.2f; %zu frames "
+                   "with gaze)\n", s.g2p_p50_ms, s.g2p_p95_ms, s.g2p_p99_ms, s.g2p_min_ms, s.g2p_mean_ms,
+                   s.g2p_max_ms, s.frames_with_gaze);
+        else
+            printf("gaze-to-photon  no frame had live gaze%s\n",
+                   log.rows_with_gaze_columns ? "" : " (the run had no --gaze)");
+        printf("missed          %zu (%zu late frames, %zu repeated refreshes); %zu frames without gaze or stalled, "
+               "%zu reused an old sample\n", s.missed, s.late_frames, s.repeated_vsyncs, s.lost_frames,
+               s.stale_frames);
+        printf("GPU per frame   p50 %s ms  p95 %s ms  (%zu frames timed)\n",
+               fv_cli_format_number(b1, sizeof b1, "%.3f", gpu50), fv_cli_format_number(b2, sizeof b2, "%.3f", gpu95),
+               gpu_n);
+        printf("uncertainty     p50 %s deg  p95 %s deg\n", fv_cli_format_number(b1, sizeof b1, "%.2f", unc50),
+               fv_cli_format_number(b2, sizeof b2, "%.2f", unc95));
+        if (s.frames_with_gaze) {
+            printf("stages (mean, share of gaze-to-photon):\n");
+            for (int i = 0; i < FV_LATENCY_STAGE_COUNT; i++)
+                printf("  %-11s %7.2f ms  %5.1f%%  %s\n", fv_latency_stage_str((fv_latency_stage)i),
+                       s.stage_mean_ms[i], 100.0 * s.stage_share[i], stage_what((fv_latency_stage)i));
+        }
+        rc = FV_EXIT_OK;
+    }
+done:
+    run_frame_log_fini(&log);
+    return rc;
+}
+
 int fv_cmd_latency(int argc, char **argv)
 {
     options o;
     int pr = parse(argc, argv, &o);
     if (pr < 0) return FV_EXIT_OK; /* --help */
     if (pr > 0) return pr;
+    if (o.frame_log) return frame_log_stats(&o);
 
     int rc = FV_EXIT_FAIL;
     fv_clock clk;

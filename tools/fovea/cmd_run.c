@@ -14,12 +14,21 @@
 #include "cli.h"
 #include "fv_clock.h"
 #include "fv_log.h"
+#include "fv_mouse_driver.h"
 #include "fv_renderer.h"
 #include "fv_scene.h"
 #include "fv_target.h"
+#include "fv_window.h"
 #include "run_gaze.h"
 #include "run_measure.h"
+#include "fv_knobs.h"
 #include "tool_knobs.h"
+#include <dirent.h>
+#include <signal.h>
+#include "fovea_config.h"
+#include "run_frame_log.h"
+#include "run_head.h"
+#include "run_hmd.h"
 
 /* The usage; %s: the preset names from the knob table. */
 static const char *USAGE_FMT =
@@ -27,6 +36,9 @@ static const char *USAGE_FMT =
     "                 [--save last|every|none] [--layout sbs|eyes] [--gaze URI [--hz HZ]]\n"
     "                 [--quality PRESET] [--set NAME=VALUE]...\n"
     "                 [--view NAME] [--exposure X] [--float] [--explain] [--json]\n"
+    "                 [--present headless|window|auto] [--window WxH] [--present-mode fifo|mailbox|immediate]\n"
+    "                 [--overlay] [--head trace|scene|fixed] [--frame-log FILE.csv]\n"
+    "                 [--hmd PROFILE|FILE|none] [--budget auto|off] [--budget-scale X]\n"
     "  --scene     built-in scene name (cornell, cornell-translucent, pillars) or a file: *.scene.json, .gltf/.glb,\n"
     "              .obj, .ply\n"
     "              (default cornell)\n"
@@ -37,29 +49,60 @@ static const char *USAGE_FMT =
     "  --layout    sbs: one side-by-side stereo image per frame (default); eyes: one image per eye\n"
     "  --gaze      follow an eye tracker or recording (hid:auto, trace:FILE, sim:seed=1); frames then run through\n"
     "              the frame loop, paced by a display, with one gaze-to-photon latency record per frame\n"
-    "              (default: no tracker, gaze straight ahead, frames as fast as the GPU allows)\n"
-    "  --hz        refresh rate of the (simulated) display that paces --gaze runs (default 90; 1..1000)\n"
+    "              (default: no tracker, gaze straight ahead, frames as fast as the GPU allows);\n"
+    "              mouse:[vergence_m=1.5] in a window: the cursor is the gaze point of both eyes\n"
+    "  --hz        refresh rate of the (simulated) display that paces --gaze runs (default 90; 1..1000;\n"
+    "              in a window the swapchain paces them)\n"
     "  --quality   the speed/accuracy preset: %s (default balanced; exact: every shortcut off)\n"
     "  --set       set one knob after the preset, e.g. shadow.splits=3 (repeatable, applied in order);\n"
     "              `fovea knobs` lists the knobs, their ranges and their presets\n"
     "  --view      what the image shows (default color): direct (direct light only), shadow (light 0's\n"
     "              visibility), cascade (which of light 0's shadow maps), albedo, normal, depth (the G-buffer's),\n"
     "              gaze (each eye's predicted gaze as the GPU receives it)\n"
-    "  --exposure  linear scale of the colour before tonemapping (default 1; 1e-6..1e6)\n"
+    "  --exposure  linear scale of the colour before tonemapping (default 1; 1e-6..1e6), or the same in stops:\n"
+    "              -1EV = 0.5, +2EV = 4\n"
+
     "  --float     with --out, also write the linear colour (or --view) as PFM beside each PNG, to compare with\n"
     "              `fovea reference` in linear units (`fovea compare`)\n"
     "  --explain   print the frame plan (which passes run and why)\n"
-    "  --json      print the summary as one JSON object on stdout (and nothing else on stdout)\n";
+    "  --json      print the summary as one JSON object on stdout (and nothing else on stdout)\n"
+    "  --present   where frames go: headless (default: they stay on the GPU, or --out), window (a window showing\n"
+    "              both eyes side by side, paced by its swapchain; --gaze runs then use its display clock),\n"
+    "              auto (window when DISPLAY or WAYLAND_DISPLAY is set, else headless). In a window, Esc or\n"
+    "              closing it ends the run with the summary; without --frames it runs until then (at most 108000\n"
+    "              frames); keys: F fovea.enabled, G gi.enabled, H shadow.enabled, V next --view, O the overlay\n"
+    "  --window    window size in screen px (default: the --hmd profile's panel, else both eyes at --eye-size;\n"
+    "              scaled to fit the screen)\n"
+    "  --present-mode  fifo (default, vsync), mailbox, immediate (an error when the surface lacks it)\n"
+    "  --overlay   draw the predicted gaze point, its uncertainty ring and (with fovea.enabled) the foveal\n"
+    "              boundary into the image\n"
+;
+
+/* The options of the head pose and the frame log (a string literal may hold at most 4095 characters in ISO C). */
+static const char *USAGE_HEAD_LOG =
+    "  --head      with --gaze, the head the cameras follow: trace (default: the scene's head moved by the\n"
+    "              tracker's recorded head pose, relative to its first pose; SRanipal, Pico, fovea traces), scene\n"
+    "              (the scene's head; the tracker's pose is ignored), fixed (the scene's head at time 0, held)\n"
+    "  --frame-log write one CSV row per frame to FILE: frame id, sample times, latch, predicted gaze per eye,\n"
+    "              uncertainty, GPU/CPU ms, present and photon times, the head; `fovea latency --frame-log FILE`\n"
+    "              summarises it. Ctrl-C ends a run after the frame in flight, with the summary (exit 130)\n";
 
 static const char *usage_text(void)
 {
-    static char text[4096];
-    if (!text[0]) snprintf(text, sizeof text, USAGE_FMT, fv_quality_preset_names());
+    static char text[16384];
+    if (!text[0]) {
+        snprintf(text, sizeof text, USAGE_FMT, fv_quality_preset_names());
+        snprintf(text + strlen(text), sizeof text - strlen(text), "%s", RUN_HMD_USAGE);
+        snprintf(text + strlen(text), sizeof text - strlen(text), "%s", USAGE_HEAD_LOG);
+    }
     return text;
 }
 #define USAGE usage_text()
 
 typedef enum { SAVE_LAST, SAVE_EVERY, SAVE_NONE } save_mode;
+
+/* A window run without --frames runs until the window is closed, for at most this many frames (30 min at 60 Hz). */
+#define RUN_WINDOW_MAX_FRAMES 108000
 
 typedef struct run_opts {
     const char *scene;
@@ -75,6 +118,15 @@ typedef struct run_opts {
     fv_debug_view debug_view;
     fv_quality quality;       /* the preset, the --set knobs, then the view settings */
     bool explain, json, float_out;
+    bool window;              /* --present window (or auto with a display) */
+    bool frames_given;
+    uint32_t win_w, win_h;    /* --window; 0 = default */
+    fv_window_present_mode present_mode;
+    bool overlay;
+    const char *frame_log;    /* --frame-log FILE.csv */
+    run_head_mode head;       /* --head */
+    run_hmd hmd;              /* --hmd, --budget, --budget-scale */
+    bool head_given, hz_given, save_given, layout_given; /* to refuse options that would have no effect */
 } run_opts;
 
 static int parse_args(int argc, char **argv, run_opts *o)
@@ -97,6 +149,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         else if (r) {
             if (!fv_cli_parse_i64(v, 1, 1000000, &o->frames))
                 return fv_cli_usage_error("run", USAGE, "--frames: '%s' is not a whole number in 1..1000000", v);
+            o->frames_given = true;
             continue;
         }
         if ((r = OPT("--eye-size")) == -2) return FV_EXIT_USAGE;
@@ -113,6 +166,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
             else if (strcmp(v, "every") == 0) o->save = SAVE_EVERY;
             else if (strcmp(v, "none") == 0) o->save = SAVE_NONE;
             else return fv_cli_usage_error("run", USAGE, "--save: '%s' is not one of last, every, none", v);
+            o->save_given = true;
             continue;
         }
         if ((r = OPT("--layout")) == -2) return FV_EXIT_USAGE;
@@ -120,6 +174,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
             if (strcmp(v, "sbs") == 0) o->sbs = true;
             else if (strcmp(v, "eyes") == 0) o->sbs = false;
             else return fv_cli_usage_error("run", USAGE, "--layout: '%s' is not one of sbs, eyes", v);
+            o->layout_given = true;
             continue;
         }
         if ((r = OPT("--gaze")) == -2) return FV_EXIT_USAGE;
@@ -128,6 +183,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         else if (r) {
             if (!fv_cli_parse_f64(v, 1, 1000, &o->hz))
                 return fv_cli_usage_error("run", USAGE, "--hz: '%s' is not a number in 1..1000", v);
+            o->hz_given = true;
             continue;
         }
         if ((r = OPT("--view")) == -2) return FV_EXIT_USAGE;
@@ -142,26 +198,101 @@ static int parse_args(int argc, char **argv, run_opts *o)
             o->debug_view = (fv_debug_view)found;
             continue;
         }
+        if ((r = OPT("--present")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            const char *x11 = getenv("DISPLAY"), *wl = getenv("WAYLAND_DISPLAY");
+            if (strcmp(v, "window") == 0) o->window = true;
+            else if (strcmp(v, "headless") == 0) o->window = false;
+            else if (strcmp(v, "auto") == 0) o->window = (x11 && *x11) || (wl && *wl);
+            else return fv_cli_usage_error("run", USAGE, "--present: '%s' is not one of headless, window, auto", v);
+            continue;
+        }
+        if ((r = OPT("--window")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_size(v, 16384, &o->win_w, &o->win_h))
+                return fv_cli_usage_error("run", USAGE, "--window: '%s' is not WxH with each in 1..16384", v);
+            continue;
+        }
+        if ((r = OPT("--present-mode")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_window_present_mode_parse(v, &o->present_mode))
+                return fv_cli_usage_error("run", USAGE, "--present-mode: '%s' is not one of fifo, mailbox, immediate",
+                                          v);
+            continue;
+        }
         if ((r = OPT("--exposure")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             double x;
-            if (!fv_cli_parse_f64(v, 1e-6, 1e6, &x))
-                return fv_cli_usage_error("run", USAGE, "--exposure: '%s' is not a number in 1e-6..1e6", v);
+            size_t vl = strlen(v);
+            if (vl > 2 && (strcmp(v + vl - 2, "ev") == 0 || strcmp(v + vl - 2, "EV") == 0)) {
+                /* "+1ev": the same linear scale written in stops, 2^EV */
+                char num[32] = "";
+                if (vl - 2 < sizeof num) snprintf(num, sizeof num, "%.*s", (int)(vl - 2), v);
+                if (!fv_cli_parse_f64(num, -19.9, 19.9, &x))
+                    return fv_cli_usage_error("run", USAGE, "--exposure: '%s' is not a number of stops in -19.9..19.9 "
+                                              "followed by EV", v);
+                x = exp2(x);
+            } else if (!fv_cli_parse_f64(v, 1e-6, 1e6, &x)) {
+                return fv_cli_usage_error("run", USAGE, "--exposure: '%s' is not a number in 1e-6..1e6 (a linear "
+                                          "scale) or stops such as +1EV", v);
+            }
             o->exposure = (float)x;
             continue;
         }
+        if ((r = OPT("--head")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!run_head_mode_parse(v, &o->head))
+                return fv_cli_usage_error("run", USAGE, "--head: '%s' is not one of trace, scene, fixed", v);
+            o->head_given = true;
+            continue;
+        }
+        if ((r = OPT("--frame-log")) == -2) return FV_EXIT_USAGE;
+        else if (r) { o->frame_log = v; continue; }
 #undef OPT
+        if ((r = run_hmd_option(&o->hmd, argc, argv, &i, USAGE)) == FV_EXIT_USAGE) return r;
+        else if (r) continue;
         if ((r = fv_tool_quality_option(&o->tq, argc, argv, &i, "run", USAGE)) == FV_EXIT_USAGE) return r;
         else if (r) continue;
         if (strcmp(a, "--explain") == 0) { o->explain = true; continue; }
         if (strcmp(a, "--float") == 0) { o->float_out = true; continue; }
         if (strcmp(a, "--json") == 0) { o->json = true; continue; }
+        if (strcmp(a, "--overlay") == 0) { o->overlay = true; continue; }
         return fv_cli_usage_error("run", USAGE, "unknown option '%s'", a);
     }
     int built = fv_tool_quality_build(&o->tq, "run", USAGE, &o->quality);
     if (built != 0) return built;
+    if (o->hmd.budget_scale > 0 && !o->hmd.budget)
+        return fv_cli_usage_error("run", USAGE, "--budget-scale scales the budget of --budget auto (add it or drop "
+                                  "--budget-scale)");
+    if ((built = run_hmd_load(&o->hmd, &o->quality)) != 0) return built;
     o->quality.exposure = o->exposure;
     o->quality.debug_view = o->debug_view;
+    o->quality.overlay = o->overlay;
+    if (o->window && !o->frames_given) o->frames = RUN_WINDOW_MAX_FRAMES;
+    if (!o->window && (o->win_w || o->present_mode != FV_WINDOW_FIFO))
+        return fv_cli_usage_error("run", USAGE, "--window and --present-mode need --present window");
+    if (o->window && o->out_dir)
+        return fv_cli_usage_error("run", USAGE, "--out writes files from a headless run; it cannot be combined with "
+                                  "--present window");
+    /* Options that would have no effect are refused: the user meant something else. */
+    if (o->hz_given && !o->gaze_uri)
+        return fv_cli_usage_error("run", USAGE, "--hz is the refresh rate of the display that paces --gaze runs; "
+                                  "without --gaze frames run unpaced (add --gaze URI or drop --hz)");
+    if (o->hz_given && o->window)
+        return fv_cli_usage_error("run", USAGE, "--hz has no effect with --present window: its swapchain paces the "
+                                  "frames at the display's own rate");
+    if (o->head_given && !o->gaze_uri)
+        return fv_cli_usage_error("run", USAGE, "--head chooses the head of a --gaze run (the scene's or the "
+                                  "tracker's); without --gaze the scene's head is used");
+    if (o->save_given && !o->out_dir)
+        return fv_cli_usage_error("run", USAGE, "--save picks the frames that --out writes; without --out nothing "
+                                  "is saved (add --out DIR)");
+    if (o->layout_given && !o->out_dir)
+        return fv_cli_usage_error("run", USAGE, "--layout is the layout of the images --out writes; without --out "
+                                  "there are none (add --out DIR)");
+    if (o->float_out && (!o->out_dir || o->save == SAVE_NONE))
+        return fv_cli_usage_error("run", USAGE, "--float writes PFM files beside the PNGs of --out; it needs --out "
+                                  "DIR and a --save other than none");
     return 0;
 }
 
@@ -178,7 +309,83 @@ typedef struct run_state {
     const run_opts *o;
     fv_renderer *r;
     fv_measure m;
+    fv_quality quality;       /* what frames are drawn with: the options', then what the window's keys changed */
+    bool keys_changed;
+    run_gaze *gaze;           /* the frame loop of a --gaze run (its newest head pose) */
+    run_head head;            /* --head */
+    fv_head scene_head;       /* the loaded scene's head */
+    run_frame_row *rows;      /* --frame-log: one per frame drawn */
+    run_hmd *hmd;             /* the options' HMD profile and frame budget */
+    size_t rows_n, rows_cap;
 } run_state;
+
+/* Ctrl-C: the frame in flight finishes, then the summary (exit 130). A second Ctrl-C ends the process at once. */
+static volatile sig_atomic_t g_interrupted;
+static void on_sigint(int sig)
+{
+    (void)sig;
+    static const char msg[] = "fovea run: Ctrl-C: finishing the frame in flight, then the summary (Ctrl-C again "
+                              "ends it at once)\n";
+    if (!g_interrupted) (void)!write(STDERR_FILENO, msg, sizeof msg - 1); /* write(2) is async-signal-safe */
+    g_interrupted = 1;
+}
+
+/* ---- in a window: keys and title ------------------------------------------------------------------------------ */
+
+/* A key of the window (GLFW key codes: letters are their upper-case ASCII). F, G, H toggle the knobs that exist in
+ * this build (fovea.enabled, gi.enabled, shadow.enabled), V steps to the next view, O toggles the overlay. */
+static void window_key(run_state *st, int key)
+{
+    const char *knob = key == 'F' ? "fovea.enabled" : key == 'G' ? "gi.enabled" : key == 'H' ? "shadow.enabled" : NULL;
+    if (knob) {
+        const fv_knob *k = fv_knob_find(knob);
+        if (!k || k->type != FV_KNOB_BOOL) {
+            FV_INFO("run", "key %c: this build has no knob %s", key, knob);
+            return;
+        }
+        bool on = !fv_knob_get(k, &st->quality).b;
+        char set[64], err[160];
+        snprintf(set, sizeof set, "%s=%s", knob, on ? "on" : "off");
+        if (FV_FAILED(fv_quality_set(&st->quality, set, err, sizeof err))) {
+            FV_WARN("run", "key %c: %s", key, err);
+            return;
+        }
+        FV_INFO("run", "key %c: %s", key, set);
+        st->keys_changed = true;
+    } else if (key == 'V') {
+        st->quality.debug_view = (fv_debug_view)(((unsigned)st->quality.debug_view + 1u) % FV_DEBUG_VIEW_COUNT);
+        FV_INFO("run", "key V: view %s", fv_debug_view_name(st->quality.debug_view));
+        st->keys_changed = true;
+    } else if (key == 'O') {
+        st->quality.overlay = !st->quality.overlay;
+        FV_INFO("run", "key O: overlay %s", st->quality.overlay ? "on" : "off");
+        st->keys_changed = true;
+    }
+}
+
+/* The cursor is over the panel image, pre-distorted for the lens: the undistorted ray its panel point shows (green
+ * channel) is what the mouse's gaze aims at, as the eye image's uv. Without a lens the two are the same. */
+static void cursor_through_lens(const fv_quality *q, const fv_mouse_views *mv, int eye, float *u, float *v)
+{
+    if (!q->distort.enabled || !q->distort.lens.valid) return;
+    double tx = 0.0, ty = 0.0;
+    fv_lens_panel_to_tan(&q->distort.lens, eye, 1, *u, *v, &tx, &ty);
+    double w = mv->tan_right[eye] - mv->tan_left[eye], h = mv->tan_up[eye] - mv->tan_down[eye];
+    if (!(w > 0.0 && h > 0.0) || !isfinite(tx) || !isfinite(ty)) return;
+    *u = (float)((tx - mv->tan_left[eye]) / w);
+    *v = (float)((mv->tan_up[eye] - ty) / h);
+}
+
+/* The window title: frame rate over the last half second or more, the newest frame's GPU time, the preset. */
+static void window_title(fv_window *w, const run_state *st, double fps)
+{
+    char title[192];
+    snprintf(title, sizeof title, "fovea — %.1f fps, GPU %.2f ms, %s%s%s%s", fps, st->m.last_stats.frame_gpu_ms,
+             fv_tool_quality_preset(&st->o->tq), st->keys_changed ? " (keys changed it)" : "",
+             st->quality.debug_view ? ", view " : "",
+             st->quality.debug_view ? fv_debug_view_name(st->quality.debug_view) : "");
+    fv_window_set_title(w, title);
+}
 
 /* Draw one frame: views from the scene's head, gaze as given (the frame loop's prediction) or straight ahead.
  * With times (a frame-loop frame), wait for the GPU so that its end is known on the host clock. */
@@ -186,7 +393,15 @@ static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, f
 {
     fv_frame_input base;
     double time_s = (double)in->frame_id / (st->o->hz > 0 ? st->o->hz : 90.0); /* scene time at the refresh rate */
-    FV_TRY(fv_renderer_frame_input(st->r, NULL, in->frame_id, time_s, &base));
+    fv_head head = st->scene_head;
+    const fv_head *hp = NULL;
+    if (keep_gaze && st->gaze && st->gaze->loop) { /* --head: the scene's, or moved by the tracker's pose */
+        fv_gaze_sample hs;
+        bool have = fv_frame_loop_newest_head(st->gaze->loop, &hs);
+        run_head_apply(&st->head, have ? &hs : NULL, &st->scene_head, &head);
+        hp = &head;
+    }
+    FV_TRY(fv_renderer_frame_input(st->r, hp, in->frame_id, time_s, &base));
     if (keep_gaze) {
         in->head = base.head;
         in->eye[0] = base.eye[0];
@@ -195,7 +410,20 @@ static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, f
     } else {
         *in = base;
     }
-    in->quality = st->o->quality;
+    run_hmd_views(st->hmd, in);
+    run_hmd_budget_update(st->hmd, &st->m, in->frame_id, &st->quality);
+    in->quality = st->quality;
+    if (st->rows && st->rows_n < st->rows_cap) { /* --frame-log: what this frame was drawn with */
+        run_frame_row *row = &st->rows[st->rows_n++];
+        row->frame_id = in->frame_id;
+        row->gaze[0] = in->gaze[0];
+        row->gaze[1] = in->gaze[1];
+        row->pupil_mm = keep_gaze ? in->pupil_mm : NAN;
+        row->head = head;
+        row->head_source = keep_gaze ? run_head_mode_name(st->head.mode) : "scene";
+        row->head_recorded = hp && st->head.applied;
+        row->head_seq = st->head.seq;
+    }
     int64_t c0 = fv_measure_thread_cpu_ns();
     fv_result res = fv_renderer_draw(st->r, in);
     fv_measure_cpu(&st->m, (double)(fv_measure_thread_cpu_ns() - c0) / 1e6);
@@ -222,6 +450,79 @@ static fv_result render_cb(void *user, fv_frame_input *in, fv_frame_render_times
     return draw_frame(user, in, true, out_times);
 }
 
+/* --scene names neither a built-in scene nor a file: say what there is (the built-ins and the scene files in the
+ * source tree's scenes/). false after printing that. */
+static bool scene_exists_or_say(const char *name)
+{
+    struct stat sb;
+    if (!strncmp(name, "builtin:", 8) || stat(name, &sb) == 0) return true;
+    int err = errno; /* why the file is not there ("No such file or directory") */
+    for (const char *const *b = fv_scene_builtin_names(); *b; b++)
+        if (!strcmp(name, *b)) return true;
+    char builtins[256] = "", files[1024] = "";
+    for (const char *const *b = fv_scene_builtin_names(); *b; b++)
+        snprintf(builtins + strlen(builtins), sizeof builtins - strlen(builtins), "%s%s", builtins[0] ? ", " : "", *b);
+    DIR *d = opendir(FV_SOURCE_DIR "/scenes");
+    for (struct dirent *e; d && (e = readdir(d));) {
+        size_t n = strlen(e->d_name);
+        if (n > 11 && !strcmp(e->d_name + n - 11, ".scene.json"))
+            snprintf(files + strlen(files), sizeof files - strlen(files), "%s%s", files[0] ? ", " : "", e->d_name);
+    }
+    if (d) closedir(d);
+    fprintf(stderr, "fovea run: --scene '%s': no built-in scene and no file of that name (%s). Built-in scenes: %s; "
+            "scene files in %s/scenes: %s (or any *.scene.json, glTF, OBJ or PLY file)\n", name, strerror(err),
+            builtins, FV_SOURCE_DIR, files[0] ? files : "none");
+    return false;
+}
+
+/* The outermost directory of path that does not exist yet: what creating path makes (to take away again when the
+ * run fails before its first frame). "" when path exists. */
+static void first_missing_dir(const char *path, char *out, size_t cap)
+{
+    out[0] = '\0';
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (;;) {
+        struct stat sb;
+        if (stat(buf, &sb) == 0) return;
+        snprintf(out, cap, "%s", buf);
+        char *slash = strrchr(buf, '/');
+        while (slash && slash > buf && slash[1] == '\0') { /* trailing slashes */
+            *slash = '\0';
+            slash = strrchr(buf, '/');
+        }
+        if (!slash || slash == buf) return;
+        *slash = '\0';
+    }
+}
+
+/* Remove the (empty) directories from path up to and including top, which creating path made. */
+static void remove_created_dirs(const char *path, const char *top)
+{
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", path);
+    size_t top_len = strlen(top);
+    while (strlen(buf) >= top_len && top_len) {
+        if (rmdir(buf) != 0 && errno != ENOENT) return; /* not empty: something was written there */
+        if (strlen(buf) == top_len) return;
+        char *slash = strrchr(buf, '/');
+        if (!slash) return;
+        *slash = '\0';
+    }
+}
+
+/* --frame-log: the rows drawn, with the latency records of a --gaze run and the GPU/CPU times measured. */
+static fv_result write_frame_log(run_state *st, const run_gaze *gaze, const char *path)
+{
+    for (size_t i = 0; i < st->rows_n; i++) {
+        run_frame_row *row = &st->rows[i];
+        row->lat = gaze && gaze->records && i < gaze->count ? &gaze->records[i] : NULL;
+        row->gpu_ms = i < st->m.measured && i < st->m.cap ? st->m.frame_gpu_ms[i] : NAN;
+        row->cpu_ms = i < st->m.drawn && i < st->m.cap ? st->m.cpu_ms[i] : NAN;
+    }
+    return run_frame_log_write(path, st->rows, st->rows_n);
+}
+
 int fv_cmd_run(int argc, char **argv)
 {
     run_opts o;
@@ -233,12 +534,34 @@ int fv_cmd_run(int argc, char **argv)
     fv_scene *scene = NULL;
     fv_renderer *r = NULL;
     fv_target *files = NULL;
+    fv_window *window = NULL;
+    fv_mouse_views mouse_views = {0}; /* the eyes the cursor is over (window runs) */
+    bool closed = false;
+    int64_t frames_done = 0;
     run_state st;
     memset(&st, 0, sizeof st);
     st.o = &o;
+    st.quality = o.quality;
+    st.hmd = &o.hmd;
     run_gaze gaze;
     memset(&gaze, 0, sizeof gaze);
     bool gaze_open = false;
+    st.gaze = &gaze;
+    st.head.mode = o.head;
+    char out_created[4096] = ""; /* the directory --out made, removed again if no frame is drawn */
+    bool interrupted = false;
+    if (o.frame_log) {
+        st.rows_cap = (size_t)o.frames;
+        st.rows = calloc(st.rows_cap, sizeof *st.rows);
+        if (!st.rows) {
+            FV_ERROR("run", "out of memory for the frame log of %lld frames", (long long)o.frames);
+            return FV_EXIT_FAIL;
+        }
+    }
+    if (!scene_exists_or_say(o.scene)) {
+        free(st.rows);
+        return FV_EXIT_FAIL;
+    }
 
     if (FV_FAILED(fv_measure_init(&st.m, (size_t)o.frames))) {
         FV_ERROR("run", "out of memory for %lld frames", (long long)o.frames);
@@ -246,6 +569,7 @@ int fv_cmd_run(int argc, char **argv)
     }
     bool saving = o.out_dir && o.save != SAVE_NONE;
     if (saving) {
+        first_missing_dir(o.out_dir, out_created, sizeof out_created);
         if (!fv_cli_output_dir("run", "--out", o.out_dir)) goto done;
         fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.sbs, .linear_pfm = o.float_out,
                                    .save = o.save == SAVE_EVERY ? FV_TARGET_SAVE_EVERY : FV_TARGET_SAVE_LAST};
@@ -255,12 +579,35 @@ int fv_cmd_run(int argc, char **argv)
         fprintf(stderr, "fovea run: cannot load scene '%s' (see the messages above)\n", o.scene);
         goto done;
     }
-    fv_renderer_desc desc = {.eye_width = o.eye_w, .eye_height = o.eye_h, .target = files};
+    if (o.window) {
+        fv_window_desc wd = {.width = o.win_w, .height = o.win_h, .eye_width = o.eye_w, .eye_height = o.eye_h,
+                             .title = "fovea", .present_mode = o.present_mode};
+        if (!o.win_w && o.hmd.have && o.hmd.name) { /* a named HMD: its panel, scaled to fit the screen */
+            wd.width = o.hmd.profile.panel_width_px;
+            wd.height = o.hmd.profile.panel_height_px;
+            wd.fit_to_screen = true;
+        }
+        if (FV_FAILED(fv_window_create(&wd, &window))) {
+            fprintf(stderr, "fovea run: cannot open a window (see the messages above)\n");
+            goto done;
+        }
+    }
+    fv_renderer_desc desc = {.eye_width = o.eye_w, .eye_height = o.eye_h,
+                             .target = window ? fv_window_target(window) : files};
     if (FV_FAILED(fv_renderer_create(&desc, &r))) {
         fprintf(stderr, "fovea run: cannot create the renderer (see the messages above)\n");
         goto done;
     }
     st.r = r;
+    st.scene_head = scene->head;
+    { /* Forcing multiview where it is known to mis-clip the second view: say so, once */
+        const char *mv = getenv("FOVEA_MULTIVIEW");
+        bool forced_on = mv && *mv && strcmp(mv, "0") != 0 && strcmp(mv, "false") != 0 && strcmp(mv, "off") != 0;
+        if (forced_on && strstr(fv_renderer_device_name(r), "llvmpipe"))
+            FV_WARN("run", "FOVEA_MULTIVIEW=%s forces multiview on %s, whose multiview mis-clips the second view: "
+                    "the right eye may be wrong (unset it to draw each eye in its own pass)", mv,
+                    fv_renderer_device_name(r));
+    }
     /* The quality first, so that the scene's passes start once, with the settings they will run with. */
     if (FV_FAILED(fv_renderer_set_quality(r, &o.quality))) goto done;
     if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
@@ -268,11 +615,30 @@ int fv_cmd_run(int argc, char **argv)
         goto done;
     }
     if (o.explain) print_plan(o.json ? stderr : stdout, fv_renderer_plan(r));
+    if (run_hmd_budget_start(&o.hmd, &o.quality, fv_tool_quality_preset(&o.tq),
+                             o.gaze_uri ? o.hz : o.hmd.have ? (double)o.hmd.profile.refresh_hz : 90.0,
+                             fv_renderer_plan(r)) != 0)
+        goto done;
+    if (window) { /* the cursor over the window is a gaze source (mouse:) with these eyes */
+        fv_frame_input fi;
+        if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &fi))) goto done;
+        run_hmd_views(&o.hmd, &fi); /* the frusta the frames are drawn with */
+        mouse_views.ipd_mm = fi.head.ipd_mm;
+        for (int e = 0; e < 2; e++) {
+            mouse_views.tan_left[e] = fi.eye[e].tan_left;
+            mouse_views.tan_right[e] = fi.eye[e].tan_right;
+            mouse_views.tan_up[e] = fi.eye[e].tan_up;
+            mouse_views.tan_down[e] = fi.eye[e].tan_down;
+        }
+        fv_mouse_pointer_attach(&mouse_views);
+    }
     if (o.gaze_uri) {
         fv_frame_input first;
         if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &first))) goto done;
         gaze_open = true;
-        if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.hz, (size_t)o.frames, render_cb, &st, first.eye))) {
+        fv_display *shown_on = window ? fv_window_display(window) : NULL; /* NULL: a simulated display */
+        if (FV_FAILED(run_gaze_open_on(&gaze, o.gaze_uri, shown_on, o.hz, (size_t)o.frames, render_cb, &st,
+                                       first.eye))) {
             fprintf(stderr, "fovea run: cannot open gaze source '%s' (see the messages above)\n", o.gaze_uri);
             goto done;
         }
@@ -280,7 +646,39 @@ int fv_cmd_run(int argc, char **argv)
 
     bool tty = isatty(STDERR_FILENO);
     int64_t t_start = fv_time_monotonic_ns(), t_last_progress = t_start;
+    int64_t t_title = t_start, title_frames = 0;
+    struct sigaction sa_int, sa_old;
+    memset(&sa_int, 0, sizeof sa_int);
+    sa_int.sa_handler = on_sigint;
+    sa_int.sa_flags = SA_RESETHAND; /* no SA_RESTART: a sleep until the next refresh ends early */
+    sigemptyset(&sa_int.sa_mask);
+    g_interrupted = 0;
+    sigaction(SIGINT, &sa_int, &sa_old);
     for (int64_t f = 0; f < o.frames; f++) {
+        if (g_interrupted) {
+            interrupted = true;
+            break;
+        }
+        if (window) {
+            if (!fv_window_poll(window)) {
+                closed = true;
+                break;
+            }
+            for (int key; (key = fv_window_next_key(window)) != 0;) window_key(&st, key);
+            int eye;
+            float u, v;
+            if (fv_window_cursor(window, &eye, &u, &v)) {
+                cursor_through_lens(&st.quality, &mouse_views, eye, &u, &v);
+                fv_mouse_pointer_move(eye, u, v, fv_time_monotonic_ns());
+            }
+            int64_t now = fv_time_monotonic_ns();
+            if (now - t_title >= FV_NS_PER_S / 2) {
+                window_title(window, &st, (double)title_frames * 1e9 / (double)(now - t_title));
+                t_title = now;
+                title_frames = 0;
+            }
+            title_frames++;
+        }
         int64_t t0 = fv_time_monotonic_ns();
         if (o.gaze_uri) {
             if (FV_FAILED(run_gaze_step(&gaze))) goto done;
@@ -291,13 +689,20 @@ int fv_cmd_run(int argc, char **argv)
             if (FV_FAILED(draw_frame(&st, &in, false, NULL))) goto done;
         }
         fv_measure_wall(&st.m, (double)(fv_time_monotonic_ns() - t0) / 1e6);
+        frames_done = f + 1;
         if (tty && fv_time_monotonic_ns() - t_start > FV_NS_PER_S &&
             fv_time_monotonic_ns() - t_last_progress > 200 * FV_NS_PER_MS) {
             t_last_progress = fv_time_monotonic_ns();
             fprintf(stderr, "\rfovea run: frame %lld/%lld", (long long)f + 1, (long long)o.frames);
         }
     }
+    if (g_interrupted) interrupted = true; /* during the last frame */
+    sigaction(SIGINT, &sa_old, NULL);
+    if (interrupted)
+        fprintf(stderr, "fovea run: interrupted (Ctrl-C) after %lld of %lld frames\n", (long long)frames_done,
+                (long long)o.frames);
     if (FV_FAILED(fv_renderer_finish(r)) || !fv_measure_take(&st.m, r)) goto done;
+    if (o.frame_log && FV_FAILED(write_frame_log(&st, o.gaze_uri ? &gaze : NULL, o.frame_log))) goto done;
     if (files && o.save == SAVE_LAST && FV_FAILED(fv_target_files_flush(files))) goto done;
     if (tty && fv_time_monotonic_ns() - t_start > FV_NS_PER_S) fprintf(stderr, "\r%*s\r", 40, "");
     double wall_s = (double)(fv_time_monotonic_ns() - t_start) / 1e9;
@@ -309,11 +714,13 @@ int fv_cmd_run(int argc, char **argv)
         cJSON *j = cJSON_CreateObject();
         fv_cli_json_add_string(j, "scene", scene->name[0] ? scene->name : o.scene);
         fv_cli_json_add_string(j, "device", fv_renderer_device_name(r));
-        cJSON_AddNumberToObject(j, "frames", (double)o.frames);
+        cJSON_AddNumberToObject(j, "frames", (double)frames_done);
         cJSON_AddNumberToObject(j, "eye_width", o.eye_w);
         cJSON_AddNumberToObject(j, "eye_height", o.eye_h);
         cJSON_AddNumberToObject(j, "triangles", (double)fv_scene_triangle_count(scene));
         fv_measure_add_json(&st.m, j);
+        fv_measure_add_fovea_json(&st.m, r, j);
+        fv_measure_add_gi_json(&st.m, r, j);
         cJSON_AddNumberToObject(j, "peak_host_rss_mib", (double)ru.ru_maxrss / 1024.0);
         cJSON_AddNumberToObject(j, "wall_s", wall_s);
         cJSON_AddNumberToObject(j, "validation_messages", vmsg);
@@ -321,6 +728,7 @@ int fv_cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(jq, "exposure", o.quality.exposure);
         fv_cli_json_add_string(jq, "debug_view", fv_debug_view_name(o.quality.debug_view));
         fv_tool_quality_add_json(jq, fv_tool_quality_preset(&o.tq), &o.quality);
+        run_hmd_add_json(&o.hmd, r, j);
         if (o.explain) {
             const fv_frame_plan *plan = fv_renderer_plan(r);
             cJSON *pl = cJSON_AddArrayToObject(j, "plan");
@@ -345,31 +753,74 @@ int fv_cmd_run(int argc, char **argv)
                 cJSON_AddItemToArray(pl, e);
             }
         }
+        if (o.gaze_uri && window) snprintf(gaze.clock, sizeof gaze.clock, "swapchain: %s", fv_window_clock_name(window));
         if (o.gaze_uri) run_gaze_add_json(&gaze, j);
+        if (window) {
+            fv_window_stats ws;
+            fv_window_get_stats(window, &ws);
+            cJSON *jp = cJSON_AddObjectToObject(j, "present");
+            fv_cli_json_add_string(jp, "target", "window");
+            fv_cli_json_add_string(jp, "clock", fv_window_clock_name(window));
+            cJSON_AddNumberToObject(jp, "refresh_hz", fv_window_display(window)->refresh_hz);
+            cJSON_AddBoolToObject(jp, "refresh_measured", ws.refresh_measured);
+            cJSON_AddNumberToObject(jp, "vsync_events", (double)ws.vsync_events);
+            fv_cli_json_add_string(jp, "present_mode", ws.present_mode);
+            cJSON_AddNumberToObject(jp, "presents", (double)ws.presents);
+            cJSON_AddNumberToObject(jp, "skipped", (double)ws.skipped);
+            cJSON_AddNumberToObject(jp, "swapchains", ws.swapchain_creations);
+            cJSON_AddNumberToObject(jp, "out_of_date", ws.out_of_date);
+            cJSON_AddNumberToObject(jp, "width", ws.width);
+            cJSON_AddNumberToObject(jp, "height", ws.height);
+            cJSON_AddBoolToObject(jp, "separate_present_queue", ws.separate_present_queue);
+            cJSON_AddBoolToObject(jp, "closed_by_user", closed);
+        } else {
+            cJSON *jp = cJSON_AddObjectToObject(j, "present");
+            fv_cli_json_add_string(jp, "target", saving ? "files" : "headless");
+        }
         int printed = fv_cli_json_print(j, false);
         cJSON_Delete(j);
         if (printed != FV_EXIT_OK) goto done;
     } else {
         printf("fovea run: scene '%s' on %s, %lld frame%s at %ux%u per eye (%llu triangles), %.2f s\n",
-               scene->name[0] ? scene->name : o.scene, fv_renderer_device_name(r), (long long)o.frames,
-               o.frames == 1 ? "" : "s", o.eye_w, o.eye_h, (unsigned long long)fv_scene_triangle_count(scene),
+               scene->name[0] ? scene->name : o.scene, fv_renderer_device_name(r), (long long)frames_done,
+               frames_done == 1 ? "" : "s", o.eye_w, o.eye_h, (unsigned long long)fv_scene_triangle_count(scene),
                wall_s);
         fv_measure_print(&st.m, stdout);
+        fv_measure_print_fovea(&st.m, r, stdout);
+        fv_measure_print_gi(&st.m, r, stdout);
         fv_tool_quality_print(stdout, fv_tool_quality_preset(&o.tq), &o.quality);
+        run_hmd_print(&o.hmd, r, stdout);
         printf("  memory: %.1f MiB device (peak), %.1f MiB host RSS (peak); validation messages: %u\n",
                (double)st.m.last_stats.peak_device_memory_bytes / 1048576.0, (double)ru.ru_maxrss / 1024.0, vmsg);
+        if (o.gaze_uri && window) snprintf(gaze.clock, sizeof gaze.clock, "swapchain: %s", fv_window_clock_name(window));
         if (o.gaze_uri) run_gaze_print(&gaze, stdout);
         if (saving) printf("  images: %s/\n", o.out_dir);
+        if (window) {
+            fv_window_stats ws;
+            fv_window_get_stats(window, &ws);
+            printf("  window: %llu frames presented (%s, %ux%u, %u swapchain%s, %llu not shown), display clock: %s "
+                   "at %.2f Hz (%s)%s\n", (unsigned long long)ws.presents, ws.present_mode, ws.width, ws.height,
+                   ws.swapchain_creations, ws.swapchain_creations == 1 ? "" : "s", (unsigned long long)ws.skipped,
+                   fv_window_clock_name(window), fv_window_display(window)->refresh_hz,
+                   ws.refresh_measured ? "measured from the vsyncs" : "assumed: no present waited for a vsync",
+                   closed ? "; closed by the user" : "");
+        }
     }
+    fflush(stdout); /* the summary is out even if a second Ctrl-C ends the process during the clean-up */
     if (vmsg > 0) {
         fprintf(stderr, "fovea run: %u Vulkan validation message%s (see above)\n", vmsg, vmsg == 1 ? "" : "s");
         goto done;
     }
-    exit_code = FV_EXIT_OK;
+    exit_code = interrupted ? 130 : FV_EXIT_OK; /* 128 + SIGINT, as a shell reports it */
 done:
+    if (exit_code != FV_EXIT_OK && exit_code != 130 && frames_done == 0 && out_created[0])
+        remove_created_dirs(o.out_dir, out_created);
+    free(st.rows);
     if (gaze_open) run_gaze_close(&gaze);
+    if (window) fv_mouse_pointer_detach();
     fv_measure_fini(&st.m);
     fv_renderer_destroy(&r);
+    fv_window_destroy(&window); /* after the renderer: its swapchain went with the device */
     fv_target_destroy(&files);
     fv_scene_destroy(&scene);
     return exit_code;

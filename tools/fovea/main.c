@@ -24,6 +24,7 @@ int fv_cmd_compare(int argc, char **argv);
 int fv_cmd_reference(int argc, char **argv);
 int fv_cmd_knobs(int argc, char **argv);
 int fv_cmd_bench(int argc, char **argv);
+int fv_cmd_material(int argc, char **argv);
 
 /* Every command, in `fovea --help` order. */
 static const command g_commands[] = {
@@ -39,6 +40,8 @@ static const command g_commands[] = {
      fv_cmd_reference},
     {"knobs", "list the speed/accuracy knobs: ranges, units, their values under each preset", fv_cmd_knobs},
     {"bench", "sweep knobs: GPU time against error (vs exact and the CPU reference), Pareto plots", fv_cmd_bench},
+    {"material", "a translucent material's dipole quantities and total diffuse reflectance (closed form, numeric)",
+     fv_cmd_material},
     {NULL, NULL, NULL},
 };
 

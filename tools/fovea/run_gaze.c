@@ -2,6 +2,7 @@
 #include "run_gaze.h"
 
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,6 +21,12 @@ static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc
 fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t frames, fv_frame_render_fn render,
                         void *render_user, const fv_eye_view views[2])
 {
+    return run_gaze_open_on(g, uri, NULL, refresh_hz, frames, render, render_user, views);
+}
+
+fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, double refresh_hz, size_t frames,
+                           fv_frame_render_fn render, void *render_user, const fv_eye_view views[2])
+{
     memset(g, 0, sizeof *g);
     snprintf(g->uri, sizeof g->uri, "%s", uri);
     g->refresh_hz = refresh_hz;
@@ -27,8 +34,16 @@ fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t 
     if (!g->records) return FV_ERR_NO_MEMORY;
     g->cap = frames;
     const fv_clock *clock = fv_clock_monotonic();
-    fv_sim_display_desc dd = {.clock = clock, .refresh_hz = refresh_hz};
-    FV_TRY(fv_sim_display_create(&dd, &g->display));
+    if (display) {
+        g->display = display;
+        g->display_borrowed = true;
+        g->refresh_hz = display->refresh_hz;
+        snprintf(g->clock, sizeof g->clock, "swapchain");
+    } else {
+        fv_sim_display_desc dd = {.clock = clock, .refresh_hz = refresh_hz};
+        FV_TRY(fv_sim_display_create(&dd, &g->display));
+        snprintf(g->clock, sizeof g->clock, "simulated display");
+    }
     fv_gaze_source_desc sd = {
         .uri = uri,
         .open = open_uri,
@@ -44,7 +59,10 @@ fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t 
         if (FV_FAILED(fv_usb_hotplug_start(&g->hotplug)))
             FV_INFO("run", "%s: no USB hotplug events; a lost tracker is re-opened on a backoff", uri);
     }
+    double tracker_ms = 0.0; /* what the URI declares (a sim: eye's latency_ms), as `fovea latency` counts it */
+    FV_TRY(fv_tool_declared_latency_ms(uri, &tracker_ms));
     fv_frame_loop_desc ld = {
+        .tracker_latency_ns = (int64_t)llround(tracker_ms * 1e6),
         .clock = clock,
         .display = g->display,
         .render = render,
@@ -86,9 +104,9 @@ void run_gaze_print(const run_gaze *g, FILE *f)
             g->uri, fv_gaze_source_state_str(st.state), (unsigned long long)st.samples,
             (unsigned long long)st.delivered, (unsigned long long)st.overruns, (unsigned long long)st.losses,
             fv_gaze_event_str(last.event), last.uncertainty_deg);
-    fprintf(f, "  gaze-to-photon (%.0f Hz simulated display, %zu of %zu frames with gaze): p50 %.2f ms, p95 %.2f ms, "
+    fprintf(f, "  gaze-to-photon (%.1f Hz %s, %zu of %zu frames with gaze): p50 %.2f ms, p95 %.2f ms, "
                "p99 %.2f ms; %zu late frames, %zu repeated refreshes\n",
-            g->refresh_hz, s.frames_with_gaze, s.frames, s.g2p_p50_ms, s.g2p_p95_ms, s.g2p_p99_ms, s.late_frames,
+            g->display_borrowed ? g->display->refresh_hz : g->refresh_hz, g->clock, s.frames_with_gaze, s.frames, s.g2p_p50_ms, s.g2p_p95_ms, s.g2p_p99_ms, s.late_frames,
             s.repeated_vsyncs);
     fprintf(f, "  stages (mean ms):");
     for (int k = 0; k < FV_LATENCY_STAGE_COUNT; k++)
@@ -109,7 +127,8 @@ void run_gaze_add_json(const run_gaze *g, cJSON *obj)
     cJSON_AddNumberToObject(j, "overruns", (double)st.overruns); /* dropped as stale, newest kept */
     cJSON_AddNumberToObject(j, "losses", (double)st.losses);
     cJSON *l = cJSON_AddObjectToObject(obj, "latency");
-    cJSON_AddNumberToObject(l, "refresh_hz", g->refresh_hz);
+    cJSON_AddNumberToObject(l, "refresh_hz", g->display_borrowed ? g->display->refresh_hz : g->refresh_hz);
+    fv_cli_json_add_string(l, "clock", g->clock);
     cJSON_AddNumberToObject(l, "frames_with_gaze", (double)s.frames_with_gaze);
     cJSON_AddNumberToObject(l, "gaze_to_photon_ms_p50", s.g2p_p50_ms);
     cJSON_AddNumberToObject(l, "gaze_to_photon_ms_p95", s.g2p_p95_ms);
@@ -127,7 +146,8 @@ void run_gaze_close(run_gaze *g)
     fv_frame_loop_destroy(&g->loop);
     fv_gaze_pipeline_destroy(&g->pipeline);
     fv_gaze_source_destroy(&g->source);
-    fv_display_destroy(&g->display);
+    if (!g->display_borrowed) fv_display_destroy(&g->display);
+    g->display = NULL;
     free(g->records);
     g->records = NULL;
 }

@@ -18,6 +18,8 @@ typedef struct run_gaze {
     char uri[256];
     double refresh_hz;
     fv_display *display;
+    bool display_borrowed;          /* a presenter's display clock (run_gaze_open_on), not ours to destroy */
+    char clock[64];                 /* which clock paces the frames, for the summary */
     fv_gaze_source *source;
     fv_gaze_pipeline *pipeline;
     fv_frame_loop *loop;
@@ -31,6 +33,11 @@ typedef struct run_gaze {
  *  gaze and photon time filled by the loop, views to be set by the callback). views: the initial eye views. */
 FV_MUST_CHECK fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t frames,
                                       fv_frame_render_fn render, void *render_user, const fv_eye_view views[2]);
+/** The same, paced by a given display clock (a window's swapchain; borrowed, outlives g), or by a simulated display
+ *  at refresh_hz when display is NULL. clock_name (NULL = the default) names it in the summary. */
+FV_MUST_CHECK fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, double refresh_hz,
+                                         size_t frames, fv_frame_render_fn render, void *render_user,
+                                         const fv_eye_view views[2]);
 /** One frame through the loop (waits for its refresh on the real clock). */
 FV_MUST_CHECK fv_result run_gaze_step(run_gaze *g);
 void run_gaze_print(const run_gaze *g, FILE *f);

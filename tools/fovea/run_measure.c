@@ -142,6 +142,120 @@ void fv_measure_print(const fv_measure *mc, FILE *f)
             pct(m->frame_gpu_ms, m->measured, 95));
     fprintf(f, "  %-14s %10.3f %10.3f   (record + submit, this thread)\n", "CPU per frame",
             pct(m->cpu_ms, held(m->drawn, m->cap), 50), pct(m->cpu_ms, held(m->drawn, m->cap), 95));
-    fprintf(f, "  %-14s %10.3f %10.3f\n", "wall per frame", pct(m->wall_ms, held(m->walled, m->cap), 50),
+    fprintf(f, "  %-14s %10.3f %10.3f   (elapsed per frame of the run loop: CPU work, waits for the GPU or the "
+            "display, PNG writing)\n", "wall per frame", pct(m->wall_ms, held(m->walled, m->cap), 50),
             pct(m->wall_ms, held(m->walled, m->cap), 95));
+}
+
+/* ---- foveation ---------------------------------------------------------------------------------------------- */
+
+static const char *const FOVEA_STAGE[5][2] = {{"map", "fovea"}, {"compaction", "compact"}, {"shading", "shade"},
+                                               {"temporal", "temporal"}, {"reconstruction", "reconstruct"}};
+
+/* Median GPU ms of a pass series by name; NAN when it did not run. */
+static double pass_median(fv_measure *m, const char *name)
+{
+    for (uint32_t p = 0; p < m->pass_count; p++)
+        if (strcmp(m->passes[p].name, name) == 0 && m->passes[p].n) return pct(m->passes[p].ms, m->passes[p].n, 50);
+    return NAN;
+}
+
+static bool detail_of(const fv_renderer *r, const char *pass, const char *key, fv_pass_detail *out)
+{
+    fv_pass_detail d[8];
+    uint32_t n = fv_renderer_pass_details(r, pass, d, 8);
+    for (uint32_t i = 0; i < n; i++)
+        if (strcmp(d[i].key, key) == 0) {
+            *out = d[i];
+            return true;
+        }
+    return false;
+}
+
+static void add_ms_or_null(cJSON *o, const char *key, double v)
+{
+    if (isfinite(v)) cJSON_AddNumberToObject(o, key, v);
+    else cJSON_AddNullToObject(o, key);
+}
+
+void fv_measure_add_fovea_json(const fv_measure *mc, const fv_renderer *r, cJSON *j)
+{
+    fv_measure *m = (fv_measure *)mc;
+    if (!isfinite(pass_median(m, "fovea"))) return;
+    cJSON *jf = cJSON_AddObjectToObject(j, "fovea");
+    fv_pass_detail frac, split;
+    bool have = detail_of(r, "compact", "sampled_fraction", &frac);
+    cJSON *eyes = cJSON_AddArrayToObject(jf, "eyes");
+    for (int e = 0; e < 2; e++) {
+        cJSON *je = cJSON_CreateObject();
+        add_ms_or_null(je, "sampled_fraction", have ? frac.value[e] : NAN);
+        cJSON_AddNullToObject(je, "cache_hit_fraction"); /* no temporal reuse yet */
+        cJSON_AddItemToArray(eyes, je);
+    }
+    cJSON *js = cJSON_AddObjectToObject(jf, "stage_gpu_ms");
+    for (int s = 0; s < 5; s++) add_ms_or_null(js, FOVEA_STAGE[s][0], pass_median(m, FOVEA_STAGE[s][1]));
+    if (detail_of(r, "reconstruct", "stage_gpu_ms_voronoi_fill", &split)) {
+        add_ms_or_null(js, "reconstruction_voronoi_last", split.value[0]);
+        add_ms_or_null(js, "reconstruction_fill_last", split.value[1]);
+    }
+}
+
+void fv_measure_print_fovea(const fv_measure *mc, const fv_renderer *r, FILE *f)
+{
+    fv_measure *m = (fv_measure *)mc;
+    if (!isfinite(pass_median(m, "fovea"))) return;
+    fv_pass_detail frac, split;
+    if (detail_of(r, "compact", "sampled_fraction", &frac))
+        fprintf(f, "  fovea: sampled fraction %.2f%% (left), %.2f%% (right); cache hits: no temporal reuse\n",
+                100.0 * frac.value[0], 100.0 * frac.value[1]);
+    fprintf(f, "  fovea stages (median GPU ms):");
+    for (int s = 0; s < 5; s++) {
+        double v = pass_median(m, FOVEA_STAGE[s][1]);
+        if (isfinite(v)) fprintf(f, " %s %.3f", FOVEA_STAGE[s][0], v);
+        else fprintf(f, " %s -", FOVEA_STAGE[s][0]);
+    }
+    if (detail_of(r, "reconstruct", "stage_gpu_ms_voronoi_fill", &split))
+        fprintf(f, " (voronoi %.3f + fill %.3f)", split.value[0], split.value[1]);
+    fputc('\n', f);
+}
+
+/* ---- one-bounce GI ---------------------------------------------------------------------------------------------- */
+
+static double gi_detail(const fv_renderer *r, const char *key, uint32_t k)
+{
+    fv_pass_detail d[12];
+    uint32_t n = fv_renderer_pass_details(r, "gi", d, 12);
+    for (uint32_t i = 0; i < n; i++)
+        if (strcmp(d[i].key, key) == 0) return k < d[i].count ? d[i].value[k] : NAN;
+    return NAN;
+}
+
+void fv_measure_add_gi_json(const fv_measure *mc, const fv_renderer *r, cJSON *j)
+{
+    fv_measure *m = (fv_measure *)mc;
+    if (!isfinite(pass_median(m, "gi"))) return;
+    cJSON *jg = cJSON_AddObjectToObject(j, "gi");
+    add_ms_or_null(jg, "clusters_per_pixel_mean", gi_detail(r, "clusters_per_pixel", 0));
+    add_ms_or_null(jg, "clusters_per_pixel_max", gi_detail(r, "clusters_per_pixel", 1));
+    add_ms_or_null(jg, "cut_clusters", gi_detail(r, "cut_clusters", 0));
+    add_ms_or_null(jg, "lit_vpls", gi_detail(r, "lit_vpls", 0));
+    add_ms_or_null(jg, "rebuilds", gi_detail(r, "rebuilds", 0));
+    cJSON *js = cJSON_AddObjectToObject(jg, "stage_gpu_ms");
+    add_ms_or_null(js, "rsm", gi_detail(r, "rsm_ms", 0));
+    add_ms_or_null(js, "pyramid", gi_detail(r, "pyramid_ms", 0));
+    add_ms_or_null(js, "cut", gi_detail(r, "cut_ms", 0));
+    add_ms_or_null(js, "gather_in_shade", pass_median(m, "shade"));
+}
+
+void fv_measure_print_gi(const fv_measure *mc, const fv_renderer *r, FILE *f)
+{
+    fv_measure *m = (fv_measure *)mc;
+    if (!isfinite(pass_median(m, "gi"))) return;
+    double mean = gi_detail(r, "clusters_per_pixel", 0), max = gi_detail(r, "clusters_per_pixel", 1);
+    if (isfinite(mean)) fprintf(f, "  gi: %.0f clusters per pixel (mean), %.0f (max);", mean, max);
+    else fprintf(f, "  gi: clusters per pixel not counted in this mode;");
+    fprintf(f, " cut %.0f of %.0f lit VPLs; last rebuild (GPU ms): rsm %.3f, pyramid %.3f, cut %.3f; gather inside "
+               "shade (median %.3f ms)\n",
+            gi_detail(r, "cut_clusters", 0), gi_detail(r, "lit_vpls", 0), gi_detail(r, "rsm_ms", 0),
+            gi_detail(r, "pyramid_ms", 0), gi_detail(r, "cut_ms", 0), pass_median(m, "shade"));
 }

@@ -50,5 +50,16 @@ void fv_measure_skip(fv_measure *m, const fv_renderer *r);
 void fv_measure_add_json(const fv_measure *m, cJSON *obj);
 /** Print the same as a table. */
 void fv_measure_print(const fv_measure *m, FILE *f);
+/** Foveation, when its passes ran: per eye the sampled fraction of the newest retired frame (cache hits: null
+ *  until temporal reuse exists), and the median GPU time of each stage (map = pass "fovea", compaction =
+ *  "compact", shading = "shade", temporal, reconstruction = "reconstruct", with its jfa/fill split of the newest
+ *  retired frame) as the object "fovea" of j, or a table. Nothing when foveation is off. */
+void fv_measure_add_fovea_json(const fv_measure *m, const fv_renderer *r, cJSON *j);
+void fv_measure_print_fovea(const fv_measure *m, const fv_renderer *r, FILE *f);
+/** One-bounce GI, when its pass ran: clusters per pixel (mean, max; null where the mode does not count them),
+ *  the cut's size, the GPU time of the last rebuild's stages (rsm, pyramid, cut) and the median of the gather's
+ *  pass (it runs inside "shade", with the direct light) as the object "gi" of j, or a line. Nothing when GI is off. */
+void fv_measure_add_gi_json(const fv_measure *m, const fv_renderer *r, cJSON *j);
+void fv_measure_print_gi(const fv_measure *m, const fv_renderer *r, FILE *f);
 
 #endif

@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "fv_math.h"
+#include "fv_lens.h"
 
 typedef struct fv_eye_view {
     fv_mat4 view;        /* world -> eye view space (-z forward) */
@@ -86,7 +87,28 @@ typedef struct fv_quality_shadow {
 /** How the foveated frame fills the pixels it did not shade (fv_quality.fovea.recon, knob `fovea.recon`). */
 typedef enum fv_fovea_recon {
     FV_FOVEA_RECON_NEAREST = 0, /* "nearest": the colour of the nearest shaded pixel (jump flooding, 1+JFA) */
+    FV_FOVEA_RECON_SIBSON = 1,  /* "sibson": approximate discrete Sibson (natural-neighbour) interpolation over the
+                                 * Voronoi diagram, window = the block */
+    FV_FOVEA_RECON_IDW = 2,     /* "idw": inverse-distance-squared (Shepard) weights of the samples of the
+                                 * neighbouring blocks (no Voronoi diagram needed) */
+    FV_FOVEA_RECON_LAST = FV_FOVEA_RECON_IDW
 } fv_fovea_recon;
+
+/** How the Voronoi diagram of the samples is found (knob `fovea.voronoi`). */
+typedef enum fv_fovea_voronoi {
+    FV_FOVEA_VORONOI_JFA = 0,    /* "jfa": jump flooding, 1+JFA from the block size (the paper) */
+    FV_FOVEA_VORONOI_BLOCKS = 1, /* "blocks": exact, a search of the samples of the neighbouring blocks (every
+                                  * block holds one, so the nearest is at most one block away for B <= 5, two above) */
+    FV_FOVEA_VORONOI_LAST = FV_FOVEA_VORONOI_BLOCKS
+} fv_fovea_voronoi;
+
+/** How the sampled pixels become the list the shading dispatches over (knob `fovea.compaction`). */
+typedef enum fv_fovea_compaction {
+    FV_FOVEA_COMPACTION_TILES = 0,  /* "tiles": per 8x8 tile, one atomic per tile for its offset */
+    FV_FOVEA_COMPACTION_ROWS = 1,   /* "rows": the paper's row-wise (CSR) reorder, a prefix sum over the rows */
+    FV_FOVEA_COMPACTION_MASKED = 2, /* "masked": a full dispatch over every pixel, unsampled ones skipped */
+    FV_FOVEA_COMPACTION_LAST = FV_FOVEA_COMPACTION_MASKED
+} fv_fovea_compaction;
 
 /** The foveated-rendering knobs (render/fovea/: sampling map from the predicted gaze, compaction, reconstruction;
  *  papers/README.md section 3). Each field is one knob of the table in render/knobs/. */
@@ -97,8 +119,70 @@ typedef struct fv_quality_fovea {
     float min_prob;        /* "fovea.min_prob": xi, the smallest sampling probability, 0.01..1 */
     uint32_t block;        /* "fovea.block": side of the blocks that each hold at least one sample, px, 2..16 */
     bool uncertainty;      /* "fovea.uncertainty": widen the fovea by the gaze uncertainty (e' = max(0, e - u)) */
-    fv_fovea_recon recon;  /* "fovea.recon": nearest */
+    fv_fovea_recon recon;  /* "fovea.recon": nearest | sibson | idw */
+    fv_fovea_voronoi voronoi; /* "fovea.voronoi": jfa | blocks */
+    fv_fovea_compaction compaction; /* "fovea.compaction": tiles | rows | masked */
 } fv_quality_fovea;
+
+/** The lens knobs (render/distort/: pre-distortion with chromatic aberration; the hidden-area mask in render/gbuffer)
+ *  and the lens they apply. `lens` is not a knob: it is the HMD profile's (runtime/hmd, `fovea run --hmd`); with
+ *  lens.valid false (fv_quality_default) there is no HMD and nothing is distorted or masked. */
+typedef struct fv_quality_distort {
+    bool enabled; /* "distort.enabled": pre-distort each eye for its lens (off: the undistorted eye images) */
+    bool mask;    /* "distort.mask": never shade the pixels the lens cannot show (G-buffer and every later pass) */
+    fv_lens lens; /* the HMD's lens (fv_lens.h) */
+} fv_quality_distort;
+
+/** How the GI pass gathers indirect light per pixel (fv_quality.gi.mode, knob `gi.mode`). */
+typedef enum fv_gi_mode {
+    FV_GI_CUT = 0,          /* "cut": the flat cut list of the light quad-tree, extracted once per tree update */
+    FV_GI_TRAVERSE = 1,     /* "traverse": the paper's per-pixel top-down traversal (the same clusters, per pixel) */
+    FV_GI_BOUND = 2,        /* "bound": refine a cluster while its bound exceeds gi.bound_fraction of the total */
+    FV_GI_RSM_SAMPLING = 3, /* "rsm_sampling": gi.samples RSM texels around the pixel (Dachsbacher & Stamminger 2005) */
+    FV_GI_EXACT = 4,        /* "exact": every VPL of the RSM */
+} fv_gi_mode;
+
+/** The light quad-tree's limit level (fv_quality.gi.limit_level, knob `gi.limit_level`): nodes per side. */
+typedef enum fv_gi_limit {
+    FV_GI_LIMIT_16 = 0,   /* "16": 16 x 16 nodes, at most 256 clusters */
+    FV_GI_LIMIT_32 = 1,   /* "32" */
+    FV_GI_LIMIT_64 = 2,   /* "64" */
+    FV_GI_LIMIT_LEAF = 3, /* "leaf": no limit, a cluster is cut only where it is valid */
+} fv_gi_limit;
+
+/** The one-bounce GI knobs (render/gi/: reflective shadow maps, light quad-tree, Ki & Oh 2007; papers/README.md
+ *  section 1). Each field is one knob of the table in render/knobs/. */
+typedef struct fv_quality_gi {
+    bool enabled;            /* "gi.enabled": one-bounce indirect light from spot and directional lights */
+    fv_gi_mode mode;         /* "gi.mode": cut | traverse | bound | rsm_sampling | exact */
+    uint32_t rsm_size;       /* "gi.rsm_size": px per side of each light's reflective shadow map, power of two 1..1024 */
+    uint32_t start_level;    /* "gi.start_level": nodes per side where the traversal starts, power of two 1..64 */
+    fv_gi_limit limit_level; /* "gi.limit_level": 16 | 32 | 64 | leaf */
+    float depth_threshold;   /* "gi.depth_threshold": children's depth within this of the mean (fraction of the scene
+                              * size), 0..1 */
+    float normal_threshold;  /* "gi.normal_threshold": children's normals' dot product with the mean above this, -1..1 */
+    uint32_t samples;        /* "gi.samples": RSM samples per pixel for rsm_sampling, 1..8192 */
+    float bound_fraction;    /* "gi.bound_fraction": bound mode's refinement tolerance, 0.00001..1 */
+} fv_quality_gi;
+
+/** How subsurface light is summed (fv_quality.sss.mode, knob `sss.mode`). */
+typedef enum fv_sss_mode {
+    FV_SSS_MODE_HIERARCHY = 0, /* "hierarchy": a per-pixel cut through the quad-tree of light-view samples */
+    FV_SSS_MODE_EXACT = 1,     /* "exact": every sample of the light-view maps, no hierarchy (brute force) */
+} fv_sss_mode;
+
+/** The subsurface-scattering knobs (render/sss/: dipole diffusion over a light hierarchy, papers/README.md section
+ *  4). Levels count from the root: level k has 2^k x 2^k clusters, the leaves are level log2(map_size). */
+typedef struct fv_quality_sss {
+    bool enabled;           /* "sss.enabled": subsurface light on translucent materials (off: shaded as opaque) */
+    uint32_t map_size_px;   /* "sss.map_size": side of each light-view sample map, a power of two in 16..512 */
+    uint32_t start_level;   /* "sss.start_level": the level the cut starts from, 0..9 (3 = 8 x 8 clusters) */
+    uint32_t limit_level;   /* "sss.limit_level": the finest level the cut reaches (its clusters are always
+                             * accepted), 0..9, clamped to the leaves */
+    float distance_scale;   /* "sss.distance_scale": a cluster of radius r at distance d from the pixel is accepted
+                             * when r <= distance_scale * (eye distance, m) * similarity * d; per metre, 0..100 */
+    fv_sss_mode mode;       /* "sss.mode": hierarchy | exact */
+} fv_quality_sss;
 
 /** The settings a frame is drawn with. Zero is not a valid value: start from fv_quality_default() (the `balanced`
  *  preset) or fv_quality_preset() (render/knobs/fv_knobs.h).
@@ -109,8 +193,13 @@ typedef struct fv_quality_fovea {
 typedef struct fv_quality {
     float exposure;           /* view setting, present: linear scale before tonemapping, finite and > 0 (default 1) */
     fv_debug_view debug_view; /* view setting: default FV_DEBUG_VIEW_NONE */
+    bool overlay;             /* view setting (render/overlay, --overlay): draw the predicted gaze, its uncertainty ring
+                               * and the foveal boundary into the displayed image; default false */
     fv_quality_shadow shadow; /* knobs "shadow.*" */
     fv_quality_fovea fovea;   /* knobs "fovea.*" */
+    fv_quality_sss sss;       /* knobs "sss.*" */
+    fv_quality_distort distort; /* knobs "distort.*" and the HMD lens */
+    fv_quality_gi gi;         /* knobs "gi.*" */
 } fv_quality;
 
 /** The `balanced` preset, and the one source of its values: the knob table's balanced column reads this (a unit
@@ -132,7 +221,25 @@ static inline fv_quality fv_quality_default(void)
                               .min_prob = 0.05f,
                               .block = 4,
                               .uncertainty = true,
-                              .recon = FV_FOVEA_RECON_NEAREST}};
+                              .recon = FV_FOVEA_RECON_NEAREST,
+                              .compaction = FV_FOVEA_COMPACTION_TILES,
+                              .voronoi = FV_FOVEA_VORONOI_BLOCKS},
+                    .distort = {.enabled = true, .mask = true},
+                    .gi = {.enabled = true, /* scenes without a spot or directional light skip the pass */
+                           .mode = FV_GI_CUT,
+                           .rsm_size = 256,
+                           .start_level = 8,
+                           .limit_level = FV_GI_LIMIT_32,
+                           .depth_threshold = 0.25f,
+                           .normal_threshold = 0.6f,
+                           .samples = 256,
+                           .bound_fraction = 0.01f},
+                    .sss = {.enabled = true,
+                            .map_size_px = 128,
+                            .start_level = 3,
+                            .limit_level = 7,
+                            .distance_scale = 1.5f,
+                            .mode = FV_SSS_MODE_HIERARCHY}};
     return q;
 }
 
@@ -154,6 +261,12 @@ typedef struct fv_frame_input {
  *  projection stays finite (<= 0 or non-finite: 0.05 m / 100 m). Finite for any input (NaN poses: identity). */
 void fv_eye_views_build(const fv_head_pose *head, float near_m, float far_m, uint32_t eye_width, uint32_t eye_height,
                         fv_eye_view out[2]);
+
+/** The same with each eye's field of view given (an HMD profile's): fov[4 eye + i] = the tangents of its left,
+ *  right, up and down half-angles (i = 0..3), all > 0 (eye 0 = left). A tangent that is not finite or outside
+ *  [1e-3, 100] takes the default's. */
+void fv_eye_views_build_fov(const fv_head_pose *head, float near_m, float far_m, const float fov[8],
+                            fv_eye_view out[2]);
 
 /** Clamp near/far planes to what keeps a projection finite: near <= 0 or non-finite -> 0.05 m, near in
  *  [1e-5, 5e8] m; far <= 0 or non-finite -> max(100 m, 1000 near), far <= 1e9 m and > 1.001 near. */

@@ -1,0 +1,210 @@
+// @brief One-bounce indirect irradiance from the light quad-tree (render/gi; Ki & Oh 2007, papers/README.md §1),
+// evaluated inside the shared shading function (fv_hook_indirect_irradiance), so full-resolution, listed-pixel and
+// foveated shading all get it. Reads the GI technique slots of the shading-inputs set (fv_gi_interface.glsl). Modes:
+// the flat cut list, the paper's per-pixel traversal, a lightcuts-style bound, RSM sampling (Dachsbacher &
+// Stamminger 2005) and the exact sum over every VPL. Requires fv_gpu.h, fv_common.glsl and
+// fv_shade_inputs_interface.h. Every result is finite and >= 0.
+#ifndef FV_GI_GATHER_GLSL
+#define FV_GI_GATHER_GLSL
+
+#include "fv_gi_interface.glsl"
+
+layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_HEADER) readonly buffer FvGiHeader {
+    fv_gi_header gi;
+    fv_gi_cluster gi_cut[];
+};
+layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_NODES) readonly buffer FvGiNodes {
+    fv_gi_node gi_nodes[];
+};
+
+// Irradiance (W/m^2 per channel) at x (unit normal n) from one cluster taken as a Lambertian disk of flux Phi:
+//   E = Phi * max(0, n_c.(x - x_c)/d) * max(0, n.(x_c - x)/d) / (pi * (d^2 + r^2))
+// (Ki & Oh 2007 eq. 1 / Dachsbacher & Stamminger 2005, with the Lambertian 1/pi that the papers fold into Phi).
+// The papers' 1/d^4 (two cosines over d^2) has a singularity at the VPL; here the d^2 of the falloff becomes
+// d^2 + r^2, r the cluster's extent: exactly the on-axis irradiance of a uniformly emitting disk of radius r, so a
+// receiver at a cluster sees at most Phi / (pi r^2) (the disk's own exitance) — bounded by the physics, not by a
+// tuning constant. n_c is the mean normal (shorter than unit where the children disagree: normals that cancel give
+// no light instead of NaN). A receiver exactly at x_c (d = 0) gets 0; zero flux gives 0.
+vec3 fv_gi_cluster_irradiance(fv_gi_node c, vec3 x, vec3 n)
+{
+    vec3 v = x - c.pos.xyz;
+    float d2 = dot(v, v);
+    if (!(d2 > 1e-20) || !(c.flux.w > 0.0)) return vec3(0.0);
+    float inv_d = inversesqrt(d2);
+    float cos_c = max(dot(c.normal.xyz, v) * inv_d, 0.0);
+    float cos_r = max(-dot(n, v) * inv_d, 0.0);
+    float r = c.normal.w;
+    return max(c.flux.rgb, vec3(0.0)) * (cos_c * cos_r / (FV_PI * (d2 + r * r)));
+}
+
+// Upper bound on what any VPL below cluster c can give x: every VPL i lies in the sphere (x_c, extent) and gives at
+// most Phi_i cos / (pi (d_i^2 + r_i^2)) <= Phi_i cos_max / (pi (d_min^2 + r_min^2)). cos_max bounds the receiver's
+// cosine over the sphere (1 inside it).
+float fv_gi_cluster_bound(fv_gi_node c, vec3 x, vec3 n)
+{
+    vec3 v = c.pos.xyz - x;
+    float d = length(v);
+    float r = c.normal.w;
+    float cos_max = 1.0;
+    if (d > r && d > 1e-12) {
+        float cos_t = dot(n, v) / d;
+        float sin_a = r / d;
+        float cos_a = sqrt(max(1.0 - sin_a * sin_a, 0.0));
+        float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+        // cos(theta - alpha) when the sphere does not straddle the normal's direction
+        cos_max = cos_t >= cos_a ? 1.0 : clamp(cos_t * cos_a + sin_t * sin_a, 0.0, 1.0);
+    }
+    float dmin = max(d - r, 0.0);
+    float rmin = max(c.info.y, 1e-4);
+    float phi = max(max(c.flux.r, c.flux.g), max(c.flux.b, 0.0));
+    return phi * cos_max / (FV_PI * (dmin * dmin + rmin * rmin));
+}
+
+// First node of level k in a tree of side n (level k has n >> k nodes per side).
+uint fv_gi_level_offset(uint n, uint k)
+{
+    uint off = 0u;
+    for (uint j = 0u; j < k; j++) off += (n >> j) * (n >> j);
+    return off;
+}
+
+#define FV_GI_STACK 48
+
+// Indirect irradiance at x (unit normal n), and how many clusters (or samples) it summed.
+vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
+{
+    used = 0u;
+    if (gi.counts.x == 0u) return vec3(0.0);
+    uint mode = gi.counts.y;
+    uint lights = min(gi.counts.z, uint(FV_GI_MAX_LIGHTS));
+    uint N = max(gi.tree.x, 1u);
+    uint levels = min(gi.tree.y, uint(FV_GI_MAX_LEVELS));
+    uint start = min(gi.tree.z, levels - 1u), limit = min(gi.tree.w, start);
+    vec3 e = vec3(0.0);
+    if (mode == FV_GI_MODE_CUT) {
+        // The same formula as fv_gi_cluster_irradiance with pi and r^2 folded in at the build and one division:
+        // E = (Phi/pi) max(0, n_c.v) max(0, -n.v) / (d^2 (d^2 + r^2)).
+        uint count = min(gi.counts.w, uint(gi_cut.length()));
+        for (uint i = 0u; i < count; i++) {
+            fv_gi_cluster c = gi_cut[i];
+            vec3 v = x - c.pos.xyz;
+            float d2 = dot(v, v);
+            float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
+            if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
+        }
+        used = count;
+    } else if (mode == FV_GI_MODE_EXACT) {
+        for (uint l = 0u; l < lights; l++) {
+            uint base = gi.light[l].info.y;
+            for (uint i = 0u; i < N * N; i++) {
+                fv_gi_node c = gi_nodes[base + i];
+                if (c.flux.w > 0.0) {
+                    e += fv_gi_cluster_irradiance(c, x, n);
+                    used++;
+                }
+            }
+        }
+    } else if (mode == FV_GI_MODE_RSM_SAMPLING) {
+        // Dachsbacher & Stamminger 2005: samples around the receiver's projection into the RSM, denser near it:
+        // radius R xi1, angle 2 pi xi2, one fixed pattern for every pixel. The density per texel is 1/(2 pi R r),
+        // so each sample weighs 2 pi R^2 xi1 / S (unbiased over the disk of radius R; R = N sqrt 2 reaches every
+        // texel from anywhere on the map).
+        uint S = max(gi.opts.x, 1u);
+        float R = gi.params.w;
+        for (uint l = 0u; l < lights; l++) {
+            // A receiver the light does not see in front of it (the ceiling beside a spot) still gets light from
+            // the map: its disk is centred at the map's nearest point (the middle when behind the light), which
+            // the radius N sqrt 2 still covers the map from.
+            vec4 c = gi.light[l].view_proj * vec4(x, 1.0);
+            vec2 centre = c.w > 1e-20 ? clamp((c.xy / c.w * 0.5 + 0.5) * float(N), vec2(0.0), vec2(float(N)))
+                                      : vec2(0.5 * float(N));
+            uint base = gi.light[l].info.y;
+            for (uint i = 0u; i < S; i++) {
+                float xi1 = (float(i) + 0.5) / float(S);
+                float xi2 = fract(float(i) * 0.6180339887498949);
+                float a = 2.0 * FV_PI * xi2;
+                vec2 t = centre + (R * xi1) * vec2(cos(a), sin(a));
+                if (any(lessThan(t, vec2(0.0))) || any(greaterThanEqual(t, vec2(float(N))))) continue;
+                uvec2 q = min(uvec2(t), uvec2(N - 1u));
+                e += fv_gi_cluster_irradiance(gi_nodes[base + q.y * N + q.x], x, n) *
+                     (2.0 * FV_PI * R * R * xi1 / float(S));
+                used++;
+            }
+        }
+    } else {
+        // Top-down from the start level (depth first: the same set of clusters as the paper's breadth-first order).
+        // traverse: a valid cluster, or any node at the limit level, is one light (Ki & Oh 2007);
+        // bound: a cluster is one light when its bound is at most gi.params.z times the start level's estimate
+        // (a lightcuts-style error bound, Walter et al. 2005), refined down to the VPLs otherwise.
+        bool bound = mode == FV_GI_MODE_BOUND;
+        uint off[FV_GI_MAX_LEVELS];
+        for (uint k = 0u; k < levels; k++) off[k] = fv_gi_level_offset(N, k);
+        for (uint l = 0u; l < lights; l++) {
+            uint base = gi.light[l].info.y;
+            uint side = N >> start;
+            float ref = 0.0;
+            if (bound) {
+                for (uint i = 0u; i < side * side; i++) {
+                    vec3 c = fv_gi_cluster_irradiance(gi_nodes[base + off[start] + i], x, n);
+                    ref += max(max(c.r, c.g), c.b);
+                }
+            }
+            float tol = gi.params.z * ref;
+            for (uint i = 0u; i < side * side; i++) {
+                uint stack[FV_GI_STACK]; // packed: level << 24 | local index
+                uint sp = 0u;
+                stack[sp++] = (start << 24) | i;
+                while (sp > 0u) {
+                    uint item = stack[--sp];
+                    uint k = item >> 24, idx = item & 0xffffffu;
+                    fv_gi_node c = gi_nodes[base + off[k] + idx];
+                    if (!(c.flux.w > 0.0)) continue;
+                    bool leaf = bound ? k == 0u : (k <= limit || c.info.x > 0.5);
+                    if (!leaf && bound) leaf = fv_gi_cluster_bound(c, x, n) <= tol;
+                    if (leaf || sp + 4u > uint(FV_GI_STACK)) {
+                        e += fv_gi_cluster_irradiance(c, x, n);
+                        used++;
+                        continue;
+                    }
+                    uint s = N >> k, cx = (idx % s) * 2u, cy = (idx / s) * 2u, cs = s * 2u;
+                    uint kc = (k - 1u) << 24;
+                    stack[sp++] = kc | (cy * cs + cx);
+                    stack[sp++] = kc | (cy * cs + cx + 1u);
+                    stack[sp++] = kc | ((cy + 1u) * cs + cx);
+                    stack[sp++] = kc | ((cy + 1u) * cs + cx + 1u);
+                }
+            }
+        }
+    }
+    if (any(isnan(e)) || any(isinf(e))) e = vec3(0.0);
+    return max(e, vec3(0.0));
+}
+
+// The clusters view: light 0's RSM at uv in [0,1]^2, each texel coloured by the level of the cut node that holds it
+// (levels from the limit, red, to coarser: yellow, green, cyan, blue, magenta), with
+// a checkerboard of the cut nodes so neighbouring clusters stay apart. Black: no geometry or no light.
+vec3 fv_gi_clusters_colour(vec2 uv)
+{
+    if (gi.counts.x == 0u || gi.counts.z == 0u) return vec3(0.0);
+    uint N = max(gi.tree.x, 1u);
+    uint levels = min(gi.tree.y, uint(FV_GI_MAX_LEVELS));
+    uint start = min(gi.tree.z, levels - 1u), limit = min(gi.tree.w, start);
+    uvec2 t = min(uvec2(clamp(uv, vec2(0.0), vec2(1.0)) * float(N)), uvec2(N - 1u));
+    uint base = gi.light[0].info.y;
+    for (int k = int(start); k >= int(limit); k--) {
+        uint s = N >> uint(k);
+        uvec2 q = t >> uint(k);
+        fv_gi_node c = gi_nodes[base + fv_gi_level_offset(N, uint(k)) + q.y * s + q.x];
+        if (c.info.x > 0.5 || k == int(limit)) {
+            if (!(c.flux.w > 0.0)) return vec3(0.0);
+            const vec3 pal[6] = vec3[6](vec3(1, 0.15, 0.1), vec3(1, 0.9, 0.1), vec3(0.2, 1, 0.2), vec3(0.1, 0.9, 1),
+                                        vec3(0.25, 0.35, 1), vec3(1, 0.2, 1));
+            vec3 col = pal[uint(k - int(limit)) % 6u];
+            float checker = ((q.x + q.y) & 1u) == 0u ? 1.0 : 0.6;
+            return col * checker;
+        }
+    }
+    return vec3(0.0);
+}
+
+#endif

@@ -1,0 +1,79 @@
+/* @brief The light quad-tree's data as the shading function reads it (render/gi, Ki & Oh 2007), shared by C
+ * (render/gi/gi.c includes this file) and GLSL (fv_gi_gather.glsl): the tree's nodes, the header with the mode and
+ * per-light layout, the flat cut list. Bound in the GI technique slots of the shading-inputs set
+ * (fv_shade_inputs_interface.h): buffer 0 = header + cut list, buffer 1 = nodes. With the dummy buffers bound
+ * (zeros) counts.x is 0 and the gather returns 0 at the cost of one load. Only vec4/uvec4/mat4 members (std430 ==
+ * C layout). */
+#ifndef FV_GI_INTERFACE_GLSL
+#define FV_GI_INTERFACE_GLSL
+
+#include "fv_gpu.h"
+#include "fv_shade_inputs_interface.h"
+
+#define FV_GI_MAX_LIGHTS 2 /* lights with a reflective shadow map (the first spot or directional lights; the header fits
+                            * the 256-byte dummy buffer bound while GI is off) */
+#define FV_GI_MAX_RSM 1024        /* largest RSM side, px (a power of two) */
+#define FV_GI_MAX_LEVELS 11       /* log2(FV_GI_MAX_RSM) + 1 */
+#define FV_GI_BINDING_HEADER (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 0) /* fv_gi_header + fv_gi_cluster cut[] */
+#define FV_GI_BINDING_NODES (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 1)  /* fv_gi_node[] */
+
+/* Gather modes (fv_gi_header.counts.y; knob gi.mode). */
+#define FV_GI_MODE_CUT 0          /* the flat cut list, the same for every pixel */
+#define FV_GI_MODE_TRAVERSE 1     /* the paper's per-pixel top-down traversal from the start level */
+#define FV_GI_MODE_BOUND 2        /* per-pixel refinement while a cluster's bound exceeds a fraction of the total */
+#define FV_GI_MODE_RSM_SAMPLING 3 /* Dachsbacher & Stamminger 2005: N samples around the pixel's RSM projection */
+#define FV_GI_MODE_EXACT 4        /* every VPL (every lit RSM texel) */
+
+/* Light kinds of the RSM (fv_gi_light.info.x). */
+#define FV_GI_KIND_NONE 0
+#define FV_GI_KIND_SPOT 1        /* perspective over the outer cone */
+#define FV_GI_KIND_DIRECTIONAL 2 /* orthographic over the scene's bounding sphere */
+
+/** One node of the quad-tree pyramid (level 0 = the RSM's texels, the VPLs). */
+struct fv_gi_node {
+    FV_VEC4 flux;   /* rgb reflected flux (W), w incident power (W, luminance): the averaging weight */
+    FV_VEC4 pos;    /* xyz flux-weighted mean world position (m), w mean depth from the light / scene size */
+    FV_VEC4 normal; /* xyz flux-weighted mean unit normal (|n| <= 1: shorter where the children disagree), w the
+                     * cluster's extent: radius (m) of a sphere about pos that holds every texel's disk */
+    FV_VEC4 info;   /* x 1 = valid cluster (Ki & Oh's test, children valid), y smallest texel radius below (m),
+                     * z 1 = some geometry below, w 0 */
+};
+
+/** One cluster of the flat cut list, ready to gather (no indirection, the constants folded). */
+struct fv_gi_cluster {
+    FV_VEC4 flux;   /* rgb flux / pi (W), w extent^2 (m^2) */
+    FV_VEC4 pos;    /* xyz world (m), w 0 */
+    FV_VEC4 normal; /* xyz mean normal (|n| <= 1), w the node's index in the tree buffer (exact as a float) */
+};
+
+/** One light's RSM and tree. */
+struct fv_gi_light {
+    FV_MAT4 view_proj; /* world -> the RSM's clip space (Vulkan: y down, depth 0..1) */
+    FV_UVEC4 info;     /* x kind (FV_GI_KIND_*), y first node of its tree, z first cut entry, w cut entries */
+};
+
+struct fv_gi_header {
+    FV_UVEC4 counts; /* x 1 = GI on, y mode (FV_GI_MODE_*), z lights with a tree, w cut entries over all lights */
+    FV_UVEC4 tree;   /* x RSM side N (px), y levels (log2 N + 1), z start level, w limit level (level k has N >> k
+                      * nodes per side; start >= limit) */
+    FV_UVEC4 opts;   /* x samples (rsm_sampling), y nodes per light's tree, z lit VPLs (counted by the build), w 0 */
+    FV_VEC4 params;  /* x depth threshold, y normal threshold, z bound fraction, w sampling radius in texels */
+#ifdef FV_GLSL
+    fv_gi_light light[FV_GI_MAX_LIGHTS];
+#else
+    struct fv_gi_light light[FV_GI_MAX_LIGHTS];
+#endif
+};
+
+#ifndef FV_GLSL
+typedef struct fv_gi_node fv_gi_node;
+typedef struct fv_gi_light fv_gi_light;
+typedef struct fv_gi_header fv_gi_header;
+_Static_assert(sizeof(fv_gi_node) == 64, "fv_gi_node layout");
+_Static_assert(sizeof(fv_gi_light) == 80, "fv_gi_light layout");
+typedef struct fv_gi_cluster fv_gi_cluster;
+_Static_assert(sizeof(fv_gi_cluster) == 48, "fv_gi_cluster layout");
+_Static_assert(sizeof(fv_gi_header) == 64 + 80 * FV_GI_MAX_LIGHTS, "fv_gi_header layout");
+#endif
+
+#endif

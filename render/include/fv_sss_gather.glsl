@@ -1,0 +1,222 @@
+// @brief Subsurface light at a surface (render/sss): the dipole diffusion approximation (Jensen et al. 2001, with
+// ../shared/papers/README.md section 4's corrected eq. 4) summed over the light-view samples of the surface's
+// material, Lo = (1/pi) Ft(eta, wo) sum_i E_i A_i K(|x_i - x_o|, A_i), where K is the mean of Rd over the sample's
+// soft footprint (render/sss/fv_dipole.h's fv_dipole_kernel, whose double version the CPU reference and the tests
+// use). Exact mode sums every sample; hierarchy mode walks each map's
+// quad-tree from the start level, accepting a cluster of radius r at distance d when r <= distance_scale x eye
+// distance x similarity x d, or at the limit level (Ki & Oh). Requires fv_gpu.h, fv_common.glsl, the scene set and
+// fv_gbuffer_decode.glsl; declares the SSS slot of the shading inputs (set 1). With no SSS pass the header is the
+// slot's zero dummy: one load, then nothing.
+#ifndef FV_SSS_GATHER_GLSL
+#define FV_SSS_GATHER_GLSL
+
+#include "fv_sss_interface.h"
+
+layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_SSS_BINDING_HEADER) readonly buffer FvSssHeader {
+    fv_gpu_sss sss_header;
+};
+layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_SSS_BINDING_NODES) readonly buffer FvSssNodes {
+    fv_gpu_sss_node sss_nodes[];
+};
+
+const float FV_SSS_SIGMA_MAX = 1e10;  // per metre: keeps 1/zr^2 and its products inside float range
+
+// One material's dipole, the three channels at once.
+struct fv_sss_dipole {
+    vec3 alpha;    // reduced albedo alpha' = sigma_s' / sigma_t'
+    vec3 sigma_tr; // sqrt(3 sigma_a sigma_t')
+    vec3 zr, zv;   // real source depth 1/sigma_t', virtual source height zr (1 + 4A/3); 0: no scattering
+};
+
+float fv_sss_fdr(float eta)
+{
+    eta = eta > 0.0 && eta <= 1e3 ? eta : 1.0;
+    float f = eta >= 1.0 ? -1.440 / (eta * eta) + 0.710 / eta + 0.668 + 0.0636 * eta
+                         : -0.4399 + 0.7099 / eta - 0.3319 / (eta * eta) + 0.0636 / (eta * eta * eta);
+    return clamp(f, 0.0, 0.999);
+}
+
+fv_sss_dipole fv_sss_dipole_of(fv_gpu_material m)
+{
+    vec3 sa = clamp(m.sigma_a.rgb, vec3(0.0), vec3(FV_SSS_SIGMA_MAX));
+    vec3 sp = clamp(m.sigma_s.rgb, vec3(0.0), vec3(FV_SSS_SIGMA_MAX));
+    vec3 st = sa + sp;
+    float fdr = fv_sss_fdr(m.sigma_a.w);
+    float a = (1.0 + fdr) / (1.0 - fdr);
+    bvec3 some = greaterThan(st, vec3(0.0));
+    fv_sss_dipole d;
+    d.alpha = mix(vec3(0.0), sp / max(st, vec3(1e-30)), some);
+    d.sigma_tr = sqrt(3.0 * sa * st);
+    d.zr = mix(vec3(0.0), 1.0 / max(st, vec3(1e-30)), some);
+    d.zv = d.zr * (1.0 + 4.0 * a / 3.0);
+    return d;
+}
+
+// Rd(r) per channel (eq. 4 corrected): alpha'/(4 pi) [zr (s + 1/dr) e^(-s dr)/dr^2 + zv (s + 1/dv) e^(-s dv)/dv^2].
+vec3 fv_sss_rd(fv_sss_dipole d, float r)
+{
+    vec3 dr = sqrt(r * r + d.zr * d.zr), dv = sqrt(r * r + d.zv * d.zv);
+    vec3 tr = d.zr * (d.sigma_tr + 1.0 / max(dr, vec3(1e-30))) * exp(-d.sigma_tr * dr) / max(dr * dr, vec3(1e-30));
+    vec3 tv = d.zv * (d.sigma_tr + 1.0 / max(dv, vec3(1e-30))) * exp(-d.sigma_tr * dv) / max(dv * dv, vec3(1e-30));
+    return mix(vec3(0.0), d.alpha * (1.0 / (4.0 * FV_PI)) * (tr + tv), greaterThan(d.zr, vec3(0.0)));
+}
+
+// e^(-s x1)/x1 - e^(-s x2)/x2 with x2 = x1 + delta, without cancellation.
+vec3 fv_sss_source_diff(vec3 s, vec3 x1, vec3 delta)
+{
+    vec3 x = max(x1, vec3(1e-30));
+    vec3 sd = s * delta;
+    vec3 ed = exp(-sd);
+    // -expm1(-s delta): 1 - e^(-s delta), by its series where that cancels
+    vec3 one_minus = mix(1.0 - ed, sd - 0.5 * sd * sd + sd * sd * sd * (1.0 / 6.0), lessThan(sd, vec3(1e-3)));
+    return exp(-s * x) / x * (one_minus + ed * delta / (x + delta));
+}
+
+// The integral of Rd over radii [r1, r2] (times 2 pi r), the disk integral's antiderivative differenced.
+vec3 fv_sss_disk_ring(fv_sss_dipole d, float r1, float r2)
+{
+    float ring = (r2 - r1) * (r2 + r1);
+    if (!(ring > 0.0)) return vec3(0.0);
+    vec3 dr1 = sqrt(r1 * r1 + d.zr * d.zr), dr2 = sqrt(r2 * r2 + d.zr * d.zr);
+    vec3 dv1 = sqrt(r1 * r1 + d.zv * d.zv), dv2 = sqrt(r2 * r2 + d.zv * d.zv);
+    vec3 v = 0.5 * d.alpha * (d.zr * fv_sss_source_diff(d.sigma_tr, dr1, ring / max(dr1 + dr2, vec3(1e-30))) +
+                              d.zv * fv_sss_source_diff(d.sigma_tr, dv1, ring / max(dv1 + dv2, vec3(1e-30))));
+    return mix(vec3(0.0), max(v, vec3(0.0)), greaterThan(d.zr, vec3(0.0)));
+}
+
+// The mean of Rd over the disk of radius s centred `dist` from the receiver (polar coordinates around it).
+vec3 fv_sss_disk_mean(fv_sss_dipole d, float dist, float s)
+{
+    const float gx[4] = float[4](-0.8611363116, -0.3399810436, 0.3399810436, 0.8611363116);
+    const float gw[4] = float[4](0.3478548451, 0.6521451549, 0.6521451549, 0.3478548451);
+    bool inside = dist < s;
+    float half_range = inside ? 0.5 * FV_PI : 0.5 * asin(min(s / max(dist, 1e-30), 1.0));
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < 4; k++) {
+        float phi = half_range * (gx[k] + 1.0);
+        float sn = sin(phi), c = cos(phi);
+        float q = sqrt(max(s * s - dist * dist * sn * sn, 0.0));
+        float r1 = inside ? 0.0 : max(dist * c - q, 0.0);
+        float r2 = inside ? max(q - dist * c, 0.0) : dist * c + q;
+        sum += gw[k] * fv_sss_disk_ring(d, r1, r2);
+    }
+    return sum * (half_range / (FV_PI * FV_PI * s * s));
+}
+
+// One source's Rd term and its 2D Laplacian at r (fv_dipole.h's source_laplacian), per channel.
+void fv_sss_source_laplacian(vec3 z, vec3 s, float r, out vec3 g, out vec3 lap)
+{
+    vec3 D = sqrt(r * r + z * z);
+    vec3 e = exp(-s * D), i1 = 1.0 / max(D, vec3(1e-30)), i2 = i1 * i1, i3 = i2 * i1, i4 = i2 * i2, i5 = i4 * i1;
+    vec3 g1 = -e * (s * s * i2 + 3.0 * s * i3 + 3.0 * i4);
+    vec3 g2 = e * (s * s * s * i2 + 5.0 * s * s * i3 + 12.0 * s * i4 + 12.0 * i5);
+    g = z * (s + i1) * e * i2;
+    lap = z * (g2 * (r * r) * i2 + g1 * (z * z + D * D) * i3);
+}
+
+// The footprint kernel (fv_dipole_kernel): mean Rd over a sample's soft footprint, three concentric disks of
+// FV_DIPOLE_FOOTPRINT_* = 0.9, 1.3, 1.7 times the radius s of its area, centred `dist` from the receiver;
+// beyond FV_DIPOLE_KERNEL_NEAR = 4 radii (where sigma_tr s <= 0.25) its second-order mean Rd + m2 s^2 Lap(Rd).
+// soft = false (a cluster above the leaves, accepted away from the receiver): the middle disk alone, a third of the
+// near-field cost; the soft footprint matters where samples tile the receiver's neighbourhood, at the leaves.
+vec3 fv_sss_kernel(fv_sss_dipole d, float dist, float area, bool soft)
+{
+    float s = sqrt(max(area, 0.0) * (1.0 / FV_PI));
+    if (!(s > 0.0)) return fv_sss_rd(d, dist);
+    bvec3 smooth_ok = lessThanEqual(d.sigma_tr * s, vec3(0.25));
+    vec3 smoothed = vec3(0.0);
+    bool far_ = dist > 4.0 * s; // FV_DIPOLE_KERNEL_NEAR
+    if (far_) {
+        vec3 gr, lr, gv, lv;
+        fv_sss_source_laplacian(d.zr, d.sigma_tr, dist, gr, lr);
+        fv_sss_source_laplacian(d.zv, d.sigma_tr, dist, gv, lv);
+        float m2 = (0.81 + 1.69 + 2.89) / 24.0 * s * s;
+        smoothed = max(d.alpha * (1.0 / (4.0 * FV_PI)) * (gr + gv + m2 * (lr + lv)), vec3(0.0));
+        smoothed = mix(vec3(0.0), smoothed, greaterThan(d.zr, vec3(0.0)));
+        if (all(smooth_ok)) return smoothed;
+    }
+    vec3 quad = soft ? (fv_sss_disk_mean(d, dist, 0.9 * s) + fv_sss_disk_mean(d, dist, 1.3 * s) +
+                        fv_sss_disk_mean(d, dist, 1.7 * s)) * (1.0 / 3.0)
+                     : fv_sss_disk_mean(d, dist, 1.3 * s);
+    return far_ ? mix(quad, smoothed, smooth_ok) : quad;
+}
+
+// Whether the surface's light is carried by the dipole (a translucent material with a map this frame).
+bool fv_sss_active(fv_surface s)
+{
+    uint maps = min(sss_header.counts.x, uint(FV_SSS_GPU_MAX_LAYERS));
+    if (maps == 0u || !s.hit || (materials[s.material].info.y & 1u) == 0u) return false;
+    for (uint l = 0u; l < maps; l++)
+        if (sss_header.layer[l].info.x == s.material) return true;
+    return false;
+}
+
+// One node's contribution: its flux through the kernel at the receiver.
+vec3 fv_sss_node_light(fv_sss_dipole d, fv_gpu_sss_node n, vec3 x)
+{
+    return n.flux_sim.rgb * fv_sss_kernel(d, length(n.pos_area.xyz - x), n.pos_area.w, true);
+}
+
+// Lo(xo) toward the eye, W/(m^2 sr) per channel; out_clusters: the nodes it summed.
+vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
+{
+    out_clusters = 0u;
+    if (!fv_sss_active(s)) return vec3(0.0);
+    fv_gpu_material m = materials[s.material];
+    fv_sss_dipole d = fv_sss_dipole_of(m);
+    vec3 x = s.pos_world;
+    float eye_dist = length(frame.eye_pos[min(s.pixel.z, 1u)].xyz - x);
+    float theta = max(sss_header.params.x, 0.0) * eye_dist;
+    uint maps = min(sss_header.counts.x, uint(FV_SSS_GPU_MAX_LAYERS));
+    uint total = uint(sss_nodes.length());
+    vec3 sum = vec3(0.0);
+    uint count = 0u;
+    for (uint l = 0u; l < maps; l++) {
+        fv_gpu_sss_layer layer = sss_header.layer[l];
+        if (layer.info.x != s.material) continue;
+        uint leaf = min(layer.info.w, 9u);
+        uint base = layer.info.z;
+        if (sss_header.counts.y == FV_SSS_GPU_MODE_EXACT) {
+            uint first = base + ((1u << (2u * leaf)) - 1u) / 3u, n = 1u << (2u * leaf);
+            for (uint i = 0u; i < n && first + i < total; i++) {
+                fv_gpu_sss_node node = sss_nodes[first + i];
+                if (!(node.pos_area.w > 0.0)) continue;
+                sum += fv_sss_node_light(d, node, x);
+                count++;
+            }
+            continue;
+        }
+        uint limit = min(sss_header.counts.w, leaf);
+        uint start = min(sss_header.counts.z, limit);
+        uint starts = 1u << (2u * start);
+        uint stack[FV_SSS_STACK];
+        for (uint r = 0u; r < starts; r++) {
+            uint top = 0u;
+            stack[top++] = (start << 24) | r; // level in the high byte, Morton index below (< 4^9 = 2^18)
+            while (top > 0u) {
+                uint e = stack[--top];
+                uint k = e >> 24, i = e & 0xffffffu;
+                uint at = base + ((1u << (2u * k)) - 1u) / 3u + i;
+                if (at >= total) continue;
+                fv_gpu_sss_node node = sss_nodes[at];
+                float area = node.pos_area.w;
+                if (!(area > 0.0)) continue;
+                float dist = length(node.pos_area.xyz - x);
+                float radius = sqrt(area * (1.0 / FV_PI));
+                bool accept = k >= limit || (node.flux_sim.w > 0.0 && radius <= theta * node.flux_sim.w * dist);
+                if (accept || top + 4u > uint(FV_SSS_STACK)) {
+                    sum += node.flux_sim.rgb * fv_sss_kernel(d, dist, area, k >= leaf);
+                    count++;
+                    continue;
+                }
+                for (uint c = 0u; c < 4u; c++) stack[top++] = ((k + 1u) << 24) | (i * 4u + 3u - c);
+            }
+        }
+    }
+    out_clusters = count;
+    float ft_o = fv_sss_fresnel_t(m.sigma_a.w, dot(s.normal, s.view_dir));
+    vec3 lo = sum * (ft_o / FV_PI);
+    return mix(lo, vec3(0.0), isnan(lo));
+}
+
+#endif

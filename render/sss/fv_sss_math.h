@@ -1,0 +1,56 @@
+/* @brief The geometry of subsurface scattering's light-view sample maps, without a GPU (shared by the pass and the
+ * CPU reference): which (light, translucent material) pairs get a map, the world bounds of a material's draws, each
+ * map's view-projection fitted to those bounds, and the surface area one texel covers. */
+#ifndef FV_SSS_MATH_H
+#define FV_SSS_MATH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fv_math.h"
+#include "fv_scene.h"
+
+/** The most maps (light x translucent material pairs); later pairs are left out (and the plan says so). */
+#define FV_SSS_MAX_LAYERS 7
+/** The lights considered (the first ones of the scene). */
+#define FV_SSS_MAX_LIGHTS 4
+/** The smallest cosine between a sample's normal and the light used for its area: a texel seen at grazing covers
+ *  texel / cos of surface, capped at 1 / FV_SSS_MIN_COS times the texel. */
+#define FV_SSS_MIN_COS 0.1
+/** A map's widest half-angle from a point or spot light (a light inside the object's bounds sees only this cone). */
+#define FV_SSS_MAX_HALF_ANGLE_DEG 80.0
+
+typedef struct fv_sss_pair {
+    uint32_t light, material;
+} fv_sss_pair;
+
+/** The translucent materials some drawn node uses, by index (at most cap); returns how many there are in all. */
+uint32_t fv_sss_translucent_materials(const fv_scene *s, uint32_t *out, uint32_t cap);
+/** The maps the scene gets: every light (< FV_SSS_MAX_LIGHTS) with every translucent material, light-major, at most
+ *  FV_SSS_MAX_LAYERS; *out_wanted (may be NULL) gets how many pairs there would be without the cap. */
+uint32_t fv_sss_pairs(const fv_scene *s, fv_sss_pair out[FV_SSS_MAX_LAYERS], uint32_t *out_wanted);
+/** World bounds at t_s of the drawn nodes whose mesh uses `material`; false when there are none. */
+bool fv_sss_material_bounds(const fv_scene *s, uint32_t material, double t_s, fv_vec3 *out_min, fv_vec3 *out_max);
+
+/** One light-view map. */
+typedef struct fv_sss_view {
+    fv_mat4 view_proj;  /* world -> Vulkan clip of the map (y down, depth 0..1) */
+    bool perspective;   /* point/spot: from the light; directional: orthographic along it */
+    fv_vec3 origin;     /* perspective: the light's position */
+    fv_vec3 axis;       /* unit: the map's forward direction (the way the light travels at its centre) */
+    double texel_m;     /* orthographic: a texel's side in metres */
+    double tan_half;    /* perspective: tangent of the half-angle */
+    uint32_t size;      /* texels per side */
+} fv_sss_view;
+
+/** Fit a map of `size` texels to the bounding sphere of [obj_min, obj_max] as seen from a light of `type`
+ *  (FV_LIGHT_*) at `pos` travelling along `dir`; the depth range reaches back to [scene_min, scene_max] so every
+ *  occluder between the light and the object is drawn. False (out zeroed) for degenerate input. */
+bool fv_sss_light_view(uint32_t type, fv_vec3 pos, fv_vec3 dir, fv_vec3 obj_min, fv_vec3 obj_max, fv_vec3 scene_min,
+                       fv_vec3 scene_max, uint32_t size, fv_sss_view *out);
+/** The surface area (m^2) one texel of the map covers at world point p whose unit normal makes cosine cos_i with
+ *  the direction to the light: orthographic texel^2 / cos; perspective the texel's solid angle
+ *  (2 tan_half / size)^2 cos^3(angle off the axis) times distance^2 / cos; cos clamped to FV_SSS_MIN_COS. */
+double fv_sss_texel_area(const fv_sss_view *v, fv_vec3 p, double cos_i);
+
+#endif

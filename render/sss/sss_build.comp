@@ -1,0 +1,88 @@
+#version 450
+// @brief The quad-tree of light-view samples (Ki & Oh, section 4): level L (the leaves) from the maps' texels in
+// Morton order, then each coarser level from its four children: areas and fluxes summed, centroid, normal and
+// depth area-weighted, and a similarity in [0, 1] (leaves 1): the smallest of the children's, times how alike the
+// children's normals are (the smallest cosine to the mean normal) and how flat they lie (1 - the largest depth
+// offset from the mean over the cluster's size sqrt(area)). One dispatch per level; empty children are left out.
+#extension GL_GOOGLE_include_directive : require
+#include "fv_gpu.h"
+#include "fv_common.glsl"
+#include "fv_sss_interface.h"
+
+layout(local_size_x = FV_SSS_BUILD_GROUP, local_size_y = 1, local_size_z = 1) in;
+layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_POS) uniform sampler2DArray map_pos;
+layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_FLUX) uniform sampler2DArray map_flux;
+layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_NORMAL) uniform sampler2DArray map_normal;
+layout(std430, set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_NODES) buffer Nodes { fv_gpu_sss_node nodes[]; };
+layout(push_constant) uniform Push { fv_sss_build_push pc; };
+
+// The even bits of a Morton index.
+uint compact_bits(uint v)
+{
+    v &= 0x55555555u;
+    v = (v | (v >> 1)) & 0x33333333u;
+    v = (v | (v >> 2)) & 0x0f0f0f0fu;
+    v = (v | (v >> 4)) & 0x00ff00ffu;
+    v = (v | (v >> 8)) & 0x0000ffffu;
+    return v;
+}
+
+void main()
+{
+    uint level = pc.level.x, leaf = pc.level.y, maps = pc.level.z;
+    uint per_map = 1u << (2u * level);
+    uint g = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * FV_SSS_BUILD_GROUP;
+    if (g >= per_map * maps) return;
+    uint map = g / per_map, i = g % per_map;
+    uint total = ((1u << (2u * (leaf + 1u))) - 1u) / 3u; // nodes per map
+    uint at = map * total + ((1u << (2u * level)) - 1u) / 3u + i;
+    if (at >= uint(nodes.length())) return;
+    fv_gpu_sss_node o;
+    if (level == leaf) {
+        ivec3 t = ivec3(int(compact_bits(i)), int(compact_bits(i >> 1)), int(map));
+        vec4 p = texelFetch(map_pos, t, 0), f = texelFetch(map_flux, t, 0), n = texelFetch(map_normal, t, 0);
+        bool ok = p.w > 0.0 && !any(isnan(p)) && !any(isnan(f));
+        o.pos_area = ok ? p : vec4(0.0);
+        o.flux_sim = ok ? vec4(f.rgb, 1.0) : vec4(0.0);
+        o.normal_depth = ok ? vec4(n.xyz, f.w) : vec4(0.0);
+        nodes[at] = o;
+        return;
+    }
+    uint child = map * total + ((1u << (2u * (level + 1u))) - 1u) / 3u + i * 4u;
+    float area = 0.0, sim = 1.0;
+    vec3 pos = vec3(0.0), flux = vec3(0.0), nrm = vec3(0.0);
+    float depth = 0.0;
+    for (uint c = 0u; c < 4u; c++) {
+        fv_gpu_sss_node k = nodes[child + c];
+        float a = k.pos_area.w;
+        if (!(a > 0.0)) continue;
+        area += a;
+        pos += a * k.pos_area.xyz;
+        flux += k.flux_sim.rgb;
+        nrm += a * k.normal_depth.xyz;
+        depth += a * k.normal_depth.w;
+        sim = min(sim, k.flux_sim.w);
+    }
+    if (!(area > 0.0)) {
+        nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0));
+        return;
+    }
+    pos /= area;
+    nrm /= area;
+    depth /= area;
+    vec3 mean_n = length(nrm) > 1e-20 ? normalize(nrm) : vec3(0.0);
+    float size = sqrt(area);
+    float alike = 1.0, flat_ = 1.0;
+    for (uint c = 0u; c < 4u; c++) {
+        fv_gpu_sss_node k = nodes[child + c];
+        if (!(k.pos_area.w > 0.0)) continue;
+        vec3 kn = k.normal_depth.xyz;
+        float kl = length(kn);
+        alike = min(alike, kl > 1e-20 ? max(dot(kn / kl, mean_n), 0.0) : 0.0);
+        flat_ = min(flat_, clamp(1.0 - abs(k.normal_depth.w - depth) / max(size, 1e-30), 0.0, 1.0));
+    }
+    o.pos_area = vec4(pos, area);
+    o.flux_sim = vec4(flux, sim * alike * flat_);
+    o.normal_depth = vec4(nrm, depth);
+    nodes[at] = o;
+}

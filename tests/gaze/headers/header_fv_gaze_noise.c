@@ -1,0 +1,1 @@
+#include "fv_gaze_noise.h" /* compiles on its own */
