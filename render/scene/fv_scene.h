@@ -167,6 +167,9 @@ bool fv_scene_is_animated(const fv_scene *s);
 bool fv_scene_has_translucency(const fv_scene *s);
 /** World bounds at time t_s over every drawn node; false when the scene has nothing to draw. */
 bool fv_scene_world_bounds(const fv_scene *s, double t_s, fv_vec3 *out_min, fv_vec3 *out_max);
+/** Grow [lo, hi] by the world-space box of node `node`'s mesh bounds at time t_s (its 8 corners; non-finite corners
+ *  skipped). `any` says whether lo/hi already hold a box; returns whether they do afterwards. */
+bool fv_scene_node_bounds_grow(const fv_scene *s, uint32_t node, double t_s, fv_vec3 *lo, fv_vec3 *hi, bool any);
 /** Total triangles over drawn nodes. */
 uint64_t fv_scene_triangle_count(const fv_scene *s);
 /** Check every invariant (indices in range, finite values, parents before children...). Logs each broken rule

@@ -386,6 +386,23 @@ bool fv_scene_has_translucency(const fv_scene *s)
     return false;
 }
 
+bool fv_scene_node_bounds_grow(const fv_scene *s, uint32_t node, double t_s, fv_vec3 *lo, fv_vec3 *hi, bool any)
+{
+    if (!s || node >= s->node_count) return any;
+    const fv_mesh *m = &s->meshes[s->nodes[node].mesh];
+    fv_mat4 w = fv_scene_node_world(s, node, t_s);
+    for (int c = 0; c < 8; c++) {
+        fv_vec3 p = fv_v3((c & 1) ? m->bounds_max.x : m->bounds_min.x, (c & 2) ? m->bounds_max.y : m->bounds_min.y,
+                          (c & 4) ? m->bounds_max.z : m->bounds_min.z);
+        fv_vec3 q = fv_mat4_mul_point(&w, p);
+        if (!fv_v3_isfinite(q)) continue;
+        *lo = any ? fv_v3_min(*lo, q) : q;
+        *hi = any ? fv_v3_max(*hi, q) : q;
+        any = true;
+    }
+    return any;
+}
+
 bool fv_scene_world_bounds(const fv_scene *s, double t_s, fv_vec3 *out_min, fv_vec3 *out_max)
 {
     if (!s) return false;
@@ -394,18 +411,8 @@ bool fv_scene_world_bounds(const fv_scene *s, double t_s, fv_vec3 *out_min, fv_v
     for (uint32_t i = 0; i < s->node_count; i++) {
         const fv_node *n = &s->nodes[i];
         if (!node_draws(s, n)) continue;
-        const fv_mesh *m = &s->meshes[n->mesh];
-        if (!m->vertex_count) continue;
-        fv_mat4 w = fv_scene_node_world(s, i, t_s);
-        for (int c = 0; c < 8; c++) {
-            fv_vec3 p = fv_v3((c & 1) ? m->bounds_max.x : m->bounds_min.x, (c & 2) ? m->bounds_max.y : m->bounds_min.y,
-                              (c & 4) ? m->bounds_max.z : m->bounds_min.z);
-            fv_vec3 q = fv_mat4_mul_point(&w, p);
-            if (!fv_v3_isfinite(q)) continue;
-            lo = any ? fv_v3_min(lo, q) : q;
-            hi = any ? fv_v3_max(hi, q) : q;
-            any = true;
-        }
+        if (!s->meshes[n->mesh].vertex_count) continue;
+        any = fv_scene_node_bounds_grow(s, i, t_s, &lo, &hi, any);
     }
     if (any) {
         if (out_min) *out_min = lo;

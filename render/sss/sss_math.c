@@ -44,17 +44,7 @@ bool fv_sss_material_bounds(const fv_scene *s, uint32_t material, double t_s, fv
     fv_vec3 lo = fv_v3(0, 0, 0), hi = fv_v3(0, 0, 0);
     for (uint32_t i = 0; s && i < s->node_count; i++) {
         if (!node_uses(s, i, material)) continue;
-        const fv_mesh *m = &s->meshes[s->nodes[i].mesh];
-        fv_mat4 w = fv_scene_node_world(s, i, t_s);
-        for (int c = 0; c < 8; c++) {
-            fv_vec3 p = fv_v3((c & 1) ? m->bounds_max.x : m->bounds_min.x, (c & 2) ? m->bounds_max.y : m->bounds_min.y,
-                              (c & 4) ? m->bounds_max.z : m->bounds_min.z);
-            fv_vec3 q = fv_mat4_mul_point(&w, p);
-            if (!fv_v3_isfinite(q)) continue;
-            lo = any ? fv_v3_min(lo, q) : q;
-            hi = any ? fv_v3_max(hi, q) : q;
-            any = true;
-        }
+        any = fv_scene_node_bounds_grow(s, i, t_s, &lo, &hi, any);
     }
     if (any) {
         *out_min = lo;
