@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "present_comp.spv.h"
+#include "fv_tone_curve.h"
 #include "present_interface.h"
 
 #define MOD "present"
@@ -22,12 +23,13 @@ typedef struct present {
 static void present_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 {
     out->enabled = true;
-    out->variant = FV_TONEMAP_CLAMP;
+    out->variant = FV_TONEMAP_REINHARD_EXT;
     float exposure = ctx->quality->exposure;
     char ex[48] = "";
     if (exposure != 1.0f && isfinite(exposure) && exposure > 0.0f)
         snprintf(ex, sizeof ex, "exposure %g, ", (double)exposure);
-    snprintf(out->reason, sizeof out->reason, "%stonemap (clamp) + sRGB encode into a %s target", ex,
+    snprintf(out->reason, sizeof out->reason, "%stonemap (Reinhard extended, white %g) + sRGB encode into a %s target",
+             ex, FV_TONE_WHITE,
              ctx->target ? ctx->target : "headless");
 }
 
@@ -53,7 +55,7 @@ static fv_result present_init(const fv_pass_env *env, void **out_state)
         {FV_PRESENT_BINDING_LINEAR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {FV_PRESENT_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
     };
-    uint32_t tonemap = env->plan ? env->plan->variant : FV_TONEMAP_CLAMP;
+    uint32_t tonemap = env->plan ? env->plan->variant : FV_TONEMAP_REINHARD_EXT;
     fv_vk_compute_desc cd = {.name = "present (tonemap + sRGB)", .code = fv_spv_present_comp,
                              .code_size = sizeof fv_spv_present_comp, .bindings = b, .binding_count = 2,
                              .set_count = 1, .push_bytes = sizeof(struct fv_present_push), .spec = &tonemap,

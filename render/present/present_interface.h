@@ -11,6 +11,8 @@
 /* Specialization constant 0: tonemap operator. */
 #define FV_TONEMAP_CLAMP 0    /* exposure, clamp to [0,1] */
 #define FV_TONEMAP_REINHARD 1 /* exposure, c / (1 + c) */
+#define FV_TONEMAP_REINHARD_EXT 2 /* exposure, Reinhard extended with white point FV_TONE_WHITE (fv_tone_curve.h):
+                                   * the default */
 
 #if defined(GL_core_profile) || defined(VULKAN) || defined(GL_SPIRV)
 #define FV_PRESENT_UINT uint

@@ -8,6 +8,14 @@
  * linear colour and the motion vectors of both eyes (gzip'd little-endian float32 with a 16-byte header "FVF1",
  * width, height, channels as uint32 LE).
  *
+ * The tone curve: the golden PNGs are the linear colour through the pre-refactor display mapping (exposure 1, clamp
+ * to [0,1], sRGB). The display now uses a tone curve (render/present/fv_tone_curve.h), which changes the display image
+ * but not the linear colour. So the PNGs are compared with the linear colour of both frames encoded on the CPU the
+ * old way (clamp + sRGB; within 1 level: CPU and GPU round the sRGB power differently), which checks the renderer's
+ * colour exactly as before; and the display image the GPU wrote is compared, separately, with the same linear
+ * colour through the tone curve on the CPU (within 1 level), which checks the present pass. A renderer change fails
+ * the first; a tone curve or present change fails the second.
+ *
  * Tolerance: on lavapipe (llvmpipe) RGBA8 bit-identical and every float within |a - b| <= 1e-6 * max(1, |b|). The
  * golden files are specific to llvmpipe: on any other device the test says so and compares loosely (RGBA8 within 2
  * levels, floats within 1e-3 * max(1, |b|)). A failure names the scene, image, eye, worst pixel and its values.
@@ -27,7 +35,9 @@
 #include "fovea_config.h"
 #include "fv_renderer.h"
 #include "fv_scene.h"
+#include "fv_metrics.h"
 #include "fv_test.h"
+#include "fv_tone_curve.h"
 #include "gpu_test.h"
 
 #define W 96
@@ -196,6 +206,23 @@ static void compare_floats(const char *scene, const char *what, int eye, const f
              scene, what, eye, bad, n, tol->rel, px % W, px / W, worst_i % c, worst, gs, es);
 }
 
+/* The side-by-side RGBA8 image (2W x H) of both eyes' linear colour (W x H x 4 each), encoded on the CPU: the old
+ * mapping (clamp + sRGB) or the present pass's (tone curve + sRGB); exposure 1. */
+static void encode_sbs(float *const linear[2], bool tone, uint8_t *out)
+{
+    for (int eye = 0; eye < 2; eye++)
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t x = 0; x < W; x++) {
+                const float *p = linear[eye] + ((size_t)y * W + x) * 4;
+                uint8_t *o = out + ((size_t)y * 2 * W + (size_t)eye * W + x) * 4;
+                for (int c = 0; c < 3; c++) {
+                    float v = tone ? fv_tone_reinhard_ext(fv_tone_sanitize(p[c])) : p[c];
+                    o[c] = (uint8_t)(fv_metrics_linear_to_srgb(v) * 255.0 + 0.5);
+                }
+                o[3] = 255;
+            }
+}
+
 /* ---- the scenes -------------------------------------------------------------------------------------------------- */
 
 typedef struct golden_scene {
@@ -260,6 +287,11 @@ static void check_scene(const golden_scene *gs)
         assert_non_null(motion[i]);
     }
 
+    float *lin0[2] = {malloc((size_t)W * H * 4 * sizeof(float)), malloc((size_t)W * H * 4 * sizeof(float))};
+    uint8_t *cpu = malloc(sbs_size);
+    assert_non_null(lin0[0]);
+    assert_non_null(lin0[1]);
+    assert_non_null(cpu);
     fv_head h1 = moved_head(s);
     for (uint64_t id = 0; id < 2; id++) {
         fv_frame_input in;
@@ -272,6 +304,9 @@ static void check_scene(const golden_scene *gs)
         in.quality.gi.enabled = false;
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         assert_int_equal(fv_renderer_read_rgba8(g_r, true, 0, sbs[id], sbs_size), FV_OK);
+        if (id == 0)
+            for (int eye = 0; eye < 2; eye++)
+                assert_int_equal(fv_renderer_read_linear(g_r, eye, lin0[eye], (size_t)W * H * 4), FV_OK);
     }
     for (int eye = 0; eye < 2; eye++) {
         assert_int_equal(fv_renderer_read_linear(g_r, eye, linear[eye], (size_t)W * H * 4), FV_OK);
@@ -284,7 +319,8 @@ static void check_scene(const golden_scene *gs)
     if (write_dir) {
         mkdir(write_dir, 0755);
         for (int i = 0; i < 2; i++) {
-            write_png(golden_path(write_dir, gs->name, sbs_name[i]), sbs[i], 2 * W, H);
+            encode_sbs(i == 0 ? lin0 : linear, false, cpu); /* the golden PNGs keep the old display mapping */
+            write_png(golden_path(write_dir, gs->name, sbs_name[i]), cpu, 2 * W, H);
             write_floats(golden_path(write_dir, gs->name, lin_name[i]), linear[i], W, H, 4);
             write_floats(golden_path(write_dir, gs->name, mot_name[i]), motion[i], W, H, 2);
         }
@@ -292,10 +328,18 @@ static void check_scene(const golden_scene *gs)
     }
     /* Compare against the golden files (the ones just written, in write mode: a check of the files themselves). */
     const char *dir = write_dir ? write_dir : GOLDEN_DIR;
+    tolerance enc = {tol.levels > 1 ? tol.levels : 1, tol.rel}; /* CPU vs GPU sRGB rounding */
     for (int i = 0; i < 2; i++) {
+        char what[96];
         uint8_t *want = read_png(golden_path(dir, gs->name, sbs_name[i]), 2 * W, H);
-        compare_rgba8(gs->name, sbs_name[i], sbs[i], want, &tol);
+        encode_sbs(i == 0 ? lin0 : linear, false, cpu);
+        snprintf(what, sizeof what, "%s (linear colour, clamp + sRGB)", sbs_name[i]);
+        compare_rgba8(gs->name, what, cpu, want, &enc);
         stbi_image_free(want);
+        /* the display image: the same linear colour through the tone curve */
+        encode_sbs(i == 0 ? lin0 : linear, true, cpu);
+        snprintf(what, sizeof what, "frame %d display (tone curve + sRGB)", i);
+        compare_rgba8(gs->name, what, sbs[i], cpu, &enc);
     }
     for (int eye = 0; eye < 2; eye++) {
         float *want = read_floats(golden_path(dir, gs->name, lin_name[eye]), W, H, 4);
@@ -305,7 +349,9 @@ static void check_scene(const golden_scene *gs)
         compare_floats(gs->name, "frame 1 motion", eye, motion[eye], want, 2, &tol);
         free(want);
     }
+    free(cpu);
     for (int i = 0; i < 2; i++) {
+        free(lin0[i]);
         free(sbs[i]);
         free(linear[i]);
         free(motion[i]);
