@@ -358,14 +358,16 @@ static void sigint_begin(sigint_guard *g)
     g_interrupted = 0;
     sigemptyset(&g_sigint_set);
     sigaddset(&g_sigint_set, SIGINT);
+    /* blocked first: a Ctrl-C that comes between the two calls stays pending for sigwait instead of running the
+     * empty handler in this thread (and being lost) */
+    pthread_sigmask(SIG_BLOCK, &g_sigint_set, &g->old_mask);
     /* a disposition other than "ignore", so that the signal is kept for sigwait (a background job of a
-     * non-interactive shell starts with SIGINT ignored) */
+     * non-interactive shell starts with SIGINT ignored); from here on one Ctrl-C is enough */
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_sigint_unused;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &g->old_action);
-    pthread_sigmask(SIG_BLOCK, &g_sigint_set, &g->old_mask);
     g->thread_on = pthread_create(&g->thread, NULL, sigint_waiter, NULL) == 0;
 }
 
