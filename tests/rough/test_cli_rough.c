@@ -466,6 +466,47 @@ static void exposure_in_stops_is_the_same_scale(void **state)
     fv_assert_contains(r->err, "is not a number of stops in -19.9..19.9");
 }
 
+/* The tone curve keeps bright surfaces graded: at +2 EV a fifth of the Cornell box is brighter than display white in
+ * some channel (its linear colour, the PFM, times 4 is above 1), which a clamp turned into 255; through the curve
+ * only what passes the white point (4, the light itself) reaches 255. Fails if the clamp came back. */
+static void bright_surfaces_are_not_flat_white(void **state)
+{
+    (void)state;
+    char dir[1024], args[4096], path[1200];
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp("tone"));
+    snprintf(args, sizeof args, "run --scene %s/scenes/cornell-gltf.scene.json --frames 1 --eye-size 64x64 "
+             "--exposure +2EV --float --out '%s'", FV_SOURCE_DIR, dir);
+    fv_test_cmd *r = run(NULL, args);
+    if (r->exit_code != 0) fail_msg("exit %d\n%s", r->exit_code, r->err);
+    snprintf(path, sizeof path, "%s/frame_00000.pfm", dir);
+    FILE *f = fopen(path, "rb");
+    if (!f) fail_msg("no %s", path);
+    int w = 0, h = 0;
+    double scale = 0.0;
+    char magic[3] = "";
+    assert_int_equal(fscanf(f, "%2s %d %d %lf", magic, &w, &h, &scale), 4);
+    fgetc(f);
+    assert_string_equal(magic, "PF");
+    assert_true(w == 128 && h == 64 && scale < 0.0);
+    float *lin = malloc((size_t)w * h * 3 * sizeof *lin);
+    assert_non_null(lin);
+    assert_int_equal(fread(lin, sizeof *lin * 3, (size_t)w * h, f), (size_t)w * h);
+    fclose(f);
+    long over = 0, white = 0;
+    for (long i = 0; i < (long)w * h; i++)
+        over += 4.0f * fmaxf(lin[3 * i], fmaxf(lin[3 * i + 1], lin[3 * i + 2])) > 1.0f;
+    free(lin);
+    snprintf(path, sizeof path, "%s/frame_00000.png", dir);
+    int pw, ph, pc;
+    unsigned char *px = stbi_load(path, &pw, &ph, &pc, 3);
+    if (!px) fail_msg("no %s", path);
+    for (long i = 0; i < (long)pw * ph; i++) white += px[3 * i] == 255 || px[3 * i + 1] == 255 || px[3 * i + 2] == 255;
+    stbi_image_free(px);
+    print_message("+2 EV: %ld of %d px above display white in linear, %ld px with a channel at 255\n", over, w * h, white);
+    assert_true(over > (long)w * h / 10);
+    if (!(white * 4 < over)) fail_msg("%ld px at 255 for %ld above display white: bright surfaces clip", white, over);
+}
+
 /* ---- the example scenes ---- */
 
 static void example_scenes_render(void **state)
@@ -577,6 +618,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(run_follows_a_live_pupil_capture),
         cmocka_unit_test(wall_per_frame_says_what_it_measures),
         cmocka_unit_test(exposure_in_stops_is_the_same_scale),
+        cmocka_unit_test(bright_surfaces_are_not_flat_white),
         cmocka_unit_test(forced_multiview_on_lavapipe_warns_once),
         cmocka_unit_test(sim_tracker_latency_is_the_same_in_run_and_latency),
         cmocka_unit_test(frame_log_has_every_frame_and_latency_reads_it),

@@ -61,7 +61,8 @@ static const char *USAGE_FMT =
     "              visibility), cascade (which of light 0's shadow maps), albedo, normal, depth (the G-buffer's),\n"
     "              gaze (each eye's predicted gaze as the GPU receives it)\n"
     "  --exposure  linear scale of the colour before tonemapping (default 1; 1e-6..1e6), or the same in stops:\n"
-    "              -1EV = 0.5, +2EV = 4\n"
+    "              -1EV = 0.5, +2EV = 4; the tone curve (Reinhard extended, white point 4) keeps surfaces up to\n"
+    "              4x display white graded; mid-grey 0.18 shows as sRGB 109\n"
 
     "  --float     with --out, also write the linear colour (or --view) as PFM beside each PNG, to compare with\n"
     "              `fovea reference` in linear units (`fovea compare`)\n"
