@@ -898,3 +898,15 @@ fv_gaze_event fv_gaze_pipeline_event(const fv_gaze_pipeline *p)
 }
 
 int64_t fv_gaze_pipeline_last_sample_ns(const fv_gaze_pipeline *p) { return p->have_dev ? p->last_host_ns : 0; }
+
+int fv_gaze_pipeline_candidates(const fv_gaze_pipeline *p, int64_t t_target_ns, double out[FV_GAZE_CANDIDATES][2])
+{
+    _Static_assert(FV_GAZE_CANDIDATES == CANDS, "candidate count");
+    if (!p || !out || !p->have_valid || !p->last_sample_valid || p->device_lost || p->desc.disable_prediction)
+        return -1;
+    double since_valid_s = ((double)t_target_ns - (double)p->last_valid_ns) * 1e-9;
+    if (since_valid_s * 1e9 > (double)MAX_BLINK_NS) return -1;
+    double h_s = fmax(-MAX_EXTRAPOLATION_S, fmin(MAX_EXTRAPOLATION_S, since_valid_s)), extra = 0.0;
+    candidates(p, p->state, h_s, out, &extra);
+    return choose_candidate(p, p->state);
+}

@@ -89,6 +89,12 @@ void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stat
 fv_gaze_event fv_gaze_pipeline_event(const fv_gaze_pipeline *p);
 /** Host time the pipeline assigned to the newest accepted sample (mapped from the device clock); 0 before any. */
 int64_t fv_gaze_pipeline_last_sample_ns(const fv_gaze_pipeline *p);
+/** Diagnostics for evaluation tools: the candidate predictions (yaw, pitch deg) predict() chooses from at
+ *  t_target_ns in the current motion state, in the order sample, filtered, model, sample + velocity (saccade: the
+ *  landing fit), sample + half velocity (saccade: + the 20 ms velocity), blend; returns the index predict() would
+ *  choose, or -1 when it would not choose among them (blink, lost, no data, prediction disabled). */
+#define FV_GAZE_CANDIDATES 6
+int fv_gaze_pipeline_candidates(const fv_gaze_pipeline *p, int64_t t_target_ns, double out[FV_GAZE_CANDIDATES][2]);
 /** Tell the pipeline the device is lost (or back): uncertainty widens while lost. */
 void fv_gaze_pipeline_set_device_lost(fv_gaze_pipeline *p, bool lost, int64_t now_ns);
 
