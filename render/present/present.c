@@ -20,6 +20,13 @@ typedef struct present {
     fv_vk_compute cs;
 } present;
 
+/* The tone curve is for radiance (colour, and the direct, gi and sss views); the data views (normal, depth, albedo,
+ * visibility, ids...) keep their [0,1] values as they are (clamp). */
+static bool radiance_view(fv_debug_view v)
+{
+    return v == FV_DEBUG_VIEW_NONE || v == FV_DEBUG_VIEW_DIRECT || v == FV_DEBUG_VIEW_GI || v == FV_DEBUG_VIEW_SSS;
+}
+
 static void present_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 {
     out->enabled = true;
@@ -28,8 +35,10 @@ static void present_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     char ex[48] = "";
     if (exposure != 1.0f && isfinite(exposure) && exposure > 0.0f)
         snprintf(ex, sizeof ex, "exposure %g, ", (double)exposure);
-    snprintf(out->reason, sizeof out->reason, "%stonemap (Reinhard extended, white %g) + sRGB encode into a %s target",
-             ex, FV_TONE_WHITE,
+    char tone[64];
+    if (radiance_view(ctx->quality->debug_view)) snprintf(tone, sizeof tone, "tone curve (Reinhard extended, white %g)", FV_TONE_WHITE);
+    else snprintf(tone, sizeof tone, "clamp (a data view)");
+    snprintf(out->reason, sizeof out->reason, "%s%s + sRGB encode into a %s target", ex, tone,
              ctx->target ? ctx->target : "headless");
 }
 
@@ -85,7 +94,9 @@ static void present_record(void *state, const fv_pass_frame *f)
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, cs, VK_ACCESS_SHADER_WRITE_BIT});
     float exposure = f->input ? f->input->quality.exposure : 1.0f;
     if (!(isfinite(exposure) && exposure > 0.0f)) exposure = 1.0f;
-    struct fv_present_push pc = {.exposure = exposure, .width = pr->width, .height = pr->height};
+    bool radiance = radiance_view(f->input ? f->input->quality.debug_view : FV_DEBUG_VIEW_NONE);
+    struct fv_present_push pc = {.exposure = exposure, .width = pr->width, .height = pr->height,
+                                 .tone = radiance ? 1u : 0u};
     fv_vk_compute_bind(&pr->cs, cmd, 0, NULL, 0, 0, &pc);
     vkCmdDispatch(cmd, (pr->width + FV_PRESENT_GROUP_X - 1) / FV_PRESENT_GROUP_X,
                   (pr->height + FV_PRESENT_GROUP_Y - 1) / FV_PRESENT_GROUP_Y, 2);

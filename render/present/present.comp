@@ -20,7 +20,7 @@ void main()
     // NaN and negative -> 0, +Inf -> white (per channel: a NaN in one channel no longer blacks out the others)
     c = vec3(fv_tone_sanitize(c.r), fv_tone_sanitize(c.g), fv_tone_sanitize(c.b));
     if (TONEMAP == FV_TONEMAP_REINHARD) c = c / (1.0 + c);
-    if (TONEMAP == FV_TONEMAP_REINHARD_EXT)
+    if (TONEMAP == FV_TONEMAP_REINHARD_EXT && pc.tone != 0u)
         c = vec3(fv_tone_reinhard_ext(c.r), fv_tone_reinhard_ext(c.g), fv_tone_reinhard_ext(c.b));
     imageStore(out_srgb, ivec3(p), vec4(fv_srgb_encode(c), 1.0));
 }

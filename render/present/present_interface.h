@@ -24,7 +24,7 @@
 struct fv_present_push {
     float exposure;
     FV_PRESENT_UINT width, height;
-    FV_PRESENT_UINT pad;
+    FV_PRESENT_UINT tone; /* 1: the tone curve (radiance: colour, direct, gi, sss views); 0: clamp (data views) */
 };
 
 #endif

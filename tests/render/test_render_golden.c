@@ -14,7 +14,8 @@
  * old way (clamp + sRGB; within 1 level: CPU and GPU round the sRGB power differently), which checks the renderer's
  * colour exactly as before; and the display image the GPU wrote is compared, separately, with the same linear
  * colour through the tone curve on the CPU (within 1 level), which checks the present pass. A renderer change fails
- * the first; a tone curve or present change fails the second.
+ * the first; a tone curve or present change fails the second. A data view (normal) is checked to stay untouched by
+ * the curve (clamp + sRGB).
  *
  * Tolerance: on lavapipe (llvmpipe) RGBA8 bit-identical and every float within |a - b| <= 1e-6 * max(1, |b|). The
  * golden files are specific to llvmpipe: on any other device the test says so and compares loosely (RGBA8 within 2
@@ -348,6 +349,21 @@ static void check_scene(const golden_scene *gs)
         want = read_floats(golden_path(dir, gs->name, mot_name[eye]), W, H, 2);
         compare_floats(gs->name, "frame 1 motion", eye, motion[eye], want, 2, &tol);
         free(want);
+    }
+    /* a data view (the normal view) is not tone-mapped: its display is its [0,1] values, clamped, as before */
+    {
+        fv_frame_input in;
+        assert_int_equal(fv_renderer_frame_input(g_r, &h1, 2, 2.0 / 90.0, &in), FV_OK);
+        in.quality.shadow.enabled = false;
+        in.quality.fovea.enabled = false;
+        in.quality.gi.enabled = false;
+        in.quality.debug_view = FV_DEBUG_VIEW_NORMAL;
+        assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+        assert_int_equal(fv_renderer_read_rgba8(g_r, true, 0, sbs[0], sbs_size), FV_OK);
+        for (int eye = 0; eye < 2; eye++)
+            assert_int_equal(fv_renderer_read_linear(g_r, eye, lin0[eye], (size_t)W * H * 4), FV_OK);
+        encode_sbs(lin0, false, cpu);
+        compare_rgba8(gs->name, "normal view display (clamp + sRGB, no tone curve)", sbs[0], cpu, &enc);
     }
     free(cpu);
     for (int i = 0; i < 2; i++) {

@@ -14,6 +14,7 @@
 #include <stb_image_write.h>
 
 #include "cli.h"
+#include "fv_tone_curve.h"
 #include "fv_clock.h"
 #include "fv_image_io.h"
 #include "fv_log.h"
@@ -37,7 +38,7 @@ static const char *USAGE =
     "  --eye-size  per-eye size (default 720x800, as fovea run)\n"
     "  --view      color (default), direct (no emission/ambient), shadow (visibility of light 0), albedo,\n"
     "              normal (n*0.5+0.5), depth (Vulkan depth 0..1)\n"
-    "  --out       write frame_00000.pfm (linear float) and frame_00000.png (sRGB, clamped) into DIR\n"
+    "  --out       write frame_00000.pfm (linear float) and frame_00000.png (sRGB through the tone curve of fovea run) into DIR\n"
     "  --layout    sbs: one side-by-side image (default); eyes: frame_00000_left/_right\n"
     "  --aa        jitter the samples inside each pixel (default: pixel centres, as the GPU's G-buffer)\n"
     "  --threads   worker threads (default: every CPU)\n"
@@ -219,16 +220,20 @@ static uint64_t cache_key(const fv_scene *s, const ref_opts *o)
 
 /* ---- images -------------------------------------------------------------------------------------------------- */
 
-/* IEC 61966-2-1 encoding of a linear value clamped to [0,1], rounded to the nearest 8-bit code. */
-static uint8_t srgb8(float linear)
+/* The display mapping of `fovea run`'s PNGs (the present pass): the tone curve (fv_tone_curve.h), then IEC 61966-2-1
+ * encoding clamped to [0,1], rounded to the nearest 8-bit code -- so a run's PNG and its reference's compare like for
+ * like (the PFMs hold the linear colour). The curve is for radiance (colour, direct); the data views (shadow, albedo,
+ * normal, depth) are clamped as they are, as the present pass does. */
+static uint8_t srgb8(float linear, bool tone)
 {
-    double c = isfinite(linear) ? fmin(fmax(linear, 0.0), 1.0) : 0.0;
+    double c = tone ? fmin(fv_tone_reinhard_ext(fv_tone_sanitize(linear)), 1.0)
+                    : (isfinite(linear) ? fmin(fmax(linear, 0.0), 1.0) : 0.0);
     double e = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
     return (uint8_t)(e * 255.0 + 0.5);
 }
 
 /* Write one image (w x h linear RGB, rows top to bottom) as base.pfm and base.png. */
-static fv_result write_image(const char *base, const float *rgb, uint32_t w, uint32_t h)
+static fv_result write_image(const char *base, const float *rgb, uint32_t w, uint32_t h, bool tone)
 {
     char path[1200];
     fv_rgb_image img = {.width = w, .height = h, .kind = FV_IMAGE_KIND_LINEAR, .file_channels = 3,
@@ -238,7 +243,7 @@ static fv_result write_image(const char *base, const float *rgb, uint32_t w, uin
     size_t n = (size_t)w * h * 3;
     uint8_t *png = malloc(n);
     if (!png) return FV_ERR_NO_MEMORY;
-    for (size_t i = 0; i < n; i++) png[i] = srgb8(rgb[i]);
+    for (size_t i = 0; i < n; i++) png[i] = srgb8(rgb[i], tone);
     snprintf(path, sizeof path, "%s.png", base);
     int ok = stbi_write_png(path, (int)w, (int)h, 3, png, (int)(w * 3));
     free(png);
@@ -344,14 +349,15 @@ int fv_cmd_reference(int argc, char **argv)
     }
     if (o.out_dir) {
         char base[1100];
+        bool tone = o.desc.view == FV_REFERENCE_VIEW_COLOR || o.desc.view == FV_REFERENCE_VIEW_DIRECT;
         if (o.sbs) {
             snprintf(base, sizeof base, "%s/frame_00000", o.out_dir);
-            if (FV_FAILED(write_image(base, sbs, 2 * w, h))) goto done;
+            if (FV_FAILED(write_image(base, sbs, 2 * w, h, tone))) goto done;
         } else {
             snprintf(base, sizeof base, "%s/frame_00000_left", o.out_dir);
-            if (FV_FAILED(write_image(base, left, w, h))) goto done;
+            if (FV_FAILED(write_image(base, left, w, h, tone))) goto done;
             snprintf(base, sizeof base, "%s/frame_00000_right", o.out_dir);
-            if (FV_FAILED(write_image(base, right, w, h))) goto done;
+            if (FV_FAILED(write_image(base, right, w, h, tone))) goto done;
         }
     }
     const char *name = scene->name[0] ? scene->name : o.scene;
