@@ -31,27 +31,6 @@ uint32_t fv_interp_nodes_along(uint32_t n, uint32_t level)
     return c ? c : 1;
 }
 
-static void buffers_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
-                            VkPipelineStageFlags dst, VkAccessFlags dst_access)
-{
-    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = src_access,
-                          .dstAccessMask = dst_access};
-    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
-}
-
-static uint32_t add_detail(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
-                           double b, double c)
-{
-    if (n >= cap) return n;
-    memset(&out[n], 0, sizeof out[n]);
-    snprintf(out[n].key, sizeof out[n].key, "%s", key);
-    out[n].value[0] = a;
-    out[n].value[1] = b;
-    out[n].value[2] = c;
-    out[n].count = count;
-    return n + 1;
-}
-
 /* ---- plans ---------------------------------------------------------------------------------------------------- */
 
 static bool plan_off(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -89,7 +68,7 @@ typedef struct interp {
     fv_vk *vk;
     uint32_t width, height, slots;
     fv_images *images;
-    fv_vk_compute cs;
+    fv_vk_compute cs[2];                          /* [0]: leaf, node, scan (barriers); [1]: given, count, scatter */
     VkSampler nearest;
     fv_image_id level;                            /* "interp level"; FV_IMAGE_MAX until made */
     fv_vk_buffer nodes, tiles, given;
@@ -116,7 +95,7 @@ static void interp_fini(void *state)
 {
     interp *it = state;
     if (!it) return;
-    fv_vk_compute_fini(it->vk, &it->cs);
+    for (int i = 0; i < 2; i++) fv_vk_compute_fini(it->vk, &it->cs[i]);
     fv_vk_timer_fini(&it->timer, it->vk);
     if (it->nearest) vkDestroySampler(it->vk->device, it->nearest, NULL);
     fv_vk_buffer_destroy(it->vk, &it->nodes);
@@ -211,13 +190,19 @@ static fv_result interp_init(const fv_pass_env *env, void **out_state)
         {FV_INTERP_BINDING_STATS, sbt, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
-    fv_vk_compute_desc cd = {.name = "interp", .code = fv_spv_interp_comp, .code_size = sizeof fv_spv_interp_comp,
-                             .shared_sets = shared, .shared_set_count = 1, .bindings = b,
-                             .binding_count = FV_INTERP_BINDING_COUNT, .set_count = env->slots,
-                             .push_bytes = sizeof(struct fv_interp_push)};
-    if (res == FV_OK) res = fv_vk_compute_init(vk, &cd, &it->cs);
-    for (uint32_t i = 0; res == FV_OK && i < env->slots; i++) {
-        VkDescriptorSet set = it->cs.sets[i];
+    static const uint32_t stages[2][3] = {{FV_INTERP_STAGE_LEAF, FV_INTERP_STAGE_NODE, FV_INTERP_STAGE_SCAN},
+                                          {FV_INTERP_STAGE_GIVEN, FV_INTERP_STAGE_COUNT, FV_INTERP_STAGE_SCATTER}};
+    for (int c = 0; c < 2 && res == FV_OK; c++) {
+        fv_vk_compute_desc cd = {.name = c ? "interp list" : "interp pyramid", .code = fv_spv_interp_comp,
+                                 .code_size = sizeof fv_spv_interp_comp, .shared_sets = shared,
+                                 .shared_set_count = 1, .bindings = b, .binding_count = FV_INTERP_BINDING_COUNT,
+                                 .set_count = env->slots, .push_bytes = sizeof(struct fv_interp_push),
+                                 .spec = stages[c], .spec_count = 1, .variant_count = 3};
+        res = fv_vk_compute_init(vk, &cd, &it->cs[c]);
+    }
+    for (uint32_t n = 0; res == FV_OK && n < 2u * env->slots; n++) {
+        uint32_t i = n % env->slots;
+        VkDescriptorSet set = it->cs[n / env->slots].sets[i];
         fv_images_bind_gbuffer(env->images, set, FV_INTERP_BINDING_DEPTH, it->nearest);
         fv_vk_write_buffer(vk, set, FV_INTERP_BINDING_NODES, sbt, it->nodes.buffer, 0, VK_WHOLE_SIZE);
         fv_vk_write_image(vk, set, FV_INTERP_BINDING_LEVEL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
@@ -255,10 +240,20 @@ static void interp_prepare(void *state, const fv_pass_frame *f)
     }
 }
 
+/* The pipeline of a stage: which compute object, which variant of it. */
+static void bind_stage(interp *it, const fv_pass_frame *f, uint32_t which)
+{
+    static const uint8_t object[6] = {1, 0, 0, 1, 0, 1}, variant[6] = {0, 0, 1, 1, 2, 2};
+    _Static_assert(FV_INTERP_STAGE_GIVEN == 0 && FV_INTERP_STAGE_LEAF == 1 && FV_INTERP_STAGE_NODE == 2 &&
+                       FV_INTERP_STAGE_COUNT == 3 && FV_INTERP_STAGE_SCAN == 4 && FV_INTERP_STAGE_SCATTER == 5,
+                   "the stage tables follow the stage numbers");
+    it->pc.stage = which;
+    fv_vk_compute_bind(&it->cs[object[which]], f->cmd, variant[which], &f->scene_set, 1, f->slot, &it->pc);
+}
+
 static void stage(interp *it, const fv_pass_frame *f, uint32_t which, uint32_t gx, uint32_t gy, uint32_t gz)
 {
-    it->pc.stage = which;
-    fv_vk_compute_bind(&it->cs, f->cmd, 0, &f->scene_set, 1, f->slot, &it->pc);
+    bind_stage(it, f, which);
     vkCmdDispatch(f->cmd, gx, gy, gz);
     f->counters->dispatches++;
 }
@@ -282,20 +277,19 @@ static void interp_record(void *state, const fv_pass_frame *f)
     int t = fv_vk_timer_begin(&it->timer, cmd, f->slot, "pyramid");
     /* Earlier frames' shading read a list (another slot's, but the pyramid, tile sums and given are shared) and
      * their fills read the level image; this slot's stats were read by the host after its fence. */
-    buffers_barrier(cmd, CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+    fv_vk_barrier_memory(cmd, CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                     RW | VK_ACCESS_INDIRECT_COMMAND_READ_BIT, CS | VK_PIPELINE_STAGE_TRANSFER_BIT,
                     RW | VK_ACCESS_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, it->stats[f->slot].buffer, 0, VK_WHOLE_SIZE, 0);
     if (given) vkCmdFillBuffer(cmd, it->given.buffer, 0, VK_WHOLE_SIZE, 0);
-    buffers_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, CS, RW);
+    fv_vk_barrier_memory(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, CS, RW);
     /* Every stage's pipeline holds the level image (one shader): it is in GENERAL before the first dispatch, and the
      * global barriers between the stages order its writes and reads. */
     fv_images_use(f->images, cmd, it->level, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use_gbuffer(f->images, cmd, CS);
     if (given) {
         /* the earlier list, dispatched by its own arguments (already visible to indirect reads) */
-        it->pc.stage = FV_INTERP_STAGE_GIVEN;
-        fv_vk_compute_bind(&it->cs, cmd, 0, &f->scene_set, 1, f->slot, &it->pc);
+        bind_stage(it, f, FV_INTERP_STAGE_GIVEN);
         vkCmdDispatchIndirect(cmd, f->pixels->indirect, f->pixels->indirect_offset);
         f->counters->dispatches++;
         /* every later dispatch's pipeline holds the dispatch arguments as a storage buffer (one shader), and the
@@ -305,7 +299,7 @@ static void interp_record(void *state, const fv_pass_frame *f)
     stage(it, f, FV_INTERP_STAGE_LEAF, groups(fv_interp_nodes_along(it->width, 1)),
           groups(fv_interp_nodes_along(it->height, 1)), 2);
     for (uint32_t k = 2; k <= it->pc.start_level; k++) {
-        buffers_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
+        fv_vk_barrier_memory(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
         it->pc.level = k;
         stage(it, f, FV_INTERP_STAGE_NODE, groups(fv_interp_nodes_along(it->width, k)),
               groups(fv_interp_nodes_along(it->height, k)), 2);
@@ -313,21 +307,21 @@ static void interp_record(void *state, const fv_pass_frame *f)
     it->pc.level = 0;
     if (t >= 0) fv_vk_timer_end(&it->timer, cmd, f->slot, t);
     t = fv_vk_timer_begin(&it->timer, cmd, f->slot, "classify");
-    buffers_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
+    fv_vk_barrier_memory(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
     uint32_t tile_groups = (it->pc.tile_count + it->tiles_per_group - 1) / it->tiles_per_group;
     uint32_t gy = (tile_groups + it->pc.groups_x - 1) / it->pc.groups_x;
     stage(it, f, FV_INTERP_STAGE_COUNT, it->pc.groups_x, gy, 1);
     if (t >= 0) fv_vk_timer_end(&it->timer, cmd, f->slot, t);
     t = fv_vk_timer_begin(&it->timer, cmd, f->slot, "list");
-    buffers_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
+    fv_vk_barrier_memory(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
     stage(it, f, FV_INTERP_STAGE_SCAN, 1, 1, 1);
-    buffers_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
+    fv_vk_barrier_memory(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
     fv_images_use(f->images, cmd, it->level, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     stage(it, f, FV_INTERP_STAGE_SCATTER, it->pc.groups_x, gy, 1);
     if (t >= 0) fv_vk_timer_end(&it->timer, cmd, f->slot, t);
     /* The list, its count and dispatch arguments -> the shade pass's indirect dispatch and reads; the count and
      * the stats -> the host after the fence. */
-    buffers_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT,
+    fv_vk_barrier_memory(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT,
                     CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_HOST_READ_BIT);
     f->samples->active = true;
@@ -341,12 +335,12 @@ static uint32_t interp_details(void *state, fv_pass_detail *out, uint32_t cap)
     uint32_t n = 0;
     double all = 2.0 * it->width * it->height;
     if (it->have_last)
-        n = add_detail(out, n, cap, "fraction_shaded_filled_left", 3, (double)it->last[0] / all,
+        n = fv_pass_detail_add(out, n, cap, "fraction_shaded_filled_left", 3, (double)it->last[0] / all,
                        (double)it->last[1] / all, (double)it->last[2] / all);
     if (it->have_stage_ms)
-        n = add_detail(out, n, cap, "stage_gpu_ms_pyramid_classify_list", 3, it->stage_ms[0], it->stage_ms[1],
+        n = fv_pass_detail_add(out, n, cap, "stage_gpu_ms_pyramid_classify_list", 3, it->stage_ms[0], it->stage_ms[1],
                        it->stage_ms[2]);
-    return add_detail(out, n, cap, "start_level_threshold_given", 3, it->pc.start_level, it->pc.threshold,
+    return fv_pass_detail_add(out, n, cap, "start_level_threshold_given", 3, it->pc.start_level, it->pc.threshold,
                       it->last_given ? 1.0 : 0.0);
 }
 
