@@ -7,13 +7,15 @@
 
 #include "interp_comp.spv.h"
 #include "interp_fill_comp.spv.h"
+#include "fv_shade_inputs_interface.h"
 #include "interp_interface.h"
 
 #define MOD "interp"
 
 _Static_assert(sizeof(struct fv_interp_push) == 80, "fv_interp_push layout");
 _Static_assert(sizeof(struct fv_interp_fill_push) == 16, "fv_interp_fill_push layout");
-_Static_assert(FV_SCENE_SET == 0 && FV_INTERP_SET == 1 && FV_INTERP_FILL_SET == 1, "the interp passes' set order");
+_Static_assert(FV_SCENE_SET == 0 && FV_SHADE_INPUTS_SET == 1 && FV_INTERP_SET == 2 && FV_INTERP_FILL_SET == 1,
+               "the interp passes' set order");
 _Static_assert(FV_INTERP_BINDING_NORMAL == FV_INTERP_BINDING_DEPTH + 1 &&
                    FV_INTERP_BINDING_ALBEDO == FV_INTERP_BINDING_DEPTH + 2 &&
                    FV_INTERP_BINDING_MATERIAL == FV_INTERP_BINDING_DEPTH + 3,
@@ -88,7 +90,7 @@ static VkDeviceSize node_bytes(uint32_t w, uint32_t h)
     VkDeviceSize n = 0;
     for (uint32_t k = 1; k <= FV_INTERP_MAX_LEVEL; k++)
         n += 2u * (VkDeviceSize)fv_interp_nodes_along(w, k) * fv_interp_nodes_along(h, k);
-    return n * 32u; /* two vec4 per node */
+    return n * 16u * FV_INTERP_NODE_VEC4;
 }
 
 static void interp_fini(void *state)
@@ -189,13 +191,13 @@ static fv_result interp_init(const fv_pass_env *env, void **out_state)
         {FV_INTERP_BINDING_GIVEN, sbt, 1, cs, NULL},
         {FV_INTERP_BINDING_STATS, sbt, 1, cs, NULL},
     };
-    VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
+    VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
     static const uint32_t stages[2][3] = {{FV_INTERP_STAGE_LEAF, FV_INTERP_STAGE_NODE, FV_INTERP_STAGE_SCAN},
                                           {FV_INTERP_STAGE_GIVEN, FV_INTERP_STAGE_COUNT, FV_INTERP_STAGE_SCATTER}};
     for (int c = 0; c < 2 && res == FV_OK; c++) {
         fv_vk_compute_desc cd = {.name = c ? "interp list" : "interp pyramid", .code = fv_spv_interp_comp,
                                  .code_size = sizeof fv_spv_interp_comp, .shared_sets = shared,
-                                 .shared_set_count = 1, .bindings = b, .binding_count = FV_INTERP_BINDING_COUNT,
+                                 .shared_set_count = 2, .bindings = b, .binding_count = FV_INTERP_BINDING_COUNT,
                                  .set_count = env->slots, .push_bytes = sizeof(struct fv_interp_push),
                                  .spec = stages[c], .spec_count = 1, .variant_count = 3};
         res = fv_vk_compute_init(vk, &cd, &it->cs[c]);
@@ -248,7 +250,8 @@ static void bind_stage(interp *it, const fv_pass_frame *f, uint32_t which)
                        FV_INTERP_STAGE_COUNT == 3 && FV_INTERP_STAGE_SCAN == 4 && FV_INTERP_STAGE_SCATTER == 5,
                    "the stage tables follow the stage numbers");
     it->pc.stage = which;
-    fv_vk_compute_bind(&it->cs[object[which]], f->cmd, variant[which], &f->scene_set, 1, f->slot, &it->pc);
+    VkDescriptorSet shared[2] = {f->scene_set, fv_shade_inputs_set(f->shade_inputs, f->slot)};
+    fv_vk_compute_bind(&it->cs[object[which]], f->cmd, variant[which], shared, 2, f->slot, &it->pc);
 }
 
 static void stage(interp *it, const fv_pass_frame *f, uint32_t which, uint32_t gx, uint32_t gy, uint32_t gz)
@@ -270,7 +273,7 @@ static void interp_record(void *state, const fv_pass_frame *f)
                                                                                         : q->start_level;
     it->pc.threshold = q->threshold >= 0.0f ? q->threshold : 0.0f; /* NaN: 0, nothing but exact agreement */
     bool given = f->pixels && f->pixels->indirect; /* an earlier pass (foveation) made the frame's list */
-    it->pc.flags = given ? FV_INTERP_FLAG_GIVEN : 0u;
+    it->pc.flags = (given ? FV_INTERP_FLAG_GIVEN : 0u) | (q->light ? FV_INTERP_FLAG_LIGHT : 0u);
     it->last_given = given;
     fv_vk_timer_reset(&it->timer, cmd, f->slot);
     fv_vk_label_begin(it->vk, cmd, "interp (pyramid, classification, list)");
@@ -287,6 +290,7 @@ static void interp_record(void *state, const fv_pass_frame *f)
      * global barriers between the stages order its writes and reads. */
     fv_images_use(f->images, cmd, it->level, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use_gbuffer(f->images, cmd, CS);
+    fv_shade_inputs_use(f->shade_inputs, f->images, cmd, CS); /* the light test reads the shadow maps */
     if (given) {
         /* the earlier list, dispatched by its own arguments (already visible to indirect reads) */
         bind_stage(it, f, FV_INTERP_STAGE_GIVEN);

@@ -8,6 +8,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
+#include "fv_shade_inputs_interface.h"
 #include "fv_common.glsl"
 #include "interp_interface.h"
 
@@ -17,12 +18,14 @@ layout(local_size_x = FV_INTERP_GROUP, local_size_y = FV_INTERP_GROUP, local_siz
 layout(constant_id = 0) const uint STAGE = FV_INTERP_STAGE_COUNT;
 
 FV_SCENE_SET_DECLARE
+FV_SHADE_INPUTS_DECLARE
 #define FV_GBUFFER_SET FV_INTERP_SET
 #define FV_GBUFFER_BINDING_DEPTH FV_INTERP_BINDING_DEPTH
 #define FV_GBUFFER_BINDING_NORMAL FV_INTERP_BINDING_NORMAL
 #define FV_GBUFFER_BINDING_ALBEDO FV_INTERP_BINDING_ALBEDO
 #define FV_GBUFFER_BINDING_MATERIAL FV_INTERP_BINDING_MATERIAL
 #include "fv_gbuffer_decode.glsl"
+#include "fv_shade_common.glsl"
 
 layout(std430, set = FV_INTERP_SET, binding = FV_INTERP_BINDING_NODES) buffer Nodes { vec4 nodes[]; };
 layout(set = FV_INTERP_SET, binding = FV_INTERP_BINDING_LEVEL, r32ui) uniform uimage2DArray level_img;
@@ -57,24 +60,36 @@ uint node_index(uint k, uint eye, uvec2 ij)
     return level_base(k) + (eye * ny + ij.y) * nx + ij.x;
 }
 
-uint node_flags(uint index) { return floatBitsToUint(nodes[2u * index].w); }
+uint node_flags(uint index) { return floatBitsToUint(nodes[FV_INTERP_NODE_VEC4 * index].w); }
 bool node_coherent(uint k, uint eye, uvec2 ij) { return (node_flags(node_index(k, eye, ij)) & FV_INTERP_NODE_COHERENT) != 0u; }
 
-// Whether a member (position p, normal n, albedo a) is close enough to the mean (pm, unit nm, am): see the header.
-bool similar(vec3 p, vec3 n, vec3 a, vec3 pm, vec3 nm, vec3 am, float dist_eye)
+float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
+
+// Whether a member (position p, normal n, albedo a, direct irradiance e) is close enough to the mean (pm, unit nm,
+// am, em): see the header.
+bool similar(vec3 p, vec3 n, vec3 a, vec3 e, vec3 pm, vec3 nm, vec3 am, vec3 em, float dist_eye)
 {
     float t = pc.threshold;
-    vec3 da = abs(a - am);
-    return 1.0 - dot(n, nm) <= t && abs(dot(p - pm, nm)) <= t * dist_eye && max(da.x, max(da.y, da.z)) <= t;
+    bool light = (pc.flags & FV_INTERP_FLAG_LIGHT) == 0u || max3(abs(e - em)) <= t * max3(em);
+    return 1.0 - dot(n, nm) <= t && abs(dot(p - pm, nm)) <= t * dist_eye && max3(abs(a - am)) <= t && light;
+}
+
+// The direct irradiance the light test compares (0 without it): finite, >= 0.
+vec3 direct_light(fv_surface s)
+{
+    if ((pc.flags & FV_INTERP_FLAG_LIGHT) == 0u || !s.hit) return vec3(0);
+    vec3 e = fv_shade_direct_irradiance(s);
+    return all_finite(e) ? max(e, vec3(0)) : vec3(0);
 }
 
 // Write node (k, eye, ij): members' sums and whether they agree so far; `ok` false: already incoherent.
-void store_node(uint k, uint eye, uvec2 ij, vec3 p_mean, vec3 n_sum, vec3 a_mean, uint material, bool coh)
+void store_node(uint k, uint eye, uvec2 ij, vec3 p_mean, vec3 n_sum, vec3 a_mean, vec3 e_mean, uint material, bool coh)
 {
     uint flags = (coh ? FV_INTERP_NODE_COHERENT : 0u) | (material << FV_INTERP_NODE_MATERIAL_SHIFT);
-    uint i = node_index(k, eye, ij);
-    nodes[2u * i] = vec4(p_mean, uintBitsToFloat(flags));
-    nodes[2u * i + 1u] = vec4(n_sum, uintBitsToFloat(packUnorm4x8(vec4(clamp(a_mean, 0.0, 1.0), 0.0))));
+    uint i = FV_INTERP_NODE_VEC4 * node_index(k, eye, ij);
+    nodes[i] = vec4(p_mean, uintBitsToFloat(flags));
+    nodes[i + 1u] = vec4(n_sum, uintBitsToFloat(packUnorm4x8(vec4(clamp(a_mean, 0.0, 1.0), 0.0))));
+    nodes[i + 2u] = vec4(e_mean, 0.0);
 }
 
 // Level 1: the closed 3 x 3 pixels [2i, 2i+2] x [2j, 2j+2] (clamped to the image), decoded from the G-buffer by
@@ -85,10 +100,10 @@ void build_leaf(uvec3 id)
     uint nx = nodes_along(W(), 1u), ny = nodes_along(H(), 1u);
     uint eye = id.z;
     if (id.x >= nx || id.y >= ny) return;
-    vec3 pos[9], nrm[9], alb[9];
+    vec3 pos[9], nrm[9], alb[9], lit[9];
     uint mat = 0u, hits = 0u;
     bool same = true;
-    vec3 ps = vec3(0), ns = vec3(0), as = vec3(0);
+    vec3 ps = vec3(0), ns = vec3(0), as = vec3(0), es = vec3(0);
     for (uint q = 0u; q < 9u; q++) {
         uvec3 p = uvec3(min(2u * id.x + q % 3u, W() - 1u), min(2u * id.y + q / 3u, H() - 1u), eye);
         fv_surface sf = fv_gbuffer_surface(p);
@@ -99,20 +114,22 @@ void build_leaf(uvec3 id)
         pos[q] = sf.hit ? sf.pos_world : vec3(0);
         nrm[q] = sf.hit ? sf.normal : vec3(0);
         alb[q] = sf.hit ? sf.albedo : vec3(0);
+        lit[q] = direct_light(sf);
         ps += pos[q];
         ns += nrm[q];
         as += alb[q];
+        es += lit[q];
     }
-    vec3 pm = ps / 9.0, am = as / 9.0;
+    vec3 pm = ps / 9.0, am = as / 9.0, em = es / 9.0;
     bool coh = same;
     if (same && hits > 0u) {
         float len = length(ns) / 9.0;
         coh = len >= FV_INTERP_NORMAL_MIN && all_finite(pm);
         vec3 nm = coh ? normalize(ns) : vec3(0, 1, 0);
         float d = length(pm - frame.eye_pos[min(eye, 1u)].xyz);
-        for (uint q = 0u; q < 9u && coh; q++) coh = similar(pos[q], nrm[q], alb[q], pm, nm, am, d);
+        for (uint q = 0u; q < 9u && coh; q++) coh = similar(pos[q], nrm[q], alb[q], lit[q], pm, nm, am, em, d);
     }
-    store_node(1u, eye, id.xy, pm, ns / 9.0, am, mat, coh);
+    store_node(1u, eye, id.xy, pm, ns / 9.0, am, em, mat, coh);
 }
 
 // Level k >= 2 from its four children at k - 1 (clamped at the last row and column: a duplicate changes nothing).
@@ -122,13 +139,15 @@ void build_node(uvec3 id)
     uint nx = nodes_along(W(), k), ny = nodes_along(H(), k);
     if (id.x >= nx || id.y >= ny) return;
     uint eye = id.z;
-    vec3 pos[4], nrm[4], alb[4];
+    vec3 pos[4], nrm[4], alb[4], lit[4];
     uint mat = 0u;
     bool coh = true;
-    vec3 ps = vec3(0), ns = vec3(0), as = vec3(0);
+    vec3 ps = vec3(0), ns = vec3(0), as = vec3(0), es = vec3(0);
     for (uint c = 0u; c < 4u; c++) {
-        uint i = node_index(k - 1u, eye, 2u * id.xy + uvec2(c & 1u, c >> 1u));
-        vec4 a = nodes[2u * i], b = nodes[2u * i + 1u];
+        uint i = FV_INTERP_NODE_VEC4 * node_index(k - 1u, eye, 2u * id.xy + uvec2(c & 1u, c >> 1u));
+        vec4 a = nodes[i], b = nodes[i + 1u];
+        lit[c] = nodes[i + 2u].xyz;
+        es += lit[c];
         uint f = floatBitsToUint(a.w);
         uint m = f >> FV_INTERP_NODE_MATERIAL_SHIFT;
         if (c == 0u) mat = m;
@@ -141,15 +160,15 @@ void build_node(uvec3 id)
         ns += b.xyz;
         as += alb[c];
     }
-    vec3 pm = ps * 0.25, am = as * 0.25;
+    vec3 pm = ps * 0.25, am = as * 0.25, em = es * 0.25;
     if (coh && mat != 0u) {
         float len = length(ns) * 0.25;
         coh = len >= FV_INTERP_NORMAL_MIN && all_finite(pm);
         vec3 nm = coh ? normalize(ns) : vec3(0, 1, 0);
         float d = length(pm - frame.eye_pos[min(eye, 1u)].xyz);
-        for (uint c = 0u; c < 4u && coh; c++) coh = similar(pos[c], nrm[c], alb[c], pm, nm, am, d);
+        for (uint c = 0u; c < 4u && coh; c++) coh = similar(pos[c], nrm[c], alb[c], lit[c], pm, nm, am, em, d);
     }
-    store_node(k, eye, id.xy, pm, ns * 0.25, am, mat, coh);
+    store_node(k, eye, id.xy, pm, ns * 0.25, am, em, mat, coh);
 }
 
 // Node (k, eye, ij) holds pixels at level k: coh, and its parent is not (or k is the start level).

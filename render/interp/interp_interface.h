@@ -13,6 +13,8 @@
  *     1 − n_i · n̄ ≤ τ                 (normal: one minus the cosine of the angle to the mean normal n̄, unit)
  *     |(p_i − p̄) · n̄| ≤ τ · |p̄ − eye|  (position: distance off the mean tangent plane per metre of eye distance)
  *     max_c |a_i,c − ā_c| ≤ τ          (albedo, linear, per channel: texture edges are not blurred)
+ *     max_c |E_i,c − Ē_c| ≤ τ max_c Ē_c (with interp.light: the direct irradiance, shadows included, so shadow edges
+ *                                       and spot-light cones are not interpolated across; the paper has no such test)
  * and at level k ≥ 2 every child is coherent itself. A node where nothing is drawn throughout is coherent.
  *
  * Classification (coarse to fine, as the paper): a pixel belongs to the node (x >> k, y >> k) of each level; its
@@ -37,12 +39,13 @@
 #define FV_INTERP_MAX_LEVEL 7u /* 128 x 128 px nodes at most */
 
 /* ---- "interp" (interp.comp) ---- */
-#define FV_INTERP_SET 1
+#define FV_INTERP_SET 2 /* after the scene set (0) and the shading inputs (1): the light test shades directly */
 #define FV_INTERP_BINDING_DEPTH 0    /* sampler2DArray: the G-buffer (fv_images_bind_gbuffer writes 0..3) */
 #define FV_INTERP_BINDING_NORMAL 1
 #define FV_INTERP_BINDING_ALBEDO 2
 #define FV_INTERP_BINDING_MATERIAL 3
-#define FV_INTERP_BINDING_NODES 4    /* storage vec4[2 per node]: levels 1..MAX, eye 0 then eye 1, row-major */
+#define FV_INTERP_BINDING_NODES 4    /* storage vec4[3 per node]: levels 1..MAX, eye 0 then eye 1, row-major */
+#define FV_INTERP_NODE_VEC4 3u
 #define FV_INTERP_BINDING_LEVEL 5    /* uimage2DArray r32ui "interp level": each pixel's code (FV_INTERP_CODE_*) */
 #define FV_INTERP_BINDING_TILES 6    /* storage uint[tile_count]: shaded pixels per tile, then each tile's offset */
 #define FV_INTERP_BINDING_LIST 7     /* storage pixel list (fv_gpu.h FV_GPU_LIST_*): the frame sample list */
@@ -71,6 +74,7 @@
 #define FV_INTERP_STRIPES 32u
 
 #define FV_INTERP_FLAG_GIVEN 1u /* the frame had a sample list before this pass: level-0 pixels follow it */
+#define FV_INTERP_FLAG_LIGHT 2u /* interp.light: members' direct light (shadows included) must agree too */
 
 /* A pixel's code in "interp level": bits 0..3 the level, and one of */
 #define FV_INTERP_CODE_LEVEL_MASK 15u

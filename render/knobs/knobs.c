@@ -186,6 +186,10 @@ static const fv_knob g_knobs[] = {
      .fast = I(3), .high = I(2), .exact = I(1),
      .doc = "the coarsest regions, 2^k x 2^k px: a coherent one is shaded at its 4 corners (the paper: 4x4 px at "
             "512x512)"},
+    {.name = "interp.light", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(interp.light),
+     .fast = B(false), .high = B(true), .exact = B(true),
+     .doc = "coherence also needs the members' direct light (shadows included) within tau of the mean: no "
+            "interpolation across shadow edges, at one direct-light evaluation per G-buffer read of the pyramid"},
 };
 
 #define KNOB_COUNT (sizeof g_knobs / sizeof g_knobs[0])

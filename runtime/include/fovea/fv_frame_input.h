@@ -193,6 +193,8 @@ typedef struct fv_quality_interp {
                            * has 1 - cos(normal, mean normal) <= tau, distance off the mean tangent plane <= tau x the
                            * eye distance, and each linear albedo channel within tau of the mean (and one material) */
     uint32_t start_level; /* "interp.start_level": the coarsest regions, 2^k x 2^k px, k in 1..7 */
+    bool light;           /* "interp.light": also require each member's direct irradiance (shadows included) within
+                           * tau of the mean, relative to the mean's largest channel */
 } fv_quality_interp;
 
 /** The settings a frame is drawn with. Zero is not a valid value: start from fv_quality_default() (the `balanced`
@@ -252,7 +254,7 @@ static inline fv_quality fv_quality_default(void)
                             .limit_level = 7,
                             .distance_scale = 1.5f,
                             .mode = FV_SSS_MODE_HIERARCHY},
-                    .interp = {.enabled = false, .threshold = 0.02f, .start_level = 2}};
+                    .interp = {.enabled = false, .threshold = 0.02f, .start_level = 2, .light = true}};
     return q;
 }
 
