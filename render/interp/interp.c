@@ -192,14 +192,15 @@ static fv_result interp_init(const fv_pass_env *env, void **out_state)
         {FV_INTERP_BINDING_STATS, sbt, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
-    static const uint32_t stages[2][3] = {{FV_INTERP_STAGE_LEAF, FV_INTERP_STAGE_NODE, FV_INTERP_STAGE_SCAN},
-                                          {FV_INTERP_STAGE_GIVEN, FV_INTERP_STAGE_COUNT, FV_INTERP_STAGE_SCATTER}};
+    static const uint32_t stages[2][4] = {
+        {FV_INTERP_STAGE_LEAF, FV_INTERP_STAGE_NODE, FV_INTERP_STAGE_SCAN, FV_INTERP_STAGE_LEAF_SHARED},
+        {FV_INTERP_STAGE_GIVEN, FV_INTERP_STAGE_COUNT, FV_INTERP_STAGE_SCATTER, FV_INTERP_STAGE_SCATTER}};
     for (int c = 0; c < 2 && res == FV_OK; c++) {
         fv_vk_compute_desc cd = {.name = c ? "interp list" : "interp pyramid", .code = fv_spv_interp_comp,
                                  .code_size = sizeof fv_spv_interp_comp, .shared_sets = shared,
                                  .shared_set_count = 2, .bindings = b, .binding_count = FV_INTERP_BINDING_COUNT,
                                  .set_count = env->slots, .push_bytes = sizeof(struct fv_interp_push),
-                                 .spec = stages[c], .spec_count = 1, .variant_count = 3};
+                                 .spec = stages[c], .spec_count = 1, .variant_count = c ? 3 : 4};
         res = fv_vk_compute_init(vk, &cd, &it->cs[c]);
     }
     for (uint32_t n = 0; res == FV_OK && n < 2u * env->slots; n++) {
@@ -245,9 +246,10 @@ static void interp_prepare(void *state, const fv_pass_frame *f)
 /* The pipeline of a stage: which compute object, which variant of it. */
 static void bind_stage(interp *it, const fv_pass_frame *f, uint32_t which)
 {
-    static const uint8_t object[6] = {1, 0, 0, 1, 0, 1}, variant[6] = {0, 0, 1, 1, 2, 2};
+    static const uint8_t object[7] = {1, 0, 0, 1, 0, 1, 0}, variant[7] = {0, 0, 1, 1, 2, 2, 3};
     _Static_assert(FV_INTERP_STAGE_GIVEN == 0 && FV_INTERP_STAGE_LEAF == 1 && FV_INTERP_STAGE_NODE == 2 &&
-                       FV_INTERP_STAGE_COUNT == 3 && FV_INTERP_STAGE_SCAN == 4 && FV_INTERP_STAGE_SCATTER == 5,
+                       FV_INTERP_STAGE_COUNT == 3 && FV_INTERP_STAGE_SCAN == 4 && FV_INTERP_STAGE_SCATTER == 5 &&
+                       FV_INTERP_STAGE_LEAF_SHARED == 6,
                    "the stage tables follow the stage numbers");
     it->pc.stage = which;
     VkDescriptorSet shared[2] = {f->scene_set, fv_shade_inputs_set(f->shade_inputs, f->slot)};
@@ -300,7 +302,8 @@ static void interp_record(void *state, const fv_pass_frame *f)
          * scan rewrites them: after the indirect read */
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, CS, 0, 0, NULL, 0, NULL, 0, NULL);
     }
-    stage(it, f, FV_INTERP_STAGE_LEAF, groups(fv_interp_nodes_along(it->width, 1)),
+    /* with the light test, each pixel is decoded and lit once into shared memory (the light costs) */
+    stage(it, f, q->light ? FV_INTERP_STAGE_LEAF_SHARED : FV_INTERP_STAGE_LEAF, groups(fv_interp_nodes_along(it->width, 1)),
           groups(fv_interp_nodes_along(it->height, 1)), 2);
     for (uint32_t k = 2; k <= it->pc.start_level; k++) {
         fv_vk_barrier_memory(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);

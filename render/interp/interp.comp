@@ -95,26 +95,54 @@ void store_node(uint k, uint eye, uvec2 ij, vec3 p_mean, vec3 n_sum, vec3 a_mean
 // Level 1: the closed 3 x 3 pixels [2i, 2i+2] x [2j, 2j+2] (clamped to the image), decoded from the G-buffer by
 // each node (2.25 decodes per pixel: measured cheaper on lavapipe than decoding each once into shared memory behind
 // a barrier).
+#define LEAF_SIDE (2 * FV_INTERP_GROUP + 1)
+shared vec4 sh_a[LEAF_SIDE * LEAF_SIDE]; // LEAF_SHARED: position, material + 1 (bits)
+shared vec4 sh_b[LEAF_SIDE * LEAF_SIDE]; // normal, albedo (unorm4x8 bits)
+shared vec3 sh_e[LEAF_SIDE * LEAF_SIDE]; // direct irradiance
+
 void build_leaf(uvec3 id)
 {
     uint nx = nodes_along(W(), 1u), ny = nodes_along(H(), 1u);
     uint eye = id.z;
+    if (STAGE == FV_INTERP_STAGE_LEAF_SHARED) {
+        uvec2 origin = 2u * gl_WorkGroupID.xy * FV_INTERP_GROUP;
+        for (uint q = gl_LocalInvocationIndex; q < LEAF_SIDE * LEAF_SIDE; q += FV_INTERP_TILE_SIZE) {
+            uvec3 p = uvec3(min(origin.x + q % LEAF_SIDE, W() - 1u), min(origin.y + q / LEAF_SIDE, H() - 1u), eye);
+            fv_surface sf = fv_gbuffer_surface(p);
+            sh_a[q] = vec4(sf.hit ? sf.pos_world : vec3(0), uintBitsToFloat(sf.hit ? sf.material + 1u : 0u));
+            sh_b[q] = vec4(sf.hit ? sf.normal : vec3(0),
+                           uintBitsToFloat(packUnorm4x8(vec4(sf.hit ? sf.albedo : vec3(0), 0.0))));
+            sh_e[q] = direct_light(sf);
+        }
+        barrier();
+    }
     if (id.x >= nx || id.y >= ny) return;
     vec3 pos[9], nrm[9], alb[9], lit[9];
     uint mat = 0u, hits = 0u;
     bool same = true;
     vec3 ps = vec3(0), ns = vec3(0), as = vec3(0), es = vec3(0);
     for (uint q = 0u; q < 9u; q++) {
-        uvec3 p = uvec3(min(2u * id.x + q % 3u, W() - 1u), min(2u * id.y + q / 3u, H() - 1u), eye);
-        fv_surface sf = fv_gbuffer_surface(p);
-        uint m = sf.hit ? sf.material + 1u : 0u;
+        uint m;
+        if (STAGE == FV_INTERP_STAGE_LEAF_SHARED) {
+            uint at = (2u * gl_LocalInvocationID.y + q / 3u) * LEAF_SIDE + 2u * gl_LocalInvocationID.x + q % 3u;
+            vec4 a = sh_a[at], b = sh_b[at];
+            m = floatBitsToUint(a.w);
+            pos[q] = a.xyz;
+            nrm[q] = b.xyz;
+            alb[q] = unpackUnorm4x8(floatBitsToUint(b.w)).rgb;
+            lit[q] = sh_e[at];
+        } else {
+            uvec3 p = uvec3(min(2u * id.x + q % 3u, W() - 1u), min(2u * id.y + q / 3u, H() - 1u), eye);
+            fv_surface sf = fv_gbuffer_surface(p);
+            m = sf.hit ? sf.material + 1u : 0u;
+            pos[q] = sf.hit ? sf.pos_world : vec3(0);
+            nrm[q] = sf.hit ? sf.normal : vec3(0);
+            alb[q] = sf.hit ? sf.albedo : vec3(0);
+            lit[q] = direct_light(sf);
+        }
         if (q == 0u) mat = m;
         same = same && m == mat;
-        hits += sf.hit ? 1u : 0u;
-        pos[q] = sf.hit ? sf.pos_world : vec3(0);
-        nrm[q] = sf.hit ? sf.normal : vec3(0);
-        alb[q] = sf.hit ? sf.albedo : vec3(0);
-        lit[q] = direct_light(sf);
+        hits += m != 0u ? 1u : 0u;
         ps += pos[q];
         ns += nrm[q];
         as += alb[q];
@@ -257,7 +285,7 @@ void main()
         if (p.x < W() && p.y < H() && p.z <= 1u) given[(p.z * H() + p.y) * W() + p.x] = 1u;
         return;
     }
-    if (STAGE == FV_INTERP_STAGE_LEAF) {
+    if (STAGE == FV_INTERP_STAGE_LEAF || STAGE == FV_INTERP_STAGE_LEAF_SHARED) {
         build_leaf(gl_GlobalInvocationID);
         return;
     }

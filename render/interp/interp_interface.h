@@ -67,6 +67,8 @@
 #define FV_INTERP_STAGE_SCAN 4   /* one workgroup: exclusive prefix sum of the tile counts in the interleaved order,
                                   * the list's count and its dispatch arguments */
 #define FV_INTERP_STAGE_SCATTER 5 /* each tile's shaded pixels at its offset, in row-major order within the tile */
+#define FV_INTERP_STAGE_LEAF_SHARED 6 /* LEAF with the light test: the workgroup's 17 x 17 pixels decoded and lit once
+                                       * each into shared memory (1.13 evaluations per pixel, not 2.25) */
 
 /* The list is made in an interleaved tile order (as the shade pass visits a full frame): position g of the order
  * is tile (g % STRIPES) * tiles_per_stripe + g / STRIPES, so any contiguous half of the list (one lavapipe thread's
