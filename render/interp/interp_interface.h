@@ -1,7 +1,8 @@
 /* @brief Hierarchical screen-space interpolation's interface shared by C and GLSL (render/interp): "interp" builds
- * the pyramid, classifies every pixel and makes the frame sample list (interp.comp, one pipeline, the stage in the
- * push constants); "interp_fill" fills the interpolated pixels after shading and draws `--view interp`
- * (interp_fill.comp). Bindings of their own sets (set 1, after the scene's), workgroup sizes, push constants.
+ * the pyramid, classifies every pixel and makes the frame sample list (interp.comp, one pipeline per stage by
+ * specialization constant 0); "interp_fill" fills the interpolated pixels after shading and draws `--view interp`
+ * (interp_fill.comp). Bindings of their own sets (interp: set 2, after the scene's and the shading inputs'; fill:
+ * set 1), workgroup sizes, push constants.
  *
  * The pyramid. A node of level k (1..FV_INTERP_MAX_LEVEL, spacing s = 2^k px) of an eye is the CLOSED square of
  * pixels [i s, min((i+1) s, W-1)] x [j s, min((j+1) s, H-1)]: its four corner pixels lie on the grid of spacing s,
@@ -20,8 +21,8 @@
  * Classification (coarse to fine, as the paper): a pixel belongs to the node (x >> k, y >> k) of each level; its
  * level is the coarsest k <= interp.start_level whose node is coherent (0: none), and that node is ACCEPTED (coherent,
  * with a parent that is not, or at the start level). A pixel is SHADED when it is a corner of any accepted node (it
- * lies on that node's grid: a multiple of s, or the clamped last column or row), when its level is 0, or when it
- * lies on the image's last column or row (shading those W + H pixels keeps the rule simple); every other
+ * lies on that node's grid: a multiple of s, or the clamped last column or row), when its level is 0, or when its
+ * level is >= 1 and it lies on the image's last column or row (those W + H pixels keep the rule simple); every other
  * pixel (level k >= 1) is FILLED by bilinear interpolation of its accepted node's four corners, all of them shaded.
  * With a sample list already made for the frame (foveation), a level-0 pixel that is no corner is shaded only when
  * that list holds it, and otherwise LEFT to the pass that made the list (reconstruct) to fill; corners are shaded
