@@ -50,9 +50,9 @@ static void interp_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     const fv_quality_interp *q = &ctx->quality->interp;
     uint32_t s = 1u << (q->start_level <= FV_INTERP_MAX_LEVEL ? q->start_level : FV_INTERP_MAX_LEVEL);
     snprintf(out->reason, sizeof out->reason,
-             "shade coherent regions (τ %g) at their corners, %ux%u px down to 2x2, the rest per pixel%s",
-             (double)q->threshold, s, s,
-             ctx->quality->fovea.enabled ? "; foveation's list thins the per-pixel rest" : "");
+             "coherent regions (τ %g%s) shaded at their corners, %ux%u px down to 2x2, the rest per pixel%s",
+             (double)q->threshold, q->light ? ", light" : "", s, s,
+             ctx->quality->fovea.enabled ? "; thinned by foveation" : "");
 }
 
 static void fill_plan(const fv_plan_context *ctx, fv_plan_entry *out)

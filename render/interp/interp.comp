@@ -67,11 +67,21 @@ float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
 
 // Whether a member (position p, normal n, albedo a, direct irradiance e) is close enough to the mean (pm, unit nm,
 // am, em): see the header.
-bool similar(vec3 p, vec3 n, vec3 a, vec3 e, vec3 pm, vec3 nm, vec3 am, vec3 em, float dist_eye)
+bool similar(vec3 p, vec3 n, vec3 a, vec3 e, vec3 pm, vec3 nm, vec3 am, vec3 em, float width_m)
 {
     float t = pc.threshold;
     bool light = (pc.flags & FV_INTERP_FLAG_LIGHT) == 0u || max3(abs(e - em)) <= t * max3(em);
-    return 1.0 - dot(n, nm) <= t && abs(dot(p - pm, nm)) <= t * dist_eye && max3(abs(a - am)) <= t && light;
+    return 1.0 - dot(n, nm) <= t && abs(dot(p - pm, nm)) <= t * width_m && max3(abs(a - am)) <= t && light;
+}
+
+// A node's width on a surface facing the eye at the mean position: its 2^k pixels at the eye distance (the larger
+// tangent step of a pixel of the eye's frustum), metres; finite and >= 0.
+float node_width_m(uint k, uint eye, vec3 pm)
+{
+    vec4 t = frame.eye_tan[min(eye, 1u)];
+    float step = max(abs(t.y - t.x) / float(W()), abs(t.w - t.z) / float(H()));
+    float w = float(1u << k) * step * length(pm - frame.eye_pos[min(eye, 1u)].xyz);
+    return w < 3.4e38 ? w : 0.0; // NaN and Inf: 0, nothing but exact agreement
 }
 
 // The direct irradiance the light test compares (0 without it): finite, >= 0.
@@ -154,7 +164,7 @@ void build_leaf(uvec3 id)
         float len = length(ns) / 9.0;
         coh = len >= FV_INTERP_NORMAL_MIN && all_finite(pm);
         vec3 nm = coh ? normalize(ns) : vec3(0, 1, 0);
-        float d = length(pm - frame.eye_pos[min(eye, 1u)].xyz);
+        float d = node_width_m(1u, eye, pm);
         for (uint q = 0u; q < 9u && coh; q++) coh = similar(pos[q], nrm[q], alb[q], lit[q], pm, nm, am, em, d);
     }
     store_node(1u, eye, id.xy, pm, ns / 9.0, am, em, mat, coh);
@@ -193,7 +203,7 @@ void build_node(uvec3 id)
         float len = length(ns) * 0.25;
         coh = len >= FV_INTERP_NORMAL_MIN && all_finite(pm);
         vec3 nm = coh ? normalize(ns) : vec3(0, 1, 0);
-        float d = length(pm - frame.eye_pos[min(eye, 1u)].xyz);
+        float d = node_width_m(k, eye, pm);
         for (uint c = 0u; c < 4u && coh; c++) coh = similar(pos[c], nrm[c], alb[c], lit[c], pm, nm, am, em, d);
     }
     store_node(k, eye, id.xy, pm, ns * 0.25, am, em, mat, coh);

@@ -12,7 +12,8 @@
  * mean albedo, the material seen (or "nothing drawn") and whether it is coherent: every member (pixel at level 1,
  * child node above) has the node's material, and with τ = interp.threshold (dimensionless)
  *     1 − n_i · n̄ ≤ τ                 (normal: one minus the cosine of the angle to the mean normal n̄, unit)
- *     |(p_i − p̄) · n̄| ≤ τ · |p̄ − eye|  (position: distance off the mean tangent plane per metre of eye distance)
+ *     |(p_i − p̄) · n̄| ≤ τ · w_k        (position: distance off the mean tangent plane, in node widths: w_k = 2^k
+ *                                       pixels at the eye distance |p̄ − eye|, from the frustum's pixel step)
  *     max_c |a_i,c − ā_c| ≤ τ          (albedo, linear, per channel: texture edges are not blurred)
  *     max_c |E_i,c − Ē_c| ≤ τ max_c Ē_c (with interp.light: the direct irradiance, shadows included, so shadow edges
  *                                       and spot-light cones are not interpolated across; the paper has no such test)

@@ -178,10 +178,11 @@ static const fv_knob g_knobs[] = {
      .doc = "shade coherent screen regions at their corners and interpolate the rest (off: every pixel shaded)",
      .exact_note = "interpolated pixels are approximations; every pixel is shaded"},
     {.name = "interp.threshold", .type = FV_KNOB_FLOAT, .min = 0, .max = 1000, .unit = "", AT(interp.threshold),
-     .fast = F(0.05f), .high = F(0.01f), .exact = F(0.0f),
+     .fast = F(0.3f), .high = F(0.05f), .exact = F(0.0f),
      .doc = "tau: a region is coherent when each member's 1 - cos(normal, mean), distance off the mean tangent plane "
-            "per metre of eye distance, and linear albedo difference are all <= tau (one material); 0: exact "
-            "agreement only"},
+            "in region widths (2^k px at the eye distance), and linear albedo difference are all <= tau (one "
+            "material; interp.light: the direct light too); 0: exact agreement only. Balanced 0.2: the knee measured "
+            "in BENCHMARKS.md"},
     {.name = "interp.start_level", .type = FV_KNOB_INT, .min = 1, .max = 7, .unit = "", AT(interp.start_level),
      .fast = I(3), .high = I(2), .exact = I(1),
      .doc = "the coarsest regions, 2^k x 2^k px: a coherent one is shaded at its 4 corners (the paper: 4x4 px at "

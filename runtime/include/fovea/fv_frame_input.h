@@ -191,7 +191,8 @@ typedef struct fv_quality_interp {
     bool enabled;         /* "interp.enabled": shade coherent regions once and interpolate them (off: every pixel) */
     float threshold;      /* "interp.threshold": tau, dimensionless, 0..1000: a region is coherent when every member
                            * has 1 - cos(normal, mean normal) <= tau, distance off the mean tangent plane <= tau x the
-                           * eye distance, and each linear albedo channel within tau of the mean (and one material) */
+                           * region's width (its 2^k pixels at the eye distance), and each linear albedo channel
+                           * within tau of the mean (and one material) */
     uint32_t start_level; /* "interp.start_level": the coarsest regions, 2^k x 2^k px, k in 1..7 */
     bool light;           /* "interp.light": also require each member's direct irradiance (shadows included) within
                            * tau of the mean, relative to the mean's largest channel */
@@ -254,7 +255,7 @@ static inline fv_quality fv_quality_default(void)
                             .limit_level = 7,
                             .distance_scale = 1.5f,
                             .mode = FV_SSS_MODE_HIERARCHY},
-                    .interp = {.enabled = false, .threshold = 0.02f, .start_level = 2, .light = true}};
+                    .interp = {.enabled = false, .threshold = 0.2f, .start_level = 2, .light = true}};
     return q;
 }
 
