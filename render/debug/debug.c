@@ -39,6 +39,12 @@ static void debug_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     _Static_assert(FV_DEBUG_VIEW_DEPTH == FV_GPU_DEBUG_VIEW_DEPTH && FV_DEBUG_VIEW_GAZE == FV_GPU_DEBUG_VIEW_GAZE &&
                        FV_DEBUG_VIEW_SAMPLES == FV_GPU_DEBUG_VIEW_SAMPLES && FV_DEBUG_VIEW_PROB == FV_GPU_DEBUG_VIEW_PROB,
                    "view numbers agree between C and GLSL");
+    if (v == FV_DEBUG_VIEW_INTERP) { /* drawn by the interp_fill pass, which holds each pixel's level */
+        out->enabled = false;
+        snprintf(out->reason, sizeof out->reason, "off — view 'interp' is drawn by the interp_fill pass%s",
+                 ctx->quality->interp.enabled ? "" : " (needs interp.enabled)");
+        return;
+    }
     if (v > FV_DEBUG_VIEW_VORONOI && v != FV_DEBUG_VIEW_GI && v != FV_DEBUG_VIEW_CLUSTERS && v != FV_DEBUG_VIEW_SSS) { /* views of passes still being built; each owner replaces its line here */
         out->enabled = false;
         snprintf(out->reason, sizeof out->reason, "off — debug view '%s' is not implemented yet", fv_debug_view_name(v));

@@ -171,6 +171,26 @@ static const fv_knob g_knobs[] = {
      .choice_count = 2, AT(sss.mode), .fast = I(FV_SSS_MODE_HIERARCHY), .high = I(FV_SSS_MODE_HIERARCHY),
      .exact = I(FV_SSS_MODE_EXACT),
      .doc = "hierarchy: a cut through the quad-tree per pixel; exact: every sample (brute force)"},
+    /* interp.*: hierarchical screen-space interpolation (render/interp; Ki & Oh, ../shared/papers/README.md
+     * section 4). Level k: regions of 2^k x 2^k px. */
+    {.name = "interp.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(interp.enabled),
+     .fast = B(true), .high = B(false), .exact = B(false),
+     .doc = "shade coherent screen regions at their corners and interpolate the rest (off: every pixel shaded)",
+     .exact_note = "interpolated pixels are approximations; every pixel is shaded"},
+    {.name = "interp.threshold", .type = FV_KNOB_FLOAT, .min = 0, .max = 1000, .unit = "", AT(interp.threshold),
+     .fast = F(0.3f), .high = F(0.05f), .exact = F(0.0f),
+     .doc = "tau: a region is coherent when each member's 1 - cos(normal, mean), distance off the mean tangent plane "
+            "in region widths (2^k px at the eye distance), and linear albedo difference are all <= tau (one "
+            "material; interp.light: the direct light too); 0: exact agreement only. Balanced 0.2: the knee measured "
+            "in BENCHMARKS.md"},
+    {.name = "interp.start_level", .type = FV_KNOB_INT, .min = 1, .max = 7, .unit = "", AT(interp.start_level),
+     .fast = I(3), .high = I(2), .exact = I(1),
+     .doc = "the coarsest regions, 2^k x 2^k px: a coherent one is shaded at its 4 corners (the paper: 4x4 px at "
+            "512x512)"},
+    {.name = "interp.light", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(interp.light),
+     .fast = B(false), .high = B(true), .exact = B(true),
+     .doc = "coherence also needs the members' direct light (shadows included) within tau of the mean: no "
+            "interpolation across shadow edges, at one direct-light evaluation per G-buffer read of the pyramid"},
 };
 
 #define KNOB_COUNT (sizeof g_knobs / sizeof g_knobs[0])

@@ -40,4 +40,8 @@ typedef struct fv_pass_detail {
     uint32_t count;
 } fv_pass_detail;
 
+/** Append one named detail of up to three values (count <= 3) at out[n] when n < cap; returns the new count. */
+uint32_t fv_pass_detail_add(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
+                            double b, double c);
+
 #endif

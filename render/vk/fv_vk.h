@@ -237,6 +237,11 @@ typedef struct fv_vk_image_use {
  *  available) happens before the work of `to` (made visible to its accesses), with the layout changed from
  *  from.layout to to.layout (UNDEFINED discards the contents). Same queue family on both sides. */
 void fv_vk_barrier_image(VkCommandBuffer cmd, const fv_vk_image *img, fv_vk_image_use from, fv_vk_image_use to);
+/** Record one global memory barrier: the work at src stages (its src_access made available) happens before the work
+ *  at dst stages (made visible to dst_access); covers every buffer and image. Zero accesses: an execution
+ *  dependency only (e.g. a write after a read). */
+void fv_vk_barrier_memory(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                          VkPipelineStageFlags dst, VkAccessFlags dst_access);
 
 /* ---- pipelines and descriptors ----------------------------------------------------------------------------- */
 

@@ -107,3 +107,11 @@ void fv_vk_compute_bind(const fv_vk_compute *c, VkCommandBuffer cmd, uint32_t va
     if (n) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->layout, 0, n, sets, 0, NULL);
     if (push && c->push_bytes) vkCmdPushConstants(cmd, c->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, c->push_bytes, push);
 }
+
+void fv_vk_barrier_memory(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                          VkPipelineStageFlags dst, VkAccessFlags dst_access)
+{
+    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = src_access,
+                          .dstAccessMask = dst_access};
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
+}

@@ -32,6 +32,7 @@ static const char *USAGE_FMT =
     "usage: fovea bench --sweep NAME=V1,V2,... [--sweep ...] [--scene NAME|FILE] [--quality PRESET]\n"
     "                   [--set NAME=VALUE]... [--frames N] [--eye-size WxH] [--gaze-deg YAW,PITCH]\n"
     "                   [--reference model|path|none] [--spp N] [--out DIR] [--hmd PROFILE|FILE] [--json]\n"
+    "                   [--baseline-set NAME=VALUE]...\n"
     "  --sweep     a knob and the values to try (repeatable); the points are the cross product of the sweeps\n"
     "              (at most %d). NAME=VALUE is checked as --set checks it; `fovea knobs` lists the knobs.\n"
     "              The pseudo-knob `preset` sweeps the presets: --sweep preset=%s\n"
@@ -48,6 +49,8 @@ static const char *USAGE_FMT =
     "  --spp       samples per pixel of the path reference (default 64; 1..1048576)\n"
     "  --out       where bench.json, bench.csv and pareto_<knob>.png go (default out/bench; created)\n"
     "  --json      print bench.json as one JSON object on stdout (and nothing else there)\n"
+    "  --baseline-set  measure every point against the --quality preset (with --set) plus this knob (repeatable)\n"
+    "              instead of the exact preset, e.g. interp.enabled=0: the trade of one technique alone\n"
     "  --hmd       distort and mask every point for this HMD's lens (fovea run --hmd; default none: undistorted)\n"
     "  Every point is also measured against the `exact` preset on the GPU (same scene, views and size). Errors:\n"
     "  psnr_db and ssim on the sRGB values (as fovea compare), rel_mean on the linear values; both eyes side by\n"
@@ -83,6 +86,8 @@ typedef struct bench_opts {
     bool json;
     const char *hmd;      /* --hmd: the lens every point (and exact) is drawn with; NULL = none */
     fv_lens lens;
+    const char *baseline_sets[8]; /* --baseline-set: the baseline is o->base with these (none: the exact preset) */
+    uint32_t baseline_count;
 } bench_opts;
 
 static int parse_args(int argc, char **argv, bench_opts *o)
@@ -153,6 +158,18 @@ static int parse_args(int argc, char **argv, bench_opts *o)
         }
         if ((r = OPT("--out")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->out_dir = v; continue; }
+        if ((r = OPT("--baseline-set")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            char err[512];
+            fv_quality scratch = fv_quality_default();
+            if (o->baseline_count >= sizeof o->baseline_sets / sizeof o->baseline_sets[0])
+                return fv_cli_usage_error("bench", USAGE, "--baseline-set: at most %zu",
+                                          sizeof o->baseline_sets / sizeof o->baseline_sets[0]);
+            if (FV_FAILED(fv_quality_set(&scratch, v, err, sizeof err)))
+                return fv_cli_usage_error("bench", USAGE, "--baseline-set: %s", err);
+            o->baseline_sets[o->baseline_count++] = v;
+            continue;
+        }
         if ((r = OPT("--hmd")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (run_hmd_lens("bench", v, &o->lens) != 0) return FV_EXIT_FAIL;
@@ -284,11 +301,15 @@ static void print_table(const fv_bench_result *res, const char *out_dir, size_t 
            res->scene, res->device, res->eye_width, res->eye_height, res->preset, res->point_count,
            res->point_count == 1 ? "" : "s", res->frames, res->warmup_frames);
     if (res->has_reference)
-        printf("  reference: %s, %u spp, %.2f s; exact preset on the GPU: %.3f ms median, %.2f dB and SSIM %.5f vs "
-               "the reference\n", res->reference_mode, res->reference_spp, res->reference_s, res->exact.frame.median_ms,
+        printf("  reference: %s, %u spp, %.2f s; %s on the GPU: %.3f ms median, %.2f dB and SSIM %.5f vs "
+               "the reference\n", res->reference_mode, res->reference_spp, res->reference_s,
+               strcmp(res->exact.preset, "exact") ? "the baseline (--baseline-set)" : "exact preset",
+               res->exact.frame.median_ms,
                res->exact.vs_reference.all.psnr_db, res->exact.vs_reference.all.ssim);
     else
-        printf("  reference: none; exact preset on the GPU: %.3f ms median\n", res->exact.frame.median_ms);
+        printf("  reference: none; %s on the GPU: %.3f ms median\n",
+               strcmp(res->exact.preset, "exact") ? "the baseline (--baseline-set)" : "exact preset",
+               res->exact.frame.median_ms);
     for (size_t s = 0; s < plan->sweep_count; s++)
         printf("  %-*s", (int)strlen(plan->sweeps[s].name), plan->sweeps[s].name);
     printf("  %9s %9s  %9s %9s", "frame ms", "p95 ms", "exact dB", "ssim");
@@ -367,6 +388,11 @@ int fv_cmd_bench(int argc, char **argv)
     st.r = r;
     fv_quality exact;
     if (FV_FAILED(fv_quality_preset("exact", &exact, err, sizeof err))) goto done;
+    if (o.baseline_count) { /* --baseline-set: the preset (and --set) with these knobs instead */
+        exact = o.base;
+        for (uint32_t b = 0; b < o.baseline_count; b++)
+            if (FV_FAILED(fv_quality_set(&exact, o.baseline_sets[b], err, sizeof err))) goto done;
+    }
     exact.distort.lens = o.lens;
     o.base.distort.lens = o.lens; /* the preset's own point is still recognised */
     if (FV_FAILED(fv_renderer_set_quality(r, &exact))) goto done;
@@ -393,7 +419,7 @@ int fv_cmd_bench(int argc, char **argv)
                            .reference_mode = o.ref == REF_MODEL ? "model" : o.ref == REF_PATH ? "path" : "none",
                            .plan = &o.plan, .points = points, .point_count = n};
     res.exact.quality = exact;
-    res.exact.preset = "exact";
+    res.exact.preset = o.baseline_count ? "baseline" : "exact";
     if (FV_FAILED(bench_point(&st, &exact, &res.exact, &exact_img))) {
         fprintf(stderr, "fovea bench: rendering the exact preset failed (see the messages above)\n");
         goto done;

@@ -184,6 +184,20 @@ typedef struct fv_quality_sss {
     fv_sss_mode mode;       /* "sss.mode": hierarchy | exact */
 } fv_quality_sss;
 
+/** The hierarchical screen-space interpolation knobs (render/interp/: Ki & Oh, papers/README.md section 4): coherent
+ *  screen regions are shaded at their corners and filled by interpolation. Each field is one knob of the table in
+ *  render/knobs/. */
+typedef struct fv_quality_interp {
+    bool enabled;         /* "interp.enabled": shade coherent regions once and interpolate them (off: every pixel) */
+    float threshold;      /* "interp.threshold": tau, dimensionless, 0..1000: a region is coherent when every member
+                           * has 1 - cos(normal, mean normal) <= tau, distance off the mean tangent plane <= tau x the
+                           * region's width (its 2^k pixels at the eye distance), and each linear albedo channel
+                           * within tau of the mean (and one material) */
+    uint32_t start_level; /* "interp.start_level": the coarsest regions, 2^k x 2^k px, k in 1..7 */
+    bool light;           /* "interp.light": also require each member's direct irradiance (shadows included) within
+                           * tau of the mean, relative to the mean's largest channel */
+} fv_quality_interp;
+
 /** The settings a frame is drawn with. Zero is not a valid value: start from fv_quality_default() (the `balanced`
  *  preset) or fv_quality_preset() (render/knobs/fv_knobs.h).
  *  Every speed/accuracy trade is a knob of the one knob table (render/knobs/: name, type, range, unit, a default per
@@ -200,6 +214,7 @@ typedef struct fv_quality {
     fv_quality_sss sss;       /* knobs "sss.*" */
     fv_quality_distort distort; /* knobs "distort.*" and the HMD lens */
     fv_quality_gi gi;         /* knobs "gi.*" */
+    fv_quality_interp interp; /* knobs "interp.*" */
 } fv_quality;
 
 /** The `balanced` preset, and the one source of its values: the knob table's balanced column reads this (a unit
@@ -239,7 +254,8 @@ static inline fv_quality fv_quality_default(void)
                             .start_level = 3,
                             .limit_level = 7,
                             .distance_scale = 1.5f,
-                            .mode = FV_SSS_MODE_HIERARCHY}};
+                            .mode = FV_SSS_MODE_HIERARCHY},
+                    .interp = {.enabled = false, .threshold = 0.2f, .start_level = 2, .light = true}};
     return q;
 }
 
