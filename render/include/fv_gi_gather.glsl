@@ -70,6 +70,43 @@ uint fv_gi_level_offset(uint n, uint k)
 
 #define FV_GI_STACK 48
 
+// The cut's near-field refinement: the irradiance at x from node `node` (its index in the tree buffer; trees of npl
+// nodes, side N, `levels` levels) summed over its descendants, each split while its extent^2 exceeds tau2 d^2 and
+// it is above the VPLs, added to e; returns how many nodes were summed.
+uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, vec3 n, inout vec3 e)
+{
+    uint base = (node / npl) * npl, local = node - base;
+    uint k = 0u, off = 0u;
+    while (k + 1u < levels && local >= off + (N >> k) * (N >> k)) {
+        off += (N >> k) * (N >> k);
+        k++;
+    }
+    uint off_k[FV_GI_MAX_LEVELS];
+    for (uint j = 0u; j < levels; j++) off_k[j] = fv_gi_level_offset(N, j);
+    uint stack[FV_GI_STACK]; // packed: level << 24 | index in the level
+    uint sp = 0u, used = 0u;
+    stack[sp++] = (k << 24) | (local - off);
+    while (sp > 0u) {
+        uint item = stack[--sp];
+        uint kk = item >> 24, idx = item & 0xffffffu;
+        fv_gi_node c = gi_nodes[base + off_k[kk] + idx];
+        if (!(c.flux.w > 0.0)) continue;
+        vec3 v = x - c.pos.xyz;
+        if (kk == 0u || c.normal.w * c.normal.w <= tau2 * dot(v, v) || sp + 4u > uint(FV_GI_STACK)) {
+            e += fv_gi_cluster_irradiance(c, x, n);
+            used++;
+            continue;
+        }
+        uint s = N >> kk, cx = (idx % s) * 2u, cy = (idx / s) * 2u, cs = s * 2u;
+        uint kc = (kk - 1u) << 24;
+        stack[sp++] = kc | (cy * cs + cx);
+        stack[sp++] = kc | (cy * cs + cx + 1u);
+        stack[sp++] = kc | ((cy + 1u) * cs + cx);
+        stack[sp++] = kc | ((cy + 1u) * cs + cx + 1u);
+    }
+    return used;
+}
+
 // Indirect irradiance at x (unit normal n), and how many clusters (or samples) it summed.
 vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
 {
@@ -84,15 +121,25 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
     if (mode == FV_GI_MODE_CUT) {
         // The same formula as fv_gi_cluster_irradiance with pi and r^2 folded in at the build and one division:
         // E = (Phi/pi) max(0, n_c.v) max(0, -n.v) / (d^2 (d^2 + r^2)).
+        // gi.refine (tau > 0): a cluster whose extent r exceeds tau d at this pixel (the near field, where one
+        // point light is furthest from its VPLs' sum) is replaced by its children, recursively, until each is
+        // within tau or a VPL; the far field stays the flat cut.
         uint count = min(gi.counts.w, uint(gi_cut.length()));
+        float tau2 = uintBitsToFloat(gi.opts.w);
+        bool refine = tau2 > 0.0 && tau2 <= 1.0;
+        uint npl = max(gi.opts.y, 1u);
         for (uint i = 0u; i < count; i++) {
             fv_gi_cluster c = gi_cut[i];
             vec3 v = x - c.pos.xyz;
             float d2 = dot(v, v);
+            if (refine && c.flux.w > tau2 * d2) {
+                used += fv_gi_refine(uint(c.normal.w), npl, N, levels, tau2, x, n, e);
+                continue;
+            }
             float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
             if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
+            used++;
         }
-        used = count;
     } else if (mode == FV_GI_MODE_EXACT) {
         for (uint l = 0u; l < lights; l++) {
             uint base = gi.light[l].info.y;
