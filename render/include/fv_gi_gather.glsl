@@ -60,49 +60,54 @@ float fv_gi_cluster_bound(fv_gi_node c, vec3 x, vec3 n)
     return phi * cos_max / (FV_PI * (dmin * dmin + rmin * rmin));
 }
 
-// First node of level k in a tree of side n (level k has n >> k nodes per side).
+// First node of level k in a tree of side n (a power of two; level k has s = n >> k nodes per side):
+// sum_{j<k} (n/2^j)^2 = 4 (n^2 - s^2) / 3, exact in integers (n^2 - s^2 = s^2 (4^k - 1)).
 uint fv_gi_level_offset(uint n, uint k)
 {
-    uint off = 0u;
-    for (uint j = 0u; j < k; j++) off += (n >> j) * (n >> j);
-    return off;
+    uint s = n >> k;
+    return (4u * (n * n - s * s)) / 3u;
 }
 
 #define FV_GI_STACK 48
 
 // The cut's near-field refinement: the irradiance at x from node `node` (its index in the tree buffer; trees of npl
 // nodes, side N, `levels` levels) summed over its descendants, each split while its extent^2 exceeds tau2 d^2 and
-// it is above the VPLs, added to e; returns how many nodes were summed.
+// it is above the VPLs, added to e; returns how many nodes were summed. Depth first without a stack (a quad-tree
+// node's place is its level and (x, y) in that level: its children are (2x + i, 2y + j), its next sibling follows
+// from x & 1, y & 1), so no per-lane array is indexed.
 uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, vec3 n, inout vec3 e)
 {
     uint base = (node / npl) * npl, local = node - base;
-    uint k = 0u, off = 0u;
-    while (k + 1u < levels && local >= off + (N >> k) * (N >> k)) {
-        off += (N >> k) * (N >> k);
-        k++;
-    }
-    uint off_k[FV_GI_MAX_LEVELS];
-    for (uint j = 0u; j < levels; j++) off_k[j] = fv_gi_level_offset(N, j);
-    uint stack[FV_GI_STACK]; // packed: level << 24 | index in the level
-    uint sp = 0u, used = 0u;
-    stack[sp++] = (k << 24) | (local - off);
-    while (sp > 0u) {
-        uint item = stack[--sp];
-        uint kk = item >> 24, idx = item & 0xffffffu;
-        fv_gi_node c = gi_nodes[base + off_k[kk] + idx];
-        if (!(c.flux.w > 0.0)) continue;
+    uint k0 = 0u;
+    while (k0 + 1u < levels && local >= fv_gi_level_offset(N, k0 + 1u)) k0++;
+    uint s0 = N >> k0, i0 = local - fv_gi_level_offset(N, k0);
+    uint k = k0, cx = i0 % s0, cy = i0 / s0, used = 0u;
+    for (uint guard = 0u; guard < 4u * N * N; guard++) {
+        fv_gi_node c = gi_nodes[base + fv_gi_level_offset(N, k) + cy * (N >> k) + cx];
         vec3 v = x - c.pos.xyz;
-        if (kk == 0u || c.normal.w * c.normal.w <= tau2 * dot(v, v) || sp + 4u > uint(FV_GI_STACK)) {
-            e += fv_gi_cluster_irradiance(c, x, n);
-            used++;
+        bool lit = c.flux.w > 0.0;
+        if (lit && k > 0u && c.normal.w * c.normal.w > tau2 * dot(v, v)) {
+            k--; // descend to the first child
+            cx *= 2u;
+            cy *= 2u;
             continue;
         }
-        uint s = N >> kk, cx = (idx % s) * 2u, cy = (idx / s) * 2u, cs = s * 2u;
-        uint kc = (kk - 1u) << 24;
-        stack[sp++] = kc | (cy * cs + cx);
-        stack[sp++] = kc | (cy * cs + cx + 1u);
-        stack[sp++] = kc | ((cy + 1u) * cs + cx);
-        stack[sp++] = kc | ((cy + 1u) * cs + cx + 1u);
+        if (lit) {
+            e += fv_gi_cluster_irradiance(c, x, n);
+            used++;
+        }
+        // next: the next sibling, or up while this is the last child (x and y odd); done back at the start node
+        while (k < k0 && (cx & 1u) == 1u && (cy & 1u) == 1u) {
+            k++;
+            cx >>= 1u;
+            cy >>= 1u;
+        }
+        if (k == k0) break;
+        if ((cx & 1u) == 0u) cx++;
+        else {
+            cx--;
+            cy++;
+        }
     }
     return used;
 }
