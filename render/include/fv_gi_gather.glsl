@@ -133,17 +133,28 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
         float tau2 = uintBitsToFloat(gi.opts.w);
         bool refine = tau2 > 0.0 && tau2 <= 1.0;
         uint npl = max(gi.opts.y, 1u);
-        for (uint i = 0u; i < count; i++) {
-            fv_gi_cluster c = gi_cut[i];
-            vec3 v = x - c.pos.xyz;
-            float d2 = dot(v, v);
-            if (refine && c.flux.w > tau2 * d2) {
-                used += fv_gi_refine(uint(c.normal.w), npl, N, levels, tau2, x, n, e);
-                continue;
+        if (!refine) { // the flat cut alone: the tight loop
+            for (uint i = 0u; i < count; i++) {
+                fv_gi_cluster c = gi_cut[i];
+                vec3 v = x - c.pos.xyz;
+                float d2 = dot(v, v);
+                float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
+                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
             }
-            float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
-            if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
-            used++;
+            used = count;
+        } else {
+            for (uint i = 0u; i < count; i++) {
+                fv_gi_cluster c = gi_cut[i];
+                vec3 v = x - c.pos.xyz;
+                float d2 = dot(v, v);
+                if (c.flux.w > tau2 * d2) {
+                    used += fv_gi_refine(uint(c.normal.w), npl, N, levels, tau2, x, n, e);
+                    continue;
+                }
+                float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
+                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
+                used++;
+            }
         }
     } else if (mode == FV_GI_MODE_EXACT) {
         for (uint l = 0u; l < lights; l++) {
