@@ -4,6 +4,7 @@
 #ifndef FV_GI_MATH_H
 #define FV_GI_MATH_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -31,8 +32,9 @@ uint32_t fv_gi_level_offset(uint32_t n, uint32_t k);
 /** The start and limit levels for the knobs (start >= limit; level k has n >> k nodes per side). */
 void fv_gi_tree_levels(uint32_t n, const fv_quality_gi *q, uint32_t *out_start, uint32_t *out_limit);
 
-/** Build levels 1.. of one tree whose level 0 (n x n leaves) is filled, exactly as gi_build.comp's REDUCE stage. */
-void fv_gi_build_cpu(fv_gi_node *tree, uint32_t n, float depth_threshold, float normal_threshold);
+/** Build levels 1.. of one tree whose level 0 (n x n leaves) is filled, exactly as gi_build.comp's REDUCE stage;
+ *  plain: the means weigh every child with geometry alike (gi.average=plain) instead of by incident power. */
+void fv_gi_build_cpu(fv_gi_node *tree, uint32_t n, float depth_threshold, float normal_threshold, bool plain);
 /** The cut of one tree between start and limit (as gi_build.comp's flags, same order); returns its size and writes
  *  at most cap node indices (relative to the tree). */
 uint32_t fv_gi_cut_cpu(const fv_gi_node *tree, uint32_t n, uint32_t start, uint32_t limit, uint32_t *out, uint32_t cap);

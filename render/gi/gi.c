@@ -376,7 +376,8 @@ static bool key_equal(const build_key *a, const build_key *b)
     return p->mode == q->mode && p->rsm_size == q->rsm_size && p->start_level == q->start_level &&
            p->limit_level == q->limit_level && p->depth_threshold == q->depth_threshold &&
            p->normal_threshold == q->normal_threshold && p->samples == q->samples &&
-           p->bound_fraction == q->bound_fraction && memcmp(a->light, b->light, sizeof a->light) == 0 &&
+           p->bound_fraction == q->bound_fraction && p->average == q->average && p->refine == q->refine &&
+           memcmp(a->light, b->light, sizeof a->light) == 0 &&
            a->time_s == b->time_s && memcmp(&a->bmin, &b->bmin, sizeof a->bmin) == 0 &&
            memcmp(&a->bmax, &b->bmax, sizeof a->bmax) == 0;
 }
@@ -405,7 +406,10 @@ static void gi_prepare(void *state, const fv_pass_frame *f)
     memset(h, 0, sizeof *h);
     h->counts = (fv_gpu_uvec4){1, (uint32_t)q->mode, g->lights, 0};
     h->tree = (fv_gpu_uvec4){g->n, g->levels, start, limit};
-    h->opts = (fv_gpu_uvec4){q->samples ? q->samples : 1, g->nodes_per_light, 0, 0};
+    float refine2 = q->refine > 0.0f && q->refine <= 1.0f ? q->refine * q->refine : 0.0f; /* NaN: off */
+    uint32_t refine_bits;
+    memcpy(&refine_bits, &refine2, sizeof refine_bits);
+    h->opts = (fv_gpu_uvec4){q->samples ? q->samples : 1, g->nodes_per_light, 0, refine_bits};
     h->params = (fv_gpu_vec4){q->depth_threshold, q->normal_threshold, q->bound_fraction, (float)g->n * 1.41421356f};
     for (uint32_t l = 0; l < g->lights; l++) {
         light_view(&k.light[l], g->kind[l], g->n, k.bmin, k.bmax, &g->push[l]);
@@ -485,7 +489,8 @@ static void gi_record(void *state, const fv_pass_frame *f)
     memset(&pc, 0, sizeof pc);
     pc.ids = (fv_gpu_uvec4){FV_GI_STAGE_LEAF, 0, g->n, g->levels};
     pc.tree = (fv_gpu_uvec4){g->host.tree.z, g->host.tree.w, g->lights, g->nodes_per_light};
-    pc.params = (fv_gpu_vec4){q->depth_threshold, q->normal_threshold, 0, 0};
+    pc.params = (fv_gpu_vec4){q->depth_threshold, q->normal_threshold, q->average == FV_GI_AVERAGE_PLAIN ? 1.0f : 0.0f,
+                              0};
     uint32_t all = g->candidates * g->lights;
     pc.scan = (fv_gpu_uvec4){g->candidates, all, (all + FV_GI_BUILD_GROUP - 1) / FV_GI_BUILD_GROUP, 0};
     dispatch(g, cmd, &pc, g->n * g->n * g->lights, f->counters);
@@ -522,11 +527,14 @@ static void gi_record(void *state, const fv_pass_frame *f)
 }
 
 /* Clusters (or samples) each pixel sums: the cut for cut and traverse (the same clusters for every pixel), every
- * lit VPL for exact, at most samples x lights for rsm_sampling; bound varies per pixel and is not counted (NaN). */
+ * lit VPL for exact, at most samples x lights for rsm_sampling; bound and a refined cut vary per pixel and are not
+ * counted (NaN). */
 static void clusters_per_pixel(const gi *g, double *out_mean, double *out_max)
 {
     fv_gi_mode m = g->key.q.mode;
-    double v = m == FV_GI_CUT || m == FV_GI_TRAVERSE ? (double)g->cut_clusters
+    bool refined = m == FV_GI_CUT && g->key.q.refine > 0.0f;
+    double v = refined                               ? NAN
+               : m == FV_GI_CUT || m == FV_GI_TRAVERSE ? (double)g->cut_clusters
                : m == FV_GI_EXACT                    ? (double)g->lit_vpls
                : m == FV_GI_RSM_SAMPLING             ? (double)g->key.q.samples * g->lights
                                                      : NAN;

@@ -81,10 +81,12 @@ void reduce(uint i)
     o.normal = vec4(0.0);
     o.info = vec4(1.0, 0.0, 0.0, 0.0);
     if (geo > 0.0) {
-        // Weights: the children's incident power; unlit children (all zero) count equally among those with geometry.
+        // Weights (gi.average): flux = the children's incident power (unlit children, all zero, count equally
+        // among those with geometry); plain = every child with geometry alike.
+        bool plain = pc.params.z > 0.5;
         vec3 nsum = vec3(0.0);
         for (int j = 0; j < 4; j++) {
-            float w = wsum > 0.0 ? ch[j].flux.w / wsum : ch[j].info.z / geo;
+            float w = wsum > 0.0 && !plain ? ch[j].flux.w / wsum : ch[j].info.z / geo;
             o.flux += ch[j].flux;
             o.pos += w * ch[j].pos;
             nsum += w * ch[j].normal.xyz;

@@ -33,7 +33,7 @@ struct fv_gi_build_push {
     FV_UVEC4 ids;   /* x stage, y level, z RSM side N, w levels */
     FV_UVEC4 tree;  /* x start level, y limit level, z lights, w nodes per light */
     FV_UVEC4 scan;  /* x candidates per light, y all candidates, z blocks, w items (threads) of this dispatch */
-    FV_VEC4 params; /* x depth threshold, y normal threshold, z, w 0 */
+    FV_VEC4 params; /* x depth threshold, y normal threshold, z 1 = plain means (gi.average), w 0 */
 };
 
 /* RSM draw push constants: { draw, view } of fv_scene_gpu_record_draws, then these. */

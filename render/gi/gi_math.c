@@ -91,7 +91,7 @@ void fv_gi_light_view(const fv_gpu_light *L, uint32_t kind, uint32_t n, fv_vec3 
 static float v3len(const float *v) { return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
 /* gi_build.comp's REDUCE for one node, in float as on the GPU. */
-static fv_gi_node reduce(const fv_gi_node ch[4], float depth_threshold, float normal_threshold)
+static fv_gi_node reduce(const fv_gi_node ch[4], float depth_threshold, float normal_threshold, bool plain)
 {
     fv_gi_node o;
     memset(&o, 0, sizeof o);
@@ -104,7 +104,7 @@ static fv_gi_node reduce(const fv_gi_node ch[4], float depth_threshold, float no
     if (!(geo > 0.0f)) return o;
     float nsum[3] = {0, 0, 0};
     for (int j = 0; j < 4; j++) {
-        float w = wsum > 0.0f ? ch[j].flux.w / wsum : ch[j].info.z / geo;
+        float w = wsum > 0.0f && !plain ? ch[j].flux.w / wsum : ch[j].info.z / geo;
         o.flux.x += ch[j].flux.x;
         o.flux.y += ch[j].flux.y;
         o.flux.z += ch[j].flux.z;
@@ -140,7 +140,7 @@ static fv_gi_node reduce(const fv_gi_node ch[4], float depth_threshold, float no
     return o;
 }
 
-void fv_gi_build_cpu(fv_gi_node *tree, uint32_t n, float depth_threshold, float normal_threshold)
+void fv_gi_build_cpu(fv_gi_node *tree, uint32_t n, float depth_threshold, float normal_threshold, bool plain)
 {
     uint32_t levels = fv_gi_log2(n) + 1;
     for (uint32_t k = 0; k + 1 < levels; k++) {
@@ -151,7 +151,7 @@ void fv_gi_build_cpu(fv_gi_node *tree, uint32_t n, float depth_threshold, float 
             for (uint32_t x = 0; x < s; x++) {
                 fv_gi_node ch[4] = {child[(2 * y) * sc + 2 * x], child[(2 * y) * sc + 2 * x + 1],
                                     child[(2 * y + 1) * sc + 2 * x], child[(2 * y + 1) * sc + 2 * x + 1]};
-                parent[y * s + x] = reduce(ch, depth_threshold, normal_threshold);
+                parent[y * s + x] = reduce(ch, depth_threshold, normal_threshold, plain);
             }
     }
 }

@@ -60,15 +60,57 @@ float fv_gi_cluster_bound(fv_gi_node c, vec3 x, vec3 n)
     return phi * cos_max / (FV_PI * (dmin * dmin + rmin * rmin));
 }
 
-// First node of level k in a tree of side n (level k has n >> k nodes per side).
+// First node of level k in a tree of side n (a power of two; level k has s = n >> k nodes per side):
+// sum_{j<k} (n/2^j)^2 = 4 (n^2 - s^2) / 3, exact in integers (n^2 - s^2 = s^2 (4^k - 1)).
 uint fv_gi_level_offset(uint n, uint k)
 {
-    uint off = 0u;
-    for (uint j = 0u; j < k; j++) off += (n >> j) * (n >> j);
-    return off;
+    uint s = n >> k;
+    return (4u * (n * n - s * s)) / 3u;
 }
 
 #define FV_GI_STACK 48
+
+// The cut's near-field refinement: the irradiance at x from node `node` (its index in the tree buffer; trees of npl
+// nodes, side N, `levels` levels) summed over its descendants, each split while its extent^2 exceeds tau2 d^2 and
+// it is above the VPLs, added to e; returns how many nodes were summed. Depth first without a stack (a quad-tree
+// node's place is its level and (x, y) in that level: its children are (2x + i, 2y + j), its next sibling follows
+// from x & 1, y & 1), so no per-lane array is indexed.
+uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, vec3 n, inout vec3 e)
+{
+    uint base = (node / npl) * npl, local = node - base;
+    uint k0 = 0u;
+    while (k0 + 1u < levels && local >= fv_gi_level_offset(N, k0 + 1u)) k0++;
+    uint s0 = N >> k0, i0 = local - fv_gi_level_offset(N, k0);
+    uint k = k0, cx = i0 % s0, cy = i0 / s0, used = 0u;
+    for (uint guard = 0u; guard < 4u * N * N; guard++) {
+        fv_gi_node c = gi_nodes[base + fv_gi_level_offset(N, k) + cy * (N >> k) + cx];
+        vec3 v = x - c.pos.xyz;
+        bool lit = c.flux.w > 0.0;
+        if (lit && k > 0u && c.normal.w * c.normal.w > tau2 * dot(v, v)) {
+            k--; // descend to the first child
+            cx *= 2u;
+            cy *= 2u;
+            continue;
+        }
+        if (lit) {
+            e += fv_gi_cluster_irradiance(c, x, n);
+            used++;
+        }
+        // next: the next sibling, or up while this is the last child (x and y odd); done back at the start node
+        while (k < k0 && (cx & 1u) == 1u && (cy & 1u) == 1u) {
+            k++;
+            cx >>= 1u;
+            cy >>= 1u;
+        }
+        if (k == k0) break;
+        if ((cx & 1u) == 0u) cx++;
+        else {
+            cx--;
+            cy++;
+        }
+    }
+    return used;
+}
 
 // Indirect irradiance at x (unit normal n), and how many clusters (or samples) it summed.
 vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
@@ -84,15 +126,36 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
     if (mode == FV_GI_MODE_CUT) {
         // The same formula as fv_gi_cluster_irradiance with pi and r^2 folded in at the build and one division:
         // E = (Phi/pi) max(0, n_c.v) max(0, -n.v) / (d^2 (d^2 + r^2)).
+        // gi.refine (tau > 0): a cluster whose extent r exceeds tau d at this pixel (the near field, where one
+        // point light is furthest from its VPLs' sum) is replaced by its children, recursively, until each is
+        // within tau or a VPL; the far field stays the flat cut.
         uint count = min(gi.counts.w, uint(gi_cut.length()));
-        for (uint i = 0u; i < count; i++) {
-            fv_gi_cluster c = gi_cut[i];
-            vec3 v = x - c.pos.xyz;
-            float d2 = dot(v, v);
-            float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
-            if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
+        float tau2 = uintBitsToFloat(gi.opts.w);
+        bool refine = tau2 > 0.0 && tau2 <= 1.0;
+        uint npl = max(gi.opts.y, 1u);
+        if (!refine) { // the flat cut alone: the tight loop
+            for (uint i = 0u; i < count; i++) {
+                fv_gi_cluster c = gi_cut[i];
+                vec3 v = x - c.pos.xyz;
+                float d2 = dot(v, v);
+                float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
+                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
+            }
+            used = count;
+        } else {
+            for (uint i = 0u; i < count; i++) {
+                fv_gi_cluster c = gi_cut[i];
+                vec3 v = x - c.pos.xyz;
+                float d2 = dot(v, v);
+                if (c.flux.w > tau2 * d2) {
+                    used += fv_gi_refine(uint(c.normal.w), npl, N, levels, tau2, x, n, e);
+                    continue;
+                }
+                float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
+                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
+                used++;
+            }
         }
-        used = count;
     } else if (mode == FV_GI_MODE_EXACT) {
         for (uint l = 0u; l < lights; l++) {
             uint base = gi.light[l].info.y;

@@ -56,7 +56,9 @@ struct fv_gi_header {
     FV_UVEC4 counts; /* x 1 = GI on, y mode (FV_GI_MODE_*), z lights with a tree, w cut entries over all lights */
     FV_UVEC4 tree;   /* x RSM side N (px), y levels (log2 N + 1), z start level, w limit level (level k has N >> k
                       * nodes per side; start >= limit) */
-    FV_UVEC4 opts;   /* x samples (rsm_sampling), y nodes per light's tree, z lit VPLs (counted by the build), w 0 */
+    FV_UVEC4 opts;   /* x samples (rsm_sampling), y nodes per light's tree, z lit VPLs (counted by the build), w the
+                      * bits of the float gi.refine^2 (cut mode: split a cluster whose extent^2 exceeds it times d^2;
+                      * 0 = never) */
     FV_VEC4 params;  /* x depth threshold, y normal threshold, z bound fraction, w sampling radius in texels */
 #ifdef FV_GLSL
     fv_gi_light light[FV_GI_MAX_LIGHTS];

@@ -30,6 +30,7 @@ static const char *const g_voronoi_names[] = {"jfa", "blocks"};
 static const char *const g_compaction_names[] = {"tiles", "rows", "masked"};
 static const char *const g_gi_mode_names[] = {"cut", "traverse", "bound", "rsm_sampling", "exact"};
 static const char *const g_gi_limit_names[] = {"16", "32", "64", "leaf"};
+static const char *const g_gi_average_names[] = {"flux", "plain"};
 static const char *const g_sss_mode_names[] = {"hierarchy", "exact"};
 
 static const fv_knob g_knobs[] = {
@@ -146,6 +147,15 @@ static const fv_knob g_knobs[] = {
      .fast = F(0.05f), .high = F(0.002f), .exact = F(0.0001f),
      .doc = "gi.mode=bound: a cluster is one light when its bound is at most this fraction of the start level's "
             "estimate"},
+    {.name = "gi.average", .type = FV_KNOB_ENUM, .min = 0, .max = 1, .unit = "", .choices = g_gi_average_names,
+     .choice_count = 2, AT(gi.average), .fast = I(FV_GI_AVERAGE_FLUX), .high = I(FV_GI_AVERAGE_FLUX),
+     .exact = I(FV_GI_AVERAGE_FLUX),
+     .doc = "how a tree node averages its children's position, depth and normal: flux (weighted by their power, "
+            "the cluster's flux centroid; measured closer to exact, BENCHMARKS.md) or plain (equal weights)"},
+    {.name = "gi.refine", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(gi.refine),
+     .fast = F(0.0f), .high = F(0.0f), .exact = F(0.0f),
+     .doc = "gi.mode=cut: a cut cluster whose extent is more than this times its distance from the pixel is "
+            "replaced, for that pixel, by its children (recursively; the near field), 0: the flat cut alone"},
     /* sss.*: subsurface scattering, dipole diffusion over a quad-tree of light-view samples (render/sss; Ki & Oh,
      * ../shared/papers/README.md section 4). Levels count from the root (level k: 2^k x 2^k clusters). */
     {.name = "sss.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(sss.enabled),

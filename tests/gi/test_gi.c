@@ -58,7 +58,7 @@ static void assert_finite(const float *img, size_t n)
 
 /* ---- the pyramid and the cut against the CPU build ---------------------------------------------------------- */
 
-static void tree_matches_cpu(float depth_thr, float normal_thr)
+static void tree_matches_cpu(float depth_thr, float normal_thr, fv_gi_average average)
 {
     const uint32_t n = 32;
     fv_scene *s = cornell();
@@ -67,6 +67,7 @@ static void tree_matches_cpu(float depth_thr, float normal_thr)
     q.gi.start_level = 4;
     q.gi.depth_threshold = depth_thr;
     q.gi.normal_threshold = normal_thr;
+    q.gi.average = average;
     draw(&q, 0, NULL);
     void *st = fv_renderer_pass_state(g_r, "gi");
     assert_non_null(st);
@@ -80,7 +81,7 @@ static void tree_matches_cpu(float depth_thr, float normal_thr)
     assert_int_equal(npl, per);
     assert_int_equal(h.counts.z, 1);
     memcpy(cpu, gpu, (size_t)n * n * sizeof *cpu); /* the same leaves */
-    fv_gi_build_cpu(cpu, n, depth_thr, normal_thr);
+    fv_gi_build_cpu(cpu, n, depth_thr, normal_thr, average == FV_GI_AVERAGE_PLAIN);
     uint32_t lit = 0, valid_inner = 0, invalid_inner = 0;
     for (uint32_t i = 0; i < per; i++) {
         const float *a = &gpu[i].flux.x, *b = &cpu[i].flux.x;
@@ -109,8 +110,9 @@ static void tree_matches_cpu(float depth_thr, float normal_thr)
     for (uint32_t i = 0; i < n * n; i++) leaves += gpu[i].flux.w;
     for (uint32_t i = 0; i < cn; i++) in_cut += gpu[cut[i]].flux.w;
     assert_true(fabs(in_cut - leaves) <= 1e-5 * leaves);
-    printf("  rsm %u, thresholds (%.2f, %.2f): %u lit leaves, %u valid / %u invalid inner nodes, cut %u\n", n,
-           (double)depth_thr, (double)normal_thr, lit, valid_inner, invalid_inner, cn);
+    printf("  rsm %u, thresholds (%.2f, %.2f), %s means: %u lit leaves, %u valid / %u invalid inner nodes, cut %u\n",
+           n, (double)depth_thr, (double)normal_thr, average == FV_GI_AVERAGE_PLAIN ? "plain" : "flux", lit,
+           valid_inner, invalid_inner, cn);
     free(gpu);
     free(cpu);
     free(cut);
@@ -122,8 +124,9 @@ static void pyramid_and_cut_equal_the_cpu_build(void **state)
 {
     (void)state;
     NEED_GPU();
-    tree_matches_cpu(0.25f, 0.6f);
-    tree_matches_cpu(0.05f, 0.9f);
+    tree_matches_cpu(0.25f, 0.6f, FV_GI_AVERAGE_FLUX);
+    tree_matches_cpu(0.05f, 0.9f, FV_GI_AVERAGE_FLUX);
+    tree_matches_cpu(0.25f, 0.6f, FV_GI_AVERAGE_PLAIN);
 }
 
 /* ---- flux conservation ------------------------------------------------------------------------------------ */
@@ -315,6 +318,22 @@ static void cut_error_falls_with_the_limit_level(void **state)
     double e0 = rel_l1(img, exact, px);
     printf("  leaf, nothing valid: relative L1 %.3g\n", e0);
     assert_true(e0 < 1e-5);
+    /* gi.refine: the limit-16 cut split per pixel where a cluster's extent exceeds tau times its distance. The
+     * error falls with tau and at a tiny tau every cluster near or far is split down to its VPLs: exact. */
+    double er[3];
+    const float taus[3] = {0.5f, 0.25f, 1e-4f};
+    for (int k = 0; k < 3; k++) {
+        q = gi_quality(n, FV_GI_CUT, FV_GI_LIMIT_16);
+        q.gi.depth_threshold = 0.05f;
+        q.gi.normal_threshold = 0.9f;
+        q.gi.refine = taus[k];
+        gi_view(q, 0, img);
+        assert_finite(img, px * 4);
+        er[k] = rel_l1(img, exact, px);
+        printf("  limit 16, refine %g: relative L1 %.4g\n", (double)taus[k], er[k]);
+    }
+    assert_true(er[0] < err[0] && er[1] < er[0] && er[2] < er[1]);
+    assert_true(er[2] < 1e-5);
     /* bound mode: refines where it matters; at a fine tolerance it is within the 64 cut's error */
     q = gi_quality(n, FV_GI_BOUND, FV_GI_LIMIT_16);
     q.gi.bound_fraction = 0.001f;
@@ -447,6 +466,15 @@ static void extremes_stay_finite(void **state)
         q.gi.depth_threshold = 0.0f;
         q.gi.normal_threshold = 1.0f;
         gi_view(q, 1, img);
+        assert_finite(img, px * 4);
+        /* the root alone, split at every pixel down to the VPLs (gi.refine at its extremes) */
+        q.gi.depth_threshold = 1.0f;
+        q.gi.normal_threshold = -1.0f;
+        q.gi.refine = 1e-6f;
+        gi_view(q, 0, img);
+        assert_finite(img, px * 4);
+        q.gi.refine = 1.0f;
+        gi_view(q, 0, img);
         assert_finite(img, px * 4);
     }
     fv_scene_destroy(&s);

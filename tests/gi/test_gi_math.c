@@ -79,11 +79,16 @@ static void build_sums_weights_and_validates(void **state)
     t[1] = leaf(1, 0, 0, 0, 1, 0, 3, 0.5f);
     t[2] = leaf(0, 0, 1, 0, 1, 0, 0, 0.5f); /* unlit but there */
     t[3] = leaf(1, 0, 1, 0, 1, 0, 0, 0.5f);
-    fv_gi_build_cpu(t, 2, 0.1f, 0.9f);
+    fv_gi_build_cpu(t, 2, 0.1f, 0.9f, false);
     assert_true(fabsf(t[4].flux.w - 4.0f) < 1e-6f);
     assert_true(fabsf(t[4].pos.x - 0.75f) < 1e-6f && fabsf(t[4].pos.z) < 1e-6f); /* power-weighted */
     assert_true(t[4].info.x == 1.0f && t[4].info.z == 1.0f);
     assert_true(t[4].normal.w >= 0.75f); /* holds every child's disk */
+    /* plain means (gi.average=plain): the same sums, the four positions alike */
+    fv_gi_build_cpu(t, 2, 0.1f, 0.9f, true);
+    assert_true(fabsf(t[4].flux.w - 4.0f) < 1e-6f);
+    assert_true(fabsf(t[4].pos.x - 0.5f) < 1e-6f && fabsf(t[4].pos.z - 0.5f) < 1e-6f);
+    fv_gi_build_cpu(t, 2, 0.1f, 0.9f, false);
     uint32_t cut[5];
     assert_int_equal(fv_gi_cut_cpu(t, 2, 1, 0, cut, 5), 1);
     assert_int_equal(cut[0], 4);
@@ -92,7 +97,7 @@ static void build_sums_weights_and_validates(void **state)
     t[1] = leaf(0, 0, 0, -1, 0, 0, 1, 0.5f);
     t[2] = leaf(0, 0, 0, 0, 0, 1, 1, 0.5f);
     t[3] = leaf(0, 0, 0, 0, 0, -1, 1, 0.5f);
-    fv_gi_build_cpu(t, 2, 1.0f, -1.0f);
+    fv_gi_build_cpu(t, 2, 1.0f, -1.0f, false);
     assert_true(t[4].info.x == 0.0f);
     assert_true(fabsf(t[4].normal.x) < 1e-6f && fabsf(t[4].normal.z) < 1e-6f);
     double e[3], x[3] = {1, 1, 1}, n[3] = {0, -1, 0};
@@ -105,18 +110,18 @@ static void build_sums_weights_and_validates(void **state)
     t[1] = leaf(0, 0, 0, 0, 1, 0, 1, 0.9f);
     t[2] = leaf(0, 0, 0, 0, 1, 0, 1, 0.5f);
     t[3] = leaf(0, 0, 0, 0, 1, 0, 1, 0.5f);
-    fv_gi_build_cpu(t, 2, 0.3f, 0.0f);
+    fv_gi_build_cpu(t, 2, 0.3f, 0.0f, false);
     assert_true(t[4].info.x == 0.0f);
-    fv_gi_build_cpu(t, 2, 0.5f, 0.0f);
+    fv_gi_build_cpu(t, 2, 0.5f, 0.0f, false);
     assert_true(t[4].info.x == 1.0f);
     /* nothing there at all: an empty, valid node with no flux, cut empty */
     memset(t, 0, sizeof t);
-    fv_gi_build_cpu(t, 2, 0.1f, 0.9f);
+    fv_gi_build_cpu(t, 2, 0.1f, 0.9f, false);
     assert_true(t[4].flux.w == 0.0f && t[4].info.z == 0.0f);
     assert_int_equal(fv_gi_cut_cpu(t, 2, 1, 0, cut, 5), 0);
     /* a 1x1 tree: the leaf is the root and the cut */
     fv_gi_node one = leaf(0, 0, 0, 0, 1, 0, 2, 0.5f);
-    fv_gi_build_cpu(&one, 1, 0.1f, 0.9f);
+    fv_gi_build_cpu(&one, 1, 0.1f, 0.9f, false);
     assert_int_equal(fv_gi_cut_cpu(&one, 1, 0, 0, cut, 1), 1);
 }
 

@@ -33,6 +33,7 @@ static const char *USAGE_FMT =
     "                   [--set NAME=VALUE]... [--frames N] [--eye-size WxH] [--gaze-deg YAW,PITCH]\n"
     "                   [--reference model|path|none] [--spp N] [--out DIR] [--hmd PROFILE|FILE] [--json]\n"
     "                   [--baseline-set NAME=VALUE]...\n"
+    "                   [--bounces N]\n"
     "  --sweep     a knob and the values to try (repeatable); the points are the cross product of the sweeps\n"
     "              (at most %d). NAME=VALUE is checked as --set checks it; `fovea knobs` lists the knobs.\n"
     "              The pseudo-knob `preset` sweeps the presets: --sweep preset=%s\n"
@@ -45,8 +46,9 @@ static const char *USAGE_FMT =
     "  --gaze-deg  the gaze in the head frame, degrees (yaw positive right, pitch positive up): given to the\n"
     "              renderer, and the errors are also given per eccentricity band around it\n"
     "  --reference the CPU reference to measure against, rendered once: model (default: fovea's shading with\n"
-    "              exact visibility), path (path-traced ground truth, --spp samples, 8 bounces) or none\n"
+    "              exact visibility), path (path-traced ground truth, --spp samples, --bounces) or none\n"
     "  --spp       samples per pixel of the path reference (default 64; 1..1048576)\n"
+    "  --bounces   indirect bounces of the path reference (default 8; 0..1024; 1 = the one-bounce truth of GI)\n"
     "  --out       where bench.json, bench.csv and pareto_<knob>.png go (default out/bench; created)\n"
     "  --json      print bench.json as one JSON object on stdout (and nothing else there)\n"
     "  --baseline-set  measure every point against the --quality preset (with --set) plus this knob (repeatable)\n"
@@ -82,6 +84,7 @@ typedef struct bench_opts {
     double gaze_deg[2];
     ref_kind ref;
     int64_t spp;
+    int64_t bounces; /* --bounces: the path reference's indirect bounces */
     const char *out_dir;
     bool json;
     const char *hmd;      /* --hmd: the lens every point (and exact) is drawn with; NULL = none */
@@ -98,6 +101,7 @@ static int parse_args(int argc, char **argv, bench_opts *o)
     o->eye_w = 720, o->eye_h = 800;
     o->ref = REF_MODEL;
     o->spp = 64;
+    o->bounces = 8;
     o->out_dir = "out/bench";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = NULL;
@@ -154,6 +158,13 @@ static int parse_args(int argc, char **argv, bench_opts *o)
             if (!fv_cli_parse_i64(v, 1, FV_REFERENCE_MAX_SPP, &o->spp))
                 return fv_cli_usage_error("bench", USAGE, "--spp: '%s' is not a whole number in 1..%u", v,
                                           FV_REFERENCE_MAX_SPP);
+            continue;
+        }
+        if ((r = OPT("--bounces")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (!fv_cli_parse_i64(v, 0, FV_REFERENCE_MAX_BOUNCES, &o->bounces))
+                return fv_cli_usage_error("bench", USAGE, "--bounces: '%s' is not a whole number in 0..%u", v,
+                                          FV_REFERENCE_MAX_BOUNCES);
             continue;
         }
         if ((r = OPT("--out")) == -2) return FV_EXIT_USAGE;
@@ -262,7 +273,7 @@ static fv_result render_reference(const bench_opts *o, const fv_scene *scene, co
     uint32_t w = o->eye_w, h = o->eye_h;
     fv_reference_desc d = {.mode = o->ref == REF_PATH ? FV_REFERENCE_PATH : FV_REFERENCE_MODEL,
                            .view = FV_REFERENCE_VIEW_COLOR, .spp = o->ref == REF_PATH ? (uint32_t)o->spp : 1,
-                           .bounces = 8, .seed = 1, .eye_width = w, .eye_height = h};
+                           .bounces = (uint32_t)o->bounces, .seed = 1, .eye_width = w, .eye_height = h};
     *out_spp = d.spp;
     *out_bounces = d.bounces;
     float *eyes = malloc((size_t)w * h * 3 * 2 * sizeof *eyes);

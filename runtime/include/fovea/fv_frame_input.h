@@ -150,6 +150,13 @@ typedef enum fv_gi_limit {
     FV_GI_LIMIT_LEAF = 3, /* "leaf": no limit, a cluster is cut only where it is valid */
 } fv_gi_limit;
 
+/** How the light quad-tree averages a node's position, depth and normal over its children (fv_quality.gi.average,
+ *  knob `gi.average`). */
+typedef enum fv_gi_average {
+    FV_GI_AVERAGE_FLUX = 0,  /* "flux": weighted by each child's incident power (the cluster's flux centroid) */
+    FV_GI_AVERAGE_PLAIN = 1, /* "plain": every child with geometry counts equally (the paper's mip-map mean) */
+} fv_gi_average;
+
 /** The one-bounce GI knobs (render/gi/: reflective shadow maps, light quad-tree, Ki & Oh 2007; papers/README.md
  *  section 1). Each field is one knob of the table in render/knobs/. */
 typedef struct fv_quality_gi {
@@ -163,6 +170,9 @@ typedef struct fv_quality_gi {
     float normal_threshold;  /* "gi.normal_threshold": children's normals' dot product with the mean above this, -1..1 */
     uint32_t samples;        /* "gi.samples": RSM samples per pixel for rsm_sampling, 1..8192 */
     float bound_fraction;    /* "gi.bound_fraction": bound mode's refinement tolerance, 0.00001..1 */
+    fv_gi_average average;   /* "gi.average": flux | plain weights of the pyramid's means */
+    float refine;            /* "gi.refine": cut mode splits, per pixel, a cluster whose extent over its distance
+                              * exceeds this (0: the flat cut alone), 0..1 */
 } fv_quality_gi;
 
 /** How subsurface light is summed (fv_quality.sss.mode, knob `sss.mode`). */
@@ -248,7 +258,9 @@ static inline fv_quality fv_quality_default(void)
                            .depth_threshold = 0.25f,
                            .normal_threshold = 0.6f,
                            .samples = 256,
-                           .bound_fraction = 0.01f},
+                           .bound_fraction = 0.01f,
+                           .average = FV_GI_AVERAGE_FLUX,
+                           .refine = 0.0f},
                     .sss = {.enabled = true,
                             .map_size_px = 128,
                             .start_level = 3,

@@ -1,0 +1,179 @@
+#!/usr/bin/python3
+"""@brief The light tree against RSM sampling at equal error (issue 9): time against error of both gathers, error
+measured against `gi.mode=exact` on the same views, scene and RSM (the sum both approximate).
+
+Every point is one `fovea run` (the same views at scene time 0): the shade pass's median GPU time over the timed
+frames, and the indirect light alone (`--view gi`, linear PFM) compared with the exact sum's by `fovea compare`
+(relative L1: sum |a - b| / sum |b| over both eyes and the three channels). The points are run round-robin --repeats times (so load on the
+machine hits every method alike) and the median time is kept. Then, for each tree point, RSM sampling's time and
+sample count at the same error are interpolated (log-log, between the two sampling points around that error) and
+the speed-up is sampling's time over the tree's. A tree point whose error is outside the sampling curve's range is
+reported as such, not extrapolated.
+
+usage: tools/gi_tradeoff.py [--fovea BIN] [--scene NAME] [--eye-size WxH] [--rsm N] [--frames N] [--repeats N]
+                            [--samples S1,S2,...] [--limits L1,...] [--thresholds D:N,...] [--refines R,...]
+                            [--bound F,...] [--view gi|color] [--set NAME=VALUE]... [--truth-spp N]
+                            [--no-sampling] [--out DIR]
+"""
+import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+
+import numpy as np
+
+
+def run(cmd):
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        sys.stderr.write("gi_tradeoff: failed (%d): %s\n%s\n" % (p.returncode, " ".join(cmd), p.stderr[-2000:]))
+        sys.exit(1)
+    return p.stdout
+
+
+def pfm_of(d):
+    files = sorted(f for f in os.listdir(d) if f.endswith(".pfm"))
+    if not files:
+        sys.stderr.write("gi_tradeoff: no PFM in %s\n" % d)
+        sys.exit(1)
+    return os.path.join(d, files[-1])
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    return data.reshape(h, w, 3 if kind == b"PF" else 1).astype(np.float64)
+
+
+def rel_l1(a, b):
+    """sum |a - b| / sum |b| over every pixel and channel (both eyes): the relative L1 error of the image."""
+    return float(np.abs(a - b).sum() / max(np.abs(b).sum(), 1e-30))
+
+
+def interp(points, err):
+    """points: [(error, time, samples)] of RSM sampling. Log-log interpolation at err, or None outside the range."""
+    pts = sorted(points)
+    for (e0, t0, s0), (e1, t1, s1) in zip(pts, pts[1:]):
+        if e0 <= err <= e1 and e0 > 0 and e1 > e0:
+            a = (math.log(err) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return (math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0))),
+                    math.exp(math.log(s0) + a * (math.log(s1) - math.log(s0))))
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--fovea", default="build/release/tools/fovea/fovea")
+    ap.add_argument("--scene", default="cornell")
+    ap.add_argument("--eye-size", default="48x48")
+    ap.add_argument("--rsm", type=int, default=256)
+    ap.add_argument("--frames", type=int, default=3)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--samples", default="64,128,256,512,1024,2048,4096")
+    ap.add_argument("--limits", default="16,32,64,leaf")
+    ap.add_argument("--thresholds", default="0.25:0.6,0.05:0.9")
+    ap.add_argument("--refines", default="0", help="gi.refine values of the cut points")
+    ap.add_argument("--bound", default="", help="gi.bound_fraction values of gi.mode=bound points")
+    ap.add_argument("--view", default="gi", choices=["gi", "color"])
+    ap.add_argument("--set", action="append", default=[])
+    ap.add_argument("--out", default="out/gi_tradeoff")
+    ap.add_argument("--truth-spp", type=int, default=0,
+                    help="also measure each point's colour against `fovea reference --mode path --bounces 1` at "
+                         "this many samples per pixel (the physical one-bounce truth), and exact's and GI off's")
+    ap.add_argument("--no-sampling", action="store_true", help="only the tree's points")
+    a = ap.parse_args()
+
+    base = [a.fovea, "run", "--scene", a.scene, "--eye-size", a.eye_size, "--quality", "balanced",
+            "--set", "fovea.enabled=off", "--set", "distort.enabled=off", "--set", "gi.rsm_size=%d" % a.rsm]
+    for s in a.set:
+        base += ["--set", s]
+    points = []
+    for thr in a.thresholds.split(","):
+        d, n = thr.split(":")
+        for ref in a.refines.split(","):
+            for lim in a.limits.split(","):
+                points.append({"method": "cut", "label": "cut limit %s thr %s/%s%s" % (
+                                   lim, d, n, " refine " + ref if float(ref) > 0 else ""),
+                               "sets": ["gi.mode=cut", "gi.limit_level=" + lim, "gi.depth_threshold=" + d,
+                                        "gi.normal_threshold=" + n, "gi.refine=" + ref]})
+    for f in (a.bound.split(",") if a.bound else []):
+        points.append({"method": "cut", "label": "bound %s" % f, "sets": ["gi.mode=bound", "gi.bound_fraction=" + f]})
+    for s in ([] if a.no_sampling else a.samples.split(",")):
+        points.append({"method": "rsm_sampling", "label": "rsm_sampling %s" % s, "samples": int(s),
+                       "sets": ["gi.mode=rsm_sampling", "gi.samples=" + s]})
+    os.makedirs(a.out, exist_ok=True)
+
+    def render(sets, d, frames, view):
+        cmd = base + sum([["--set", s] for s in sets], []) + ["--frames", str(frames), "--view", view, "--json"]
+        if d:
+            cmd += ["--out", d, "--float"]
+        return json.loads(run(cmd))
+
+    exact_dir = os.path.join(a.out, "exact")
+    ej = render(["gi.mode=exact"], exact_dir, 1, a.view)
+    exact_pfm = pfm_of(exact_dir)
+    exact_img = read_pfm(exact_pfm)
+    shade = lambda j: next(p["gpu_ms_median"] for p in j["passes"] if p["name"] == "shade")
+    print("exact: %d lit VPLs, shade %.1f ms" % (ej["gi"]["lit_vpls"], shade(ej)), flush=True)
+    for i, p in enumerate(points):
+        d = os.path.join(a.out, "p%02d" % i)
+        j = render(p["sets"], d, 1, a.view)
+        c = json.loads(run([a.fovea, "compare", pfm_of(d), exact_pfm, "--json"]))
+        p["rel_l1"] = rel_l1(read_pfm(pfm_of(d)), exact_img)
+        p["psnr_db"] = c["psnr_db"]
+        p["ssim"] = c["ssim"]
+        p["clusters"] = j["gi"]["clusters_per_pixel_mean"]
+        print("%s: %.4f" % (p["label"], p["rel_l1"]), flush=True)
+        p["times"] = []
+    truth = None
+    if a.truth_spp:
+        tdir = os.path.join(a.out, "truth")
+        run([a.fovea, "reference", "--scene", a.scene, "--mode", "path", "--bounces", "1", "--spp", str(a.truth_spp),
+             "--eye-size", a.eye_size, "--out", tdir])
+        truth = read_pfm(pfm_of(tdir))
+        for label, sets in (("exact", ["gi.mode=exact"]), ("off", ["gi.enabled=off"])):
+            d = os.path.join(a.out, "truth_" + label)
+            render(sets, d, 1, "color")
+            print("colour vs the path-traced truth: GI %s %.4f" % (label, rel_l1(read_pfm(pfm_of(d)), truth)))
+        for i, p in enumerate(points):
+            d = os.path.join(a.out, "c%02d" % i)
+            render(p["sets"], d, 1, "color")
+            p["rel_l1_vs_truth"] = rel_l1(read_pfm(pfm_of(d)), truth)
+    for r in range(a.repeats):
+        for p in points:
+            p["times"].append(shade(render(p["sets"], None, a.frames, a.view)))
+    for p in points:
+        p["shade_ms"] = statistics.median(p["times"]) if p["times"] else float("nan")
+    samp = [(p["rel_l1"], p["shade_ms"], p["samples"]) for p in points if p["method"] == "rsm_sampling"]
+    print("| point | clusters or samples per pixel | shade ms (median of %d) | relative L1 vs exact | PSNR dB | "
+          "sampling at equal error: samples, ms | speed-up |%s" % (a.repeats, " colour vs path truth |" if truth is not None else ""))
+    print("| --- | --- | --- | --- | --- | --- | --- |%s" % (" --- |" if truth is not None else ""))
+    for p in points:
+        extra = ""
+        if p["method"] == "cut":
+            m = interp(samp, p["rel_l1"])
+            if m:
+                p["equal_error_samples"], p["equal_error_ms"] = m[1], m[0]
+                p["speedup"] = m[0] / p["shade_ms"]
+                extra = "%.0f, %.1f | **%.2fx**" % (m[1], m[0], p["speedup"])
+            else:
+                extra = "outside the sampling curve | —"
+        else:
+            extra = "— | —"
+        if truth is not None:
+            extra += " | %.4f" % p["rel_l1_vs_truth"]
+        print("| %s | %s | %.1f | %.4f | %.2f | %s |" % (p["label"], p["clusters"], p["shade_ms"], p["rel_l1"],
+                                                         p["psnr_db"], extra))
+    with open(os.path.join(a.out, "gi_tradeoff.json"), "w") as f:
+        json.dump({"args": vars(a), "exact_shade_ms": shade(ej), "lit_vpls": ej["gi"]["lit_vpls"],
+                   "points": points}, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
