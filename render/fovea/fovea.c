@@ -71,8 +71,7 @@ static void buffers_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAcc
     vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
 }
 
-/* Append one named detail of up to three values when there is room; returns the new count. */
-static uint32_t add_detail(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
+uint32_t fv_fovea_add_detail(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
                            double b, double c)
 {
     if (n >= cap) return n;
@@ -272,7 +271,7 @@ static void fovea_record(void *state, const fv_pass_frame *f)
 static uint32_t fovea_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     fovea *fv = state;
-    return add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope, fv->pc.min_prob);
+    return fv_fovea_add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope, fv->pc.min_prob);
 }
 
 const fv_pass fv_fovea_pass = {
@@ -458,10 +457,10 @@ static uint32_t compact_details(void *state, fv_pass_detail *out, uint32_t cap)
     uint32_t n = 0;
     double per_eye = (double)c->width * c->height, s0 = (double)c->last_samples[0], s1 = (double)c->last_samples[1];
     if (c->have_last) {
-        n = add_detail(out, n, cap, "sampled_fraction", 2, s0 / per_eye, s1 / per_eye, 0);
-        n = add_detail(out, n, cap, "samples", 2, s0, s1, 0);
+        n = fv_fovea_add_detail(out, n, cap, "sampled_fraction", 2, s0 / per_eye, s1 / per_eye, 0);
+        n = fv_fovea_add_detail(out, n, cap, "samples", 2, s0, s1, 0);
     }
-    return add_detail(out, n, cap, "compaction_mode", 1, c->mode, 0, 0);
+    return fv_fovea_add_detail(out, n, cap, "compaction_mode", 1, c->mode, 0, 0);
 }
 
 const fv_pass fv_compact_pass = {
@@ -641,9 +640,9 @@ static uint32_t recon_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     recon *rc = state;
     /* final seeds: 0 a, 1 b, FV_RECON_SRC_SEARCH none (the "fovea voronoi" image always holds the result) */
-    uint32_t n = add_detail(out, 0, cap, "jfa_steps_final_seeds_method", 3, rc->last_steps, rc->last_final,
+    uint32_t n = fv_fovea_add_detail(out, 0, cap, "jfa_steps_final_seeds_method", 3, rc->last_steps, rc->last_final,
                             rc->last_method);
-    if (rc->have_stage_ms) n = add_detail(out, n, cap, "stage_gpu_ms_voronoi_fill", 2, rc->stage_ms[0], rc->stage_ms[1], 0);
+    if (rc->have_stage_ms) n = fv_fovea_add_detail(out, n, cap, "stage_gpu_ms_voronoi_fill", 2, rc->stage_ms[0], rc->stage_ms[1], 0);
     return n;
 }
 

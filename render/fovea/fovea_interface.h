@@ -125,4 +125,52 @@ struct fv_recon_push {
     FV_FOVEA_UINT pad;
 };
 
+
+/* ---- "temporal": reprojection of the previous frame's known pixels (temporal.comp) ---- */
+/* The history (the renderer's FV_IMAGE_HISTORY_A/B ping-pong, fv_images_history) holds, per pixel of the frame it
+ * was written in, rgb = the pixel's known radiance (shaded, blended with history, or reused from history) and
+ * a = the distance from that frame's eye to the surface (metres, FV_TEMPORAL_SKY where nothing was drawn) whose 4
+ * lowest mantissa bits hold the frames since the pixel was last shaded (its age, 0..15); a = 0: nothing known
+ * (a pixel reconstruction filled, or no history). */
+#define FV_TEMPORAL_SET 1
+#define FV_TEMPORAL_BINDING_DEPTH 0    /* G-buffer depth, normal, albedo, material: combined samplers 0..3 */
+#define FV_TEMPORAL_BINDING_MOTION 4   /* sampler2DArray: the G-buffer's motion (current uv - previous uv) */
+#define FV_TEMPORAL_BINDING_MASK 5     /* uimage2DArray r32ui "fovea mask": 1 shaded; written 2 = reused here */
+#define FV_TEMPORAL_BINDING_BLOCKS 6   /* uimage2DArray r32ui "fovea blocks": reused pixels' bits OR-ed in */
+#define FV_TEMPORAL_BINDING_COLOR 7    /* image2DArray rgba32f: linear colour */
+#define FV_TEMPORAL_BINDING_PREV 8     /* image2DArray rgba32f: history of the previous frame (read) */
+#define FV_TEMPORAL_BINDING_CUR 9      /* image2DArray rgba32f: this frame's history (written) */
+#define FV_TEMPORAL_BINDING_STATS 10   /* storage uint[4 per frame slot]: hits eye 0, 1, reused eye 0, 1 */
+#define FV_TEMPORAL_BINDING_COUNT 11
+#define FV_TEMPORAL_GROUP 8
+
+#define FV_TEMPORAL_STAGE_RESOLVE 0 /* per pixel: reproject, test, blend or reuse into the history being written */
+#define FV_TEMPORAL_STAGE_APPLY 1   /* the known pixels' history values into the colour (reconstruction's seeds) */
+
+#define FV_TEMPORAL_MASK_REUSED 2u  /* a "fovea mask" value: not shaded, taken from the history */
+#define FV_TEMPORAL_AGE_BITS 4u
+#define FV_TEMPORAL_AGE_MAX 15u
+#define FV_TEMPORAL_SKY 1.0e30      /* the history distance of a pixel where nothing was drawn */
+/* The paper's cache test, |d_{t-1}(reprojected) - |pos_t - eye_{t-1}|| < eps, with eps relative to the distance
+ * plus what the surface's slope makes one pixel's footprint vary over the bilinear tap's offset. */
+#define FV_TEMPORAL_DEPTH_EPS 0.01
+#define FV_TEMPORAL_SLOPE_TAN_MAX 8.0
+/* A sampled pixel with a history hit: radiance = mix(history clamped to the box of this frame's shaded 3x3
+ * neighbours, shaded, this weight). */
+#define FV_TEMPORAL_SAMPLE_WEIGHT 0.5
+/* A head jump between two frames that resets the history (faster than a head turns or moves within a frame). */
+#define FV_TEMPORAL_JUMP_DEG 20.0
+#define FV_TEMPORAL_JUMP_M 0.25
+
+#define FV_TEMPORAL_FLAG_HISTORY 1u /* the previous frame's history is valid (else: every pixel misses) */
+struct fv_temporal_push {
+    float prev_eye[2][4];        /* the previous frame's eye positions, world metres (xyz) */
+    FV_FOVEA_UINT flags;         /* FV_TEMPORAL_FLAG_* */
+    FV_FOVEA_UINT max_age;       /* fovea.temporal: frames a pixel may be reused since it was last shaded */
+    FV_FOVEA_UINT stats_base;    /* this slot's first stats word */
+    FV_FOVEA_UINT block;         /* B, px */
+    FV_FOVEA_UINT block_words;
+    FV_FOVEA_UINT pad[3];
+};
+
 #endif

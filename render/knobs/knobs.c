@@ -98,6 +98,11 @@ static const fv_knob g_knobs[] = {
      .high = I(FV_FOVEA_COMPACTION_TILES), .exact = I(FV_FOVEA_COMPACTION_TILES),
      .doc = "how the samples become the shading's list: tiles (8x8 tiles, one atomic each), rows (the paper's "
             "row-wise CSR reorder), masked (a full dispatch that skips unsampled pixels)"},
+    {.name = "fovea.temporal", .type = FV_KNOB_INT, .min = 0, .max = 15, .unit = "frames", AT(fovea.temporal),
+     .fast = I(12), .high = I(4), .exact = I(0),
+     .doc = "temporal reuse: the previous frame reprojected through the motion vectors (depth test), blended into "
+            "shaded pixels and reused for unshaded ones until they are this many frames older than their last "
+            "shading (0: none)"},
     /* distort.*: the HMD lens (render/distort, the hidden-area mask in render/gbuffer). Not speed/accuracy trades of
      * the image but what the panel needs: on in every preset, exact included (an undistorted frame on an HMD panel
      * is wrong, not more exact; the mask removes only pixels no one can see). They act only with an HMD lens. */

@@ -151,7 +151,7 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
                     if (err > worst) worst = err;
                     if (!(err <= P_TOL)) fail_msg("%s eye %d (%d, %d): p gpu %.6f cpu %.6f", c->name, e, x, y, got, want);
                     sum_p += want;
-                    count += mask[(size_t)y * W + x] != 0;
+                    count += mask[(size_t)y * W + x] == 1; /* shaded (2: reused from history) */
                 }
             uint32_t B = in.quality.fovea.block, blocks = 0;
             double expect = 0; /* per block: its sum of p, but one sample at least */
@@ -161,7 +161,7 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
                     double bp = 0;
                     for (uint32_t y = by; y < by + B && y < H; y++)
                         for (uint32_t x = bx; x < bx + B && x < W; x++) {
-                            n += mask[(size_t)y * W + x] != 0;
+                            n += mask[(size_t)y * W + x] == 1;
                             bp += ref_p(&in, e, (int)x, (int)y, c->unc_deg * DEG, valid);
                         }
                     if (n < 1) fail_msg("%s eye %d: block (%u, %u) holds no sample", c->name, e, bx, by);
@@ -267,6 +267,7 @@ static void compaction_orders_shade_the_same_image(void **state)
         set_gaze(&in, fv_v3_normalize_or(fv_v3(-0.2f, 0.1f, -1.0f), fv_v3(0, 0, -1)), 1.0f);
         in.quality.fovea.mar_slope = 0.2f;
         in.quality.fovea.compaction = (fv_fovea_compaction)m;
+        in.quality.fovea.temporal = 0; /* the same known pixels each time: no history */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         assert_int_equal(fv_renderer_finish(g_r), FV_OK);
         for (int e = 0; e < 2; e++) {
@@ -274,7 +275,7 @@ static void compaction_orders_shade_the_same_image(void **state)
             assert_int_equal(fv_renderer_read_linear(g_r, e, img[m][e], NPIX * 4), FV_OK);
             if (m == 0) {
                 assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
-                for (size_t i = 0; i < NPIX; i++) samples += mask[i] != 0;
+                for (size_t i = 0; i < NPIX; i++) samples += mask[i] == 1;
             }
         }
         fv_render_stats st;
@@ -404,13 +405,13 @@ static void fovea_follows_fixed_gazes(void **state)
             double best = -1;
             for (int x = 0; x < W; x++) {
                 double n = 0;
-                for (int y = 0; y < H; y++) n += mask[(size_t)y * W + x] != 0;
+                for (int y = 0; y < H; y++) n += mask[(size_t)y * W + x] == 1; /* shaded, not reused */
                 if (n > best) best = n, best_col = x;
             }
             double at = 0, mirror = 0, na = 0, nm = 0, mx = W - gx;
             for (int y = 0; y < H; y++)
                 for (int x = 0; x < W; x++) {
-                    bool m = mask[(size_t)y * W + x] != 0;
+                    bool m = mask[(size_t)y * W + x] == 1;
                     if (hypot(x + 0.5 - gx, y + 0.5 - gy) < 10) at += m, na++;
                     if (hypot(x + 0.5 - mx, y + 0.5 - gy) < 10) mirror += m, nm++;
                 }
@@ -478,6 +479,138 @@ static void foveal_band_equals_full_resolution(void **state)
     fv_scene_destroy(&s);
 }
 
+/* A moving head (yaw 0.5 degrees and 3 mm sideways per frame) and a gaze held at the centre: with temporal reuse
+ * (fovea.temporal=8) the periphery (> 5 degrees from the gaze) is closer to full-resolution shading of the same
+ * frames, and its error flickers less from frame to frame, than without (fovea.temporal=0); the pass reports its
+ * cache hits, and a head jump and a scene load reset the history. */
+#define T_FRAMES 10
+#define T_SKIP 3 /* frames before the history has filled */
+static fv_head head_at(const fv_scene *s, int k, double yaw_deg)
+{
+    fv_head h = s->head;
+    h.orientation = fv_quat_normalize(
+        fv_quat_mul(h.orientation, fv_quat_axis_angle(fv_v3(0, 1, 0), (float)(yaw_deg * k * DEG))));
+    h.position_m = fv_v3_add(h.position_m, fv_quat_rotate(s->head.orientation, fv_v3(0.003f * (float)k, 0, 0)));
+    return h;
+}
+
+static void temporal_reuse_lowers_periphery_error_and_flicker(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    enum { FULL = 0, NO_REUSE = 1, REUSE = 2 };
+    float *img[3][T_FRAMES][2];
+    float *ecc = malloc(NPIX * 4);
+    assert_non_null(ecc);
+    fv_vec3 gaze = fv_v3(0, 0, -1);
+    double hits = 0, reused = 0;
+    for (int mode = 0; mode < 3; mode++)
+        for (int k = 0; k < T_FRAMES; k++) {
+            fv_head h = head_at(s, k, 0.5);
+            fv_frame_input in;
+            assert_int_equal(fv_renderer_frame_input(g_r, &h, g_frame_id++, 0.0, &in), FV_OK);
+            in.quality.fovea.enabled = mode != FULL;
+            in.quality.fovea.mar_slope = 0.2f;
+            in.quality.fovea.temporal = mode == REUSE ? 8u : 0u;
+            set_gaze(&in, gaze, 0.5f);
+            assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+            for (int e = 0; e < 2; e++) {
+                img[mode][k][e] = malloc(NPIX * 16);
+                assert_non_null(img[mode][k][e]);
+                assert_int_equal(fv_renderer_read_linear(g_r, e, img[mode][k][e], NPIX * 4), FV_OK);
+                for (size_t i = 0; i < NPIX * 4; i++) assert_true(isfinite(img[mode][k][e][i]));
+            }
+            if (mode == REUSE && k == T_FRAMES - 1) {
+                /* the counts of a frame are read when its slot comes round: draw the last pose again */
+                for (int again = 0; again < 3; again++) {
+                    in.frame_id = g_frame_id++;
+                    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+                }
+                fv_pass_detail d[4];
+                uint32_t nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+                for (uint32_t i = 0; i < nd; i++) {
+                    if (strcmp(d[i].key, "cache_hit_fraction") == 0) hits = d[i].value[0];
+                    if (strcmp(d[i].key, "reused_fraction") == 0) reused = d[i].value[0];
+                }
+            }
+        }
+    double mse[3] = {0}, flicker[3] = {0}, n = 0, nf = 0;
+    for (int e = 0; e < 2; e++) {
+        fv_frame_input in0;
+        fv_head h0 = head_at(s, 0, 0.5);
+        assert_int_equal(fv_renderer_frame_input(g_r, &h0, 1, 0.0, &in0), FV_OK);
+        fv_metrics_eccentricity_deg(&in0.eye[e], gaze, W, H, ecc, W); /* the gaze is fixed in the eye */
+        for (int k = T_SKIP; k < T_FRAMES; k++)
+            for (size_t i = 0; i < NPIX; i++) {
+                if (!(ecc[i] > 5.0f)) continue;
+                for (int c = 0; c < 3; c++) {
+                    double full = fv_metrics_linear_to_srgb(img[FULL][k][e][i * 4 + c]);
+                    double full_prev = fv_metrics_linear_to_srgb(img[FULL][k - 1][e][i * 4 + c]);
+                    for (int m = NO_REUSE; m <= REUSE; m++) {
+                        double err = fv_metrics_linear_to_srgb(img[m][k][e][i * 4 + c]) - full;
+                        double err_prev = fv_metrics_linear_to_srgb(img[m][k - 1][e][i * 4 + c]) - full_prev;
+                        mse[m] += err * err;
+                        flicker[m] += (err - err_prev) * (err - err_prev);
+                    }
+                    n++;
+                    nf++;
+                }
+            }
+    }
+    for (int m = NO_REUSE; m <= REUSE; m++) mse[m] /= n, flicker[m] /= nf;
+    print_message("moving head, periphery (> 5 deg): PSNR %.2f dB without reuse, %.2f dB with; flicker (mean squared "
+                  "frame-to-frame change of the error) %.3e without, %.3e with; cache hits %.1f%%, reused %.1f%% of "
+                  "eye 0's pixels\n",
+                  fv_metrics_psnr_db(mse[NO_REUSE]), fv_metrics_psnr_db(mse[REUSE]), flicker[NO_REUSE],
+                  flicker[REUSE], 100.0 * hits, 100.0 * reused);
+    assert_true(mse[REUSE] < mse[NO_REUSE]);
+    assert_true(flicker[REUSE] < flicker[NO_REUSE]);
+    assert_true(hits > 0.2 && hits <= 1.0);
+    assert_true(reused > 0.05 && reused < hits);
+    for (int m = 0; m < 3; m++)
+        for (int k = 0; k < T_FRAMES; k++) free(img[m][k][0]), free(img[m][k][1]);
+
+    /* resets: a head jump of 40 degrees, and a scene load, each reset the history (no pixel reused) */
+    fv_pass_detail d[4];
+    double resets0 = -1, resets1 = -1, resets2 = -1;
+    uint32_t nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "resets_max_age") == 0) resets0 = d[i].value[0];
+    fv_head jump = head_at(s, 80, 0.5);
+    fv_frame_input in;
+    assert_int_equal(fv_renderer_frame_input(g_r, &jump, g_frame_id++, 0.0, &in), FV_OK);
+    in.quality.fovea.enabled = true;
+    in.quality.fovea.mar_slope = 0.2f;
+    in.quality.fovea.temporal = 8u;
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "resets_max_age") == 0) resets1 = d[i].value[0];
+    assert_true(resets0 >= 1 && resets1 == resets0 + 1);
+    assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+    uint32_t *mask = malloc(NPIX * 4);
+    assert_non_null(mask);
+    assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", 0, mask, NPIX * 4, 4), FV_OK);
+    for (size_t i = 0; i < NPIX; i++) assert_true(mask[i] <= 1u); /* nothing reused after the jump */
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    in.frame_id = g_frame_id++;
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "resets_max_age") == 0) resets2 = d[i].value[0];
+    assert_true(resets2 == resets1 + 1);
+    assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+    assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", 1, mask, NPIX * 4, 4), FV_OK);
+    for (size_t i = 0; i < NPIX; i++) assert_true(mask[i] <= 1u);
+    free(mask);
+    free(ecc);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -486,6 +619,7 @@ int main(void)
         cmocka_unit_test(sibson_matches_brute_force_natural_neighbours),
         cmocka_unit_test(fovea_follows_fixed_gazes),
         cmocka_unit_test(foveal_band_equals_full_resolution),
+        cmocka_unit_test(temporal_reuse_lowers_periphery_error_and_flicker),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

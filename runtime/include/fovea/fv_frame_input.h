@@ -122,6 +122,8 @@ typedef struct fv_quality_fovea {
     fv_fovea_recon recon;  /* "fovea.recon": nearest | sibson | idw */
     fv_fovea_voronoi voronoi; /* "fovea.voronoi": jfa | blocks */
     fv_fovea_compaction compaction; /* "fovea.compaction": tiles | rows | masked */
+    uint32_t temporal;     /* "fovea.temporal": temporal reuse, the frames an unshaded pixel may take a reprojected
+                            * history value since it was last shaded, 0..15 (0: no temporal reuse) */
 } fv_quality_fovea;
 
 /** The lens knobs (render/distort/: pre-distortion with chromatic aberration; the hidden-area mask in render/gbuffer)
@@ -223,7 +225,8 @@ static inline fv_quality fv_quality_default(void)
                               .uncertainty = true,
                               .recon = FV_FOVEA_RECON_NEAREST,
                               .compaction = FV_FOVEA_COMPACTION_TILES,
-                              .voronoi = FV_FOVEA_VORONOI_BLOCKS},
+                              .voronoi = FV_FOVEA_VORONOI_BLOCKS,
+                              .temporal = 8},
                     .distort = {.enabled = true, .mask = true},
                     .gi = {.enabled = true, /* scenes without a spot or directional light skip the pass */
                            .mode = FV_GI_CUT,
