@@ -144,8 +144,6 @@ struct fv_recon_push {
 #define FV_TEMPORAL_BINDING_COUNT 11
 #define FV_TEMPORAL_GROUP 8
 
-#define FV_TEMPORAL_STAGE_RESOLVE 0 /* per pixel: reproject, test, blend or reuse into the history being written */
-#define FV_TEMPORAL_STAGE_APPLY 1   /* the known pixels' history values into the colour (reconstruction's seeds) */
 
 #define FV_TEMPORAL_MASK_REUSED 2u  /* a "fovea mask" value: not shaded, taken from the history */
 #define FV_TEMPORAL_AGE_BITS 4u
@@ -155,9 +153,11 @@ struct fv_recon_push {
  * plus what the surface's slope makes one pixel's footprint vary over the bilinear tap's offset. */
 #define FV_TEMPORAL_DEPTH_EPS 0.01
 #define FV_TEMPORAL_SLOPE_TAN_MAX 8.0
-/* A sampled pixel with a history hit: radiance = mix(history clamped to the box of this frame's shaded 3x3
- * neighbours, shaded, this weight). */
+/* A sampled pixel with a history hit: radiance = mix(history clamped to shaded * (1 +- CLAMP_REL) +- CLAMP_ABS,
+ * shaded, this weight). */
 #define FV_TEMPORAL_SAMPLE_WEIGHT 0.5
+#define FV_TEMPORAL_CLAMP_REL 0.1
+#define FV_TEMPORAL_CLAMP_ABS 0.001
 /* A head jump between two frames that resets the history (faster than a head turns or moves within a frame). */
 #define FV_TEMPORAL_JUMP_DEG 20.0
 #define FV_TEMPORAL_JUMP_M 0.25

@@ -17,8 +17,6 @@ _Static_assert(FV_TEMPORAL_AGE_MAX == (1u << FV_TEMPORAL_AGE_BITS) - 1u, "the ag
 static const VkPipelineStageFlags CS = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 static const VkAccessFlags RW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 
-enum { TSTAGE_RESOLVE = 0, TSTAGE_APPLY = 1 };
-
 typedef struct temporal {
     fv_vk *vk;
     uint32_t width, height, block, slots;
@@ -118,13 +116,11 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
         {FV_TEMPORAL_BINDING_CUR, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
     };
-    const uint32_t spec[2] = {FV_TEMPORAL_STAGE_RESOLVE, FV_TEMPORAL_STAGE_APPLY};
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "temporal", .code = fv_spv_temporal_comp, .code_size = sizeof fv_spv_temporal_comp,
                              .shared_sets = shared, .shared_set_count = 1, .bindings = b,
                              .binding_count = FV_TEMPORAL_BINDING_COUNT, .set_count = 2,
-                             .push_bytes = sizeof(struct fv_temporal_push), .spec = spec, .spec_count = 1,
-                             .variant_count = 2};
+                             .push_bytes = sizeof(struct fv_temporal_push)};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &t->cs);
     if (res != FV_OK) {
         FV_ERROR(MOD, "temporal reuse pass could not be created: %s", fv_result_str(res));
@@ -170,10 +166,9 @@ static void temporal_prepare(void *state, const fv_pass_frame *f)
     t->have_last = true;
 }
 
-static void dispatch(temporal *t, const fv_pass_frame *f, uint32_t stage, uint32_t set,
-                     const struct fv_temporal_push *pc)
+static void dispatch(temporal *t, const fv_pass_frame *f, uint32_t set, const struct fv_temporal_push *pc)
 {
-    fv_vk_compute_bind(&t->cs, f->cmd, stage, &f->scene_set, 1, set, pc);
+    fv_vk_compute_bind(&t->cs, f->cmd, 0, &f->scene_set, 1, set, pc);
     vkCmdDispatch(f->cmd, (t->width + FV_TEMPORAL_GROUP - 1) / FV_TEMPORAL_GROUP,
                   (t->height + FV_TEMPORAL_GROUP - 1) / FV_TEMPORAL_GROUP, 2);
     f->counters->dispatches++;
@@ -225,15 +220,10 @@ static void temporal_record(void *state, const fv_pass_frame *f)
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use(f->images, cmd, t->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, t->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    fv_images_use(f->images, cmd, prev, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    fv_images_use(f->images, cmd, cur, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    dispatch(t, f, TSTAGE_RESOLVE, set, &pc);
-    /* apply: the mask (reused marks) and this frame's history -> the colour */
-    fv_images_use(f->images, cmd, t->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    fv_images_use(f->images, cmd, cur, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    dispatch(t, f, TSTAGE_APPLY, set, &pc);
+    fv_images_use(f->images, cmd, prev, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, cur, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
+    dispatch(t, f, set, &pc);
     /* the counts -> the host after the fence */
     mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
     mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;

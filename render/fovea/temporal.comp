@@ -4,11 +4,11 @@
 // nothing was drawn: through its far-plane point and the previous view-projection) and reads the previous
 // history bilinearly, each of the four taps kept only when it is a cache hit: its stored distance from the previous
 // eye equals |pos_t - eye_{t-1}| within FV_TEMPORAL_DEPTH_EPS (relative) plus the slope allowance, and it is
-// younger than fovea.temporal frames. Stage RESOLVE writes this frame's history: a shaded pixel is its radiance,
-// blended (FV_TEMPORAL_SAMPLE_WEIGHT) with a hit's history clamped to the box of the shaded 3x3 neighbours (stale
-// history cannot ghost); an unshaded pixel with a hit reuses the history (age + 1), is marked
+// younger than fovea.temporal frames. One pass writes this frame's history and the colour: a shaded pixel is its
+// radiance blended (FV_TEMPORAL_SAMPLE_WEIGHT) with a hit's history clamped to within FV_TEMPORAL_CLAMP_REL of it
+// (stale history cannot ghost); an unshaded pixel with a hit reuses the history (age + 1), is marked
 // FV_TEMPORAL_MASK_REUSED in the mask and its block's bit set, so reconstruction takes it as a sample; a miss is
-// unknown (0). Stage APPLY copies the known pixels' history values into the colour. Per eye the hits and reuses are
+// unknown (0). Each pixel reads and writes only itself in the colour and the mask. Per eye the hits and reuses are
 // counted. No value is ever NaN or Inf: non-finite history or positions are misses.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -19,7 +19,6 @@
 #include "fovea_interface.h"
 
 layout(local_size_x = FV_TEMPORAL_GROUP, local_size_y = FV_TEMPORAL_GROUP, local_size_z = 1) in;
-layout(constant_id = 0) const uint STAGE = FV_TEMPORAL_STAGE_RESOLVE;
 
 FV_SCENE_SET_DECLARE
 #define FV_GBUFFER_SET FV_TEMPORAL_SET
@@ -52,11 +51,6 @@ void main()
     ivec3 p = ivec3(gl_GlobalInvocationID);
     ivec2 size = ivec2(frame.counts.y, frame.counts.z);
     bool inside = p.x < size.x && p.y < size.y && p.z <= 1;
-    if (STAGE == FV_TEMPORAL_STAGE_APPLY) {
-        if (!inside || imageLoad(mask_img, p).x == 0u) return;
-        imageStore(color_img, p, vec4(imageLoad(cur_img, p).rgb, 1.0));
-        return;
-    }
     bool hit = false, reused = false;
     if (inside) {
         uint m = imageLoad(mask_img, p).x;
@@ -124,28 +118,19 @@ void main()
         vec3 h = hit ? hsum / wsum : vec3(0.0);
         vec4 out_v = vec4(0.0);
         if (shaded) {
-            vec3 s = imageLoad(color_img, p).rgb;
-            if (!all_finite(s)) s = vec3(0.0);
-            vec3 c = s;
+            vec3 c = imageLoad(color_img, p).rgb;
+            if (!all_finite(c)) c = vec3(0.0);
             if (hit) {
-                vec3 lo = s, hi = s;
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
-                        ivec2 q = p.xy + ivec2(dx, dy);
-                        if ((dx == 0 && dy == 0) || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) ||
-                            imageLoad(mask_img, ivec3(q, p.z)).x != 1u)
-                            continue;
-                        vec3 n = imageLoad(color_img, ivec3(q, p.z)).rgb;
-                        if (!all_finite(n)) continue;
-                        lo = min(lo, n);
-                        hi = max(hi, n);
-                    }
-                c = mix(clamp(h, lo, hi), s, float(FV_TEMPORAL_SAMPLE_WEIGHT));
+                // history that differs from the new shading by more than the clamp is stale (ghosting): clamped
+                vec3 tol = float(FV_TEMPORAL_CLAMP_REL) * c + vec3(float(FV_TEMPORAL_CLAMP_ABS));
+                c = mix(clamp(h, c - tol, c + tol), c, float(FV_TEMPORAL_SAMPLE_WEIGHT));
             }
             out_v = ok ? vec4(c, pack_info(dist, 0u)) : vec4(c, 0.0);
+            imageStore(color_img, p, vec4(c, 1.0));
         } else if (hit) {
             reused = true;
             out_v = vec4(h, pack_info(dist, age + 1u));
+            imageStore(color_img, p, vec4(h, 1.0));
             imageStore(mask_img, p, uvec4(FV_TEMPORAL_MASK_REUSED));
             uint B = pc.block, k = (uint(p.y) % B) * B + uint(p.x) % B;
             imageAtomicOr(blocks_img, ivec3(int((uint(p.x) / B) * pc.block_words + k / 32u), int(uint(p.y) / B), p.z),
