@@ -16,11 +16,15 @@
 #define FV_FOVEA_SET 1
 #define FV_FOVEA_BINDING_PROB 0  /* image2DArray r32f: sampling probability p per pixel (written) */
 #define FV_FOVEA_BINDING_MASK 1  /* uimage2DArray r32ui: 1 = shade this pixel, 0 = reconstruct it (written) */
-#define FV_FOVEA_BINDING_RANKS 2 /* storage uint[B * B]: rank of each pixel of a block in the R2 order (no turn) */
+#define FV_FOVEA_BINDING_RANKS 2 /* storage uint[B * B]: rank of each pixel of a block in the R2 order (no turn);
+                                  * from FV_FOVEA_SRGB_TABLE on, 256 floats (as bits): 8-bit sRGB -> linear */
+#define FV_FOVEA_SRGB_TABLE 256u
 #define FV_FOVEA_BINDING_BLOCKS 3 /* uimage2DArray r32ui, (blocks_x * words) x blocks_y: each block's samples as
                                    * bits (bit k = its pixel k, row-major, B as the row length), cleared, then
                                    * OR-ed in (atomics) */
-#define FV_FOVEA_BINDING_COUNT 4
+#define FV_FOVEA_BINDING_DEPTH 4  /* G-buffer depth, normal, albedo, material: combined samplers 4..7 (saliency, DoF) */
+#define FV_FOVEA_BINDING_MOTION 8 /* sampler2DArray: the G-buffer's motion (current uv - previous uv) */
+#define FV_FOVEA_BINDING_COUNT 9
 #define FV_FOVEA_BLOCK_WORDS_MAX 8u /* ceil(16 * 16 / 32) */
 #define FV_FOVEA_GROUP 8 /* 8 x 8 pixels per workgroup, z = the eye */
 #define FV_FOVEA_BLOCK_MAX 16u
@@ -30,6 +34,22 @@
 #define FV_FOVEA_LOST_WIDEN_RAD 0.2617993877991494 /* 15 degrees */
 
 #define FV_FOVEA_FLAG_UNCERTAINTY 1u /* e' = max(0, e - u) */
+#define FV_FOVEA_FLAG_SALIENCY 2u    /* p = max(p, saliency S) (fovea.saliency > 0) */
+#define FV_FOVEA_FLAG_DOF 4u         /* the eye's defocus blur widens the MAR (fovea.dof) */
+
+/* Saliency S = max(S_albedo, S_normal, S_motion) in [0, 1] (papers/README.md section 3), each over the 8
+ * neighbours: S_albedo = max CIELAB (D65) Delta E*ab of the linear albedo / FV_FOVEA_SAL_DELTA_E; S_normal = max
+ * (1 - n.n') / FV_FOVEA_SAL_NORMAL, 1 where a neighbour is on the other side of a silhouette (drawn / not drawn);
+ * S_motion = the object's own motion (the G-buffer's motion less what the head's motion alone makes of the pixel's
+ * point), px per frame / FV_FOVEA_SAL_MOTION_PX; each clamped to 1. */
+#define FV_FOVEA_SAL_DELTA_E 25.0
+#define FV_FOVEA_SAL_NORMAL 0.5
+#define FV_FOVEA_SAL_MOTION_PX 4.0
+/* Depth of field: an eye of pupil A focused at d_f (the surface at the gaze) blurs a point at d over the angle
+ * c = A |1/d - 1/d_f| (radians; 1/d = 0 where nothing is drawn); it resolves no finer than that, so w' = max(w, c)
+ * and the saliency term is scaled by clamp(1 - (c - w_min) / w_far, 0, 1). No pupil (0), no valid gaze, or a gaze
+ * off the image or on nothing drawn: no DoF. Distances below FV_FOVEA_DOF_MIN_M count as that. */
+#define FV_FOVEA_DOF_MIN_M 1e-3
 
 /* p = clamp(1 - (w - w_min) / w_far, xi, 1), w = m e' + w0 (degrees): w_min = max(w0, w_px), the display's
  * smallest resolvable angle (p = 1 while the eye resolves a pixel), and w_far = (FV_FOVEA_FAR_PX - 1) w_px, so p
@@ -43,7 +63,8 @@ struct fv_fovea_push {
     float mar_w0_deg;       /* fovea.mar_w0_deg */
     float min_prob;         /* fovea.min_prob (xi) */
     FV_FOVEA_UINT block_words; /* ceil(B * B / 32): words per block in the block masks */
-    FV_FOVEA_UINT pad[2];
+    float saliency;         /* fovea.saliency: the weight of S (FV_FOVEA_FLAG_SALIENCY) */
+    FV_FOVEA_UINT pad;
 };
 
 /* ---- "compact": the sample mask as the frame sample list (compact.comp) ---- */

@@ -103,6 +103,14 @@ static const fv_knob g_knobs[] = {
      .doc = "temporal reuse: the previous frame reprojected through the motion vectors (depth test), blended into "
             "shaded pixels and reused for unshaded ones until they are this many frames older than their last "
             "shading (0: none)"},
+    {.name = "fovea.saliency", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(fovea.saliency),
+     .fast = F(0.0f), .high = F(0.5f), .exact = F(0.0f),
+     .doc = "weight of the saliency (CIELAB albedo gradient, normal gradient, object motion) that raises the "
+            "sampling probability at edges and moving objects (0: off)"},
+    {.name = "fovea.dof", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.dof),
+     .fast = B(true), .high = B(true), .exact = B(false),
+     .doc = "depth of field: the eye's defocus blur (pupil diameter, focus at the surface under the gaze) widens "
+            "the minimum angle of resolution off the focal plane; no pupil from the tracker: no effect"},
     /* distort.*: the HMD lens (render/distort, the hidden-area mask in render/gbuffer). Not speed/accuracy trades of
      * the image but what the panel needs: on in every preset, exact included (an undistorted frame on an HMD panel
      * is wrong, not more exact; the mask removes only pixels no one can see). They act only with an HMD lens. */

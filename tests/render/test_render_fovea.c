@@ -70,6 +70,8 @@ static fv_frame_input frame_in(void)
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame_id++, 0.0, &in), FV_OK);
     in.quality.fovea.enabled = true;
+    in.quality.fovea.saliency = 0.0f; /* the plain MAR map unless a test asks (its own test below) */
+    in.quality.fovea.dof = false;
     return in;
 }
 
@@ -611,6 +613,216 @@ static void temporal_reuse_lowers_periphery_error_and_flicker(void **state)
     fv_scene_destroy(&s);
 }
 
+/* ---- saliency and depth of field against the CPU in double ------------------------------------------------------ */
+
+typedef struct gbuf {
+    float depth[NPIX];
+    int16_t normal[NPIX][2];
+    uint8_t albedo[NPIX][4];
+    uint16_t material[NPIX];
+    float motion[NPIX * 2];
+} gbuf;
+
+static double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
+
+static void lab_of(const uint8_t *rgba, double out[3])
+{
+    double c[3];
+    for (int k = 0; k < 3; k++) c[k] = srgb_to_linear(rgba[k] / 255.0);
+    double x = 0.4124564 * c[0] + 0.3575761 * c[1] + 0.1804375 * c[2];
+    double y = 0.2126729 * c[0] + 0.7151522 * c[1] + 0.0721750 * c[2];
+    double z = 0.0193339 * c[0] + 0.1191920 * c[1] + 0.9503041 * c[2];
+    double t[3] = {x / 0.95047, y, z / 1.08883}, f[3];
+    for (int k = 0; k < 3; k++) {
+        double d = 6.0 / 29.0;
+        f[k] = t[k] > d * d * d ? cbrt(t[k]) : t[k] / (3.0 * d * d) + 4.0 / 29.0;
+    }
+    out[0] = 116.0 * f[1] - 16.0, out[1] = 500.0 * (f[0] - f[1]), out[2] = 200.0 * (f[1] - f[2]);
+}
+
+static void normal_of(const int16_t *e16, double out[3])
+{
+    double ex = fmax(e16[0] / 32767.0, -1.0), ey = fmax(e16[1] / 32767.0, -1.0);
+    double n[3] = {ex, ey, 1.0 - fabs(ex) - fabs(ey)};
+    if (n[2] < 0) {
+        double wx = (1.0 - fabs(ey)) * (ex >= 0 ? 1 : -1), wy = (1.0 - fabs(ex)) * (ey >= 0 ? 1 : -1);
+        n[0] = wx, n[1] = wy;
+    }
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++) out[k] = len > 1e-15 ? n[k] / len : (k == 2);
+}
+
+/* The distance from the eye to the surface drawn at (x, y): view z from the depth and the projection, along the
+ * pixel centre's ray. */
+static double dist_of(const fv_frame_input *in, int e, const gbuf *g, int x, int y)
+{
+    const fv_eye_view *v = &in->eye[e];
+    double d = g->depth[(size_t)y * W + x], m22 = v->proj.m[2][2], m32 = v->proj.m[3][2];
+    double z = -m32 / (d + m22);
+    double tx = v->tan_left + (x + 0.5) / W * ((double)v->tan_right - v->tan_left);
+    double ty = v->tan_up + (y + 0.5) / H * ((double)v->tan_down - v->tan_up);
+    return fabs(z) * sqrt(tx * tx + ty * ty + 1.0);
+}
+
+/* p with saliency (weight sal) and DoF (fovea_interface.h), in double; the focus pixel is picked with the GPU's
+ * float arithmetic (a discrete choice). */
+static double ref_p_sal_dof(const fv_frame_input *in, int e, const gbuf *g, int x, int y, double u_rad, bool valid,
+                            double sal, bool dof)
+{
+    const fv_eye_view *v = &in->eye[e];
+    const fv_quality_fovea *q = &in->quality.fovea;
+    double uu = (x + 0.5) / W, tt = (y + 0.5) / H;
+    double r[3] = {v->tan_left + uu * ((double)v->tan_right - v->tan_left),
+                   v->tan_up + tt * ((double)v->tan_down - v->tan_up), -1.0};
+    double gd[3] = {0, 0, -1};
+    if (valid) {
+        fv_vec3 d = in->gaze[e].dir_eye;
+        double len = sqrt((double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z);
+        gd[0] = d.x / len, gd[1] = d.y / len, gd[2] = d.z / len;
+    }
+    double c[3] = {r[1] * gd[2] - r[2] * gd[1], r[2] * gd[0] - r[0] * gd[2], r[0] * gd[1] - r[1] * gd[0]};
+    double ecc = atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), r[0] * gd[0] + r[1] * gd[1] + r[2] * gd[2]);
+    double ep = fmax(0.0, ecc - (valid ? u_rad : 15.0 * DEG));
+    double dtx = fabs((double)v->tan_right - v->tan_left) / W, dty = fabs((double)v->tan_down - v->tan_up) / H;
+    double w_px = 2.0 * atan(0.5 * fmin(dtx, dty)) / DEG;
+    double w0 = q->mar_w0_deg, w = q->mar_slope * ep / DEG + w0, w_min = fmax(w0, w_px), w_far = 3.0 * w_px;
+    size_t i = (size_t)y * W + x;
+    bool hit = g->material[i] != 0;
+    double blur = 0;
+    if (dof && in->pupil_mm > 0 && in->pupil_mm <= 20 && valid && gd[2] < 0) {
+        fv_vec3 d = in->gaze[e].dir_eye;
+        float len = sqrtf(d.x * d.x + d.y * d.y + d.z * d.z);
+        float dx = d.x / len, dy = d.y / len, dz = d.z / len;
+        float fu = (dx / -dz - v->tan_left) / (v->tan_right - v->tan_left);
+        float fv = (dy / -dz - v->tan_up) / (v->tan_down - v->tan_up);
+        if (fu >= 0 && fv >= 0 && fu < 1 && fv < 1) {
+            int fx = (int)(fu * W), fy = (int)(fv * H);
+            fx = fx < W - 1 ? fx : W - 1, fy = fy < H - 1 ? fy : H - 1;
+            if (g->material[(size_t)fy * W + fx]) {
+                double df = fmax(dist_of(in, e, g, fx, fy), 1e-3);
+                double inv = hit ? 1.0 / fmax(dist_of(in, e, g, x, y), 1e-3) : 0.0;
+                blur = fmin(in->pupil_mm * 1e-3 * fabs(inv - 1.0 / df) / DEG, 180.0);
+            }
+        }
+    }
+    double pm = 1.0 - (fmax(w, blur) - w_min) / w_far;
+    if (sal > 0) {
+        double sa = 0, sn = 0, lp[3], np[3];
+        lab_of(g->albedo[i], lp);
+        normal_of(g->normal[i], np);
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                int qx = x + dx, qy = y + dy;
+                if ((!dx && !dy) || qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+                size_t k = (size_t)qy * W + qx;
+                bool qhit = g->material[k] != 0;
+                if (qhit != hit) {
+                    sn = 1.0;
+                    continue;
+                }
+                if (!hit) continue;
+                double lq[3], nq[3];
+                lab_of(g->albedo[k], lq);
+                normal_of(g->normal[k], nq);
+                sa = fmax(sa, sqrt((lp[0] - lq[0]) * (lp[0] - lq[0]) + (lp[1] - lq[1]) * (lp[1] - lq[1]) +
+                                   (lp[2] - lq[2]) * (lp[2] - lq[2])));
+                sn = fmax(sn, 1.0 - (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]));
+            }
+        /* a static scene drawn again with the same views: all motion is the head's (none) */
+        double sv = hit ? hypot(g->motion[2 * i] * W, g->motion[2 * i + 1] * H) / 4.0 : 0.0;
+        double sal_s = fmin(1.0, fmax(fmax(sa / 25.0, sn / 0.5), sv));
+        double seen = fmin(1.0, fmax(0.0, 1.0 - (blur - w_min) / w_far));
+        pm = fmax(pm, sal * sal_s * seen);
+    }
+    return fmin(1.0, fmax((double)q->min_prob, pm));
+}
+
+static void saliency_and_dof_match_cpu(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    gbuf *g = malloc(sizeof *g);
+    float *prob = malloc(NPIX * 4);
+    assert_true(g && prob);
+    fv_frame_input in = frame_in();
+    fv_vec3 corner = fv_v3_normalize_or(fv_v3(in.eye[0].tan_left, in.eye[0].tan_up, -1.0f), fv_v3(0, 0, -1));
+    const gaze_case cases[] = {
+        {"left 10 deg", fv_v3_normalize_or(fv_v3(-0.17f, 0.05f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 0.5f},
+        {"centre, no pupil", fv_v3(0, 0, -1), true, 0.0f, 0.5f},
+        {"low right", fv_v3_normalize_or(fv_v3(0.2f, -0.3f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 0.0f},
+        {"image corner", corner, true, 12.0f, 0.0f},
+        {"off-screen", fv_v3_normalize_or(fv_v3(3.0f, -2.0f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 1.0f},
+        {"NaN", fv_v3(NAN, 0, -1), true, 12.0f, 1.0f},
+        {"lost", fv_v3(0, 0, -1), false, 12.0f, 1.0f},
+    };
+    const double sal_w[] = {1.0, 0.5, 0.0};
+    double worst = 0, raised = 0, lowered = 0;
+    /* Then with a telephoto view (tangents x 0.06, 0.07 degrees a pixel), where a 12 mm pupil's defocus blur exceeds
+     * the MAR off the focal plane, as it does at headset resolutions: gazes on the near box and on the back wall. */
+    const gaze_case tele[] = {
+        {"tele centre", fv_v3(0, 0, -1), true, 12.0f, 0.0f},
+        {"tele lower left", fv_v3_normalize_or(fv_v3(-0.03f, -0.03f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 0.0f},
+        {"tele no pupil", fv_v3(0, 0, -1), true, 0.0f, 0.0f},
+    };
+    size_t nc = sizeof cases / sizeof cases[0], nt = sizeof tele / sizeof tele[0];
+    for (size_t k = 0; k < nc + nt; k++)
+        for (int sw = 0; sw < 3; sw++) {
+            const gaze_case *c = k < nc ? &cases[k] : &tele[k - nc];
+            for (int rep = 0; rep < 2; rep++) { /* twice: the second frame's motion is that of the same views */
+                in = frame_in();
+                for (int e = 0; e < 2 && k >= nc; e++) {
+                    fv_eye_view *v = &in.eye[e];
+                    v->tan_left *= 0.06f, v->tan_right *= 0.06f, v->tan_up *= 0.06f, v->tan_down *= 0.06f;
+                    v->proj = fv_mat4_perspective_tan(v->tan_left, v->tan_right, v->tan_up, v->tan_down, v->near_m,
+                                                      v->far_m);
+                }
+                in.pupil_mm = c->pupil_mm;
+                set_gaze(&in, c->dir, c->unc_deg);
+                for (int e = 0; e < 2; e++) in.gaze[e].valid = c->valid;
+                in.quality.fovea.mar_slope = 0.2f;
+                in.quality.fovea.saliency = (float)sal_w[sw];
+                in.quality.fovea.dof = sw != 2 || k % 2 == 0;
+                if (k >= nc) in.quality.fovea.mar_slope = 0.022f;
+                assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            }
+            bool valid = c->valid && isfinite(c->dir.x);
+            for (int e = 0; e < 2; e++) {
+                assert_int_equal(fv_renderer_read_image(g_r, "fovea prob", e, prob, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer depth", e, g->depth, sizeof g->depth, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer normal (oct)", e, g->normal, sizeof g->normal, 4),
+                                 FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer albedo", e, g->albedo, sizeof g->albedo, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer material id", e, g->material, sizeof g->material, 2),
+                                 FV_OK);
+                assert_int_equal(fv_renderer_read_motion(g_r, e, g->motion, NPIX * 2), FV_OK);
+                for (int y = 0; y < H; y++)
+                    for (int x = 0; x < W; x++) {
+                        float got = prob[(size_t)y * W + x];
+                        if (!isfinite(got)) fail_msg("%s eye %d (%d, %d): p %f", c->name, e, x, y, got);
+                        double want = ref_p_sal_dof(&in, e, g, x, y, c->unc_deg * DEG, valid, sal_w[sw],
+                                                    in.quality.fovea.dof);
+                        double plain = ref_p(&in, e, x, y, c->unc_deg * DEG, valid);
+                        raised += want > plain + 1e-3;
+                        lowered += want < plain - 1e-3;
+                        double err = fabs(got - want);
+                        worst = fmax(worst, err);
+                        if (!(err <= P_TOL))
+                            fail_msg("%s, saliency %.1f, dof %d, eye %d (%d, %d): p gpu %.6f cpu %.6f (without: %.6f)",
+                                     c->name, sal_w[sw], in.quality.fovea.dof, e, x, y, got, want, plain);
+                    }
+            }
+        }
+    print_message("saliency + DoF: worst p error %.2e; pixels raised by saliency %.0f, lowered by DoF %.0f\n", worst,
+                  raised, lowered);
+    assert_true(raised > 100 && lowered > 100); /* both terms act on this scene */
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    free(g);
+    free(prob);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -620,6 +832,7 @@ int main(void)
         cmocka_unit_test(fovea_follows_fixed_gazes),
         cmocka_unit_test(foveal_band_equals_full_resolution),
         cmocka_unit_test(temporal_reuse_lowers_periphery_error_and_flicker),
+        cmocka_unit_test(saliency_and_dof_match_cpu),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
