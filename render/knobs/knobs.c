@@ -64,9 +64,9 @@ static const fv_knob g_knobs[] = {
      .doc = "one set of splits for both eyes, fitted to the union of their frusta (off: one set per eye, twice the "
             "shadow draws)"},
     {.name = "fovea.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.enabled),
-     .fast = B(false), .high = B(false), .exact = B(false),
-     .doc = "foveated rendering (off in every preset until temporal reuse keeps the periphery from flickering; "
-            "BENCHMARKS.md): shade a gaze-driven subset of the pixels, reconstruct the rest (off: every pixel shaded)"},
+     .fast = B(true), .high = B(true), .exact = B(false),
+     .doc = "foveated rendering: shade a gaze-driven subset of the pixels, reuse the previous frame's, reconstruct the "
+            "rest (off: every pixel shaded)"},
     {.name = "fovea.mar_slope", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "deg/deg", AT(fovea.mar_slope),
      .fast = F(0.03f), .high = F(0.016f), .exact = F(0.022f),
      .doc = "slope m of the linear minimum angle of resolution w = m e + w0 (e: eccentricity from the gaze)"},
@@ -77,7 +77,7 @@ static const fv_knob g_knobs[] = {
      .fast = F(0.03f), .high = F(0.1f), .exact = F(1.0f),
      .doc = "xi, the smallest sampling probability (the far periphery); 1 samples every pixel"},
     {.name = "fovea.block", .type = FV_KNOB_INT, .min = 2, .max = 16, .unit = "px", AT(fovea.block),
-     .fast = I(4), .high = I(4), .exact = I(2),
+     .fast = I(5), .high = I(4), .exact = I(2),
      .doc = "side of the square blocks that each hold at least one sample (bounds the gap reconstruction fills)"},
     {.name = "fovea.uncertainty", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.uncertainty),
      .fast = B(false), .high = B(true), .exact = B(true),

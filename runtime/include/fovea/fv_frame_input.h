@@ -220,11 +220,11 @@ static inline fv_quality fv_quality_default(void)
                                .filter = FV_SHADOW_FILTER_PCF3,
                                .bias_texels = 1.5f,
                                .stereo_shared = true},
-                    .fovea = {.enabled = false, /* experimental: see the knob fovea.enabled */
+                    .fovea = {.enabled = true, /* BENCHMARKS.md: foveated sparse shading */
                               .mar_slope = 0.022f,
                               .mar_w0_deg = 1.0f / 48.0f,
                               .min_prob = 0.05f,
-                              .block = 4,
+                              .block = 5,
                               .uncertainty = true,
                               .recon = FV_FOVEA_RECON_NEAREST,
                               .compaction = FV_FOVEA_COMPACTION_TILES,
