@@ -102,6 +102,8 @@ static fv_quality quality_sanitized(const fv_quality *q)
     if ((unsigned)f->recon > FV_FOVEA_RECON_LAST) f->recon = d.fovea.recon;
     if ((unsigned)f->compaction > FV_FOVEA_COMPACTION_LAST) f->compaction = d.fovea.compaction;
     if ((unsigned)f->voronoi > FV_FOVEA_VORONOI_LAST) f->voronoi = d.fovea.voronoi;
+    if (f->temporal > 15) f->temporal = d.fovea.temporal;
+    if (!(f->saliency >= 0.0f && f->saliency <= 1.0f)) f->saliency = d.fovea.saliency;
     return o;
 }
 

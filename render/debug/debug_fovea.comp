@@ -1,8 +1,8 @@
 #version 450
 // @brief Debug views of foveation (FV_GPU_DEBUG_VIEW_SAMPLES / _PROB / _VORONOI) over the linear colour (voronoi:
 // each pixel's Voronoi cell, i.e. the sample it was filled from, as a hashed colour; samples white): the sample mask
-// (r = g = 1 where the pixel was shaded; b = 1 on a ring of FV_DEBUG_GAZE_RING_PX around where the predicted gaze
-// pierces the image) or the sampling probability p (grey), from the fovea pass's "fovea mask" / "fovea prob".
+// (r = g = 1 where the pixel was shaded, 0.4 where temporal reuse took it from the history; b = 1 at the point where
+// the predicted gaze pierces the image and on a ring of its uncertainty's radius, FV_DEBUG_GAZE_RING_PX at least) or the sampling probability p (grey), from the fovea pass's "fovea mask" / "fovea prob".
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
@@ -41,7 +41,9 @@ void main()
         vec3 shade = imageLoad(out_color, ivec3(p)).rgb;
         c = s == 0xffffffffu ? vec3(0.0) : self ? vec3(1.0) : mix(cell_colour(s), shade / (1.0 + shade), 0.35);
     } else {
-        float m = imageLoad(mask_img, ivec3(p)).x != 0u ? 1.0 : 0.0;
+        // 1: shaded (white), 2: reused from the history by temporal reuse (grey), 0: reconstructed (black)
+        uint mv = imageLoad(mask_img, ivec3(p)).x;
+        float m = mv == 1u ? 1.0 : mv == 2u ? 0.4 : 0.0;
         vec4 g = frame.gaze_dir[p.z];
         vec3 d = g.w > 0.5 ? g.xyz : vec3(0.0, 0.0, -1.0);
         float ring = 0.0;
@@ -50,7 +52,12 @@ void main()
             vec2 uv = vec2((d.x / -d.z - t.x) / (t.y - t.x), (d.y / -d.z - t.z) / (t.w - t.z));
             vec2 at = uv * vec2(frame.counts.y, frame.counts.z) - 0.5;
             float r = length(vec2(p.xy) - at);
-            ring = abs(r - float(FV_DEBUG_GAZE_RING_PX)) <= 0.75 ? 1.0 : 0.0;
+            // the gaze point, and its uncertainty as a ring (at least FV_DEBUG_GAZE_RING_PX across)
+            vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / vec2(frame.counts.y, frame.counts.z);
+            float u = clamp(frame.gaze_info[p.z].x, 0.0, 1.5);
+            float u_px = g.w > 0.5 ? tan(u) / max(min(dt.x, dt.y), 1e-9) : 0.0;
+            float ring_px = min(max(float(FV_DEBUG_GAZE_RING_PX), u_px), 1e5);
+            ring = abs(r - ring_px) <= 0.75 || r <= 1.5 ? 1.0 : 0.0;
         }
         c = vec3(m, m, ring);
     }

@@ -1,6 +1,7 @@
 /* @brief The foveation passes (see fovea.h). */
 #include "fovea.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #define MOD "fovea"
 
 _Static_assert(sizeof(struct fv_fovea_push) == 32, "fv_fovea_push layout");
+_Static_assert(FV_FOVEA_SRGB_TABLE >= FV_FOVEA_BLOCK_MAX * FV_FOVEA_BLOCK_MAX, "the sRGB table follows the ranks");
 _Static_assert(sizeof(struct fv_compact_push) == 32, "fv_compact_push layout");
 _Static_assert(sizeof(struct fv_recon_push) == 32, "fv_recon_push layout");
 _Static_assert(FV_COMPACT_TILE_SIZE == FV_GPU_LIST_GROUP_SIZE, "masked lists: one list workgroup per tile");
@@ -71,8 +73,7 @@ static void buffers_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAcc
     vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
 }
 
-/* Append one named detail of up to three values when there is room; returns the new count. */
-static uint32_t add_detail(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
+uint32_t fv_fovea_add_detail(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
                            double b, double c)
 {
     if (n >= cap) return n;
@@ -113,9 +114,9 @@ static void fovea_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     if (plan_off(ctx, out)) return;
     const fv_quality_fovea *f = &ctx->quality->fovea;
     snprintf(out->reason, sizeof out->reason,
-             "sampling map from the predicted gaze (MAR %g°/° + %g°, ξ %g, %ux%u blocks%s)", (double)f->mar_slope,
-             (double)f->mar_w0_deg, (double)f->min_prob, f->block, f->block,
-             f->uncertainty ? ", widened by the gaze uncertainty" : "");
+             "sampling map from the predicted gaze (MAR %.4g°/° + %.4g°, ξ %.3g, %ux%u blocks%s%s%s)",
+             (double)f->mar_slope, (double)f->mar_w0_deg, (double)f->min_prob, f->block, f->block,
+             f->uncertainty ? ", +uncertainty" : "", f->saliency > 0.0f ? ", +saliency" : "", f->dof ? ", +DoF" : "");
 }
 
 static void compact_plan(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -163,6 +164,7 @@ typedef struct fovea {
     fv_images *images;
     fv_image_id prob, mask, blocks; /* FV_IMAGE_MAX until made */
     fv_vk_buffer ranks;
+    VkSampler nearest; /* the G-buffer's reads (saliency, DoF) */
     struct fv_fovea_push pc;
 } fovea;
 
@@ -172,6 +174,7 @@ static void fovea_fini(void *state)
     if (!fv) return;
     fv_vk_compute_fini(fv->vk, &fv->cs);
     fv_vk_buffer_destroy(fv->vk, &fv->ranks);
+    if (fv->nearest) vkDestroySampler(fv->vk->device, fv->nearest, NULL);
     /* the scratch images go with the pass (a plan that turns it on again makes new ones); the GPU is idle */
     if (fv->prob != FV_IMAGE_MAX) fv_images_release(fv->images, fv->prob);
     if (fv->mask != FV_IMAGE_MAX) fv_images_release(fv->images, fv->mask);
@@ -202,19 +205,34 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
         res = fv_images_scratch(env->images, &d, &fv->blocks);
     }
     if (res == FV_OK)
-        res = fv_vk_buffer_create(env->vk, (VkDeviceSize)FV_FOVEA_BLOCK_MAX * FV_FOVEA_BLOCK_MAX * 4u,
+        res = fv_vk_buffer_create(env->vk, (VkDeviceSize)(FV_FOVEA_SRGB_TABLE + 256u) * 4u,
                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_UPLOAD, "fovea block ranks",
                                   &fv->ranks);
     if (res == FV_OK) {
         fv_fovea_block_ranks(fv->block, fv->ranks.mapped);
+        float *srgb = (float *)fv->ranks.mapped + FV_FOVEA_SRGB_TABLE; /* the IEC 61966-2-1 decode, in double */
+        for (int i = 0; i < 256; i++) {
+            double c = i / 255.0;
+            srgb[i] = (float)(c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4));
+        }
         res = fv_vk_buffer_flush(env->vk, &fv->ranks);
     }
+    const fv_vk_image *motion;
+    if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MOTION, &motion);
+    if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "fovea nearest sampler", &fv->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
+    VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     VkDescriptorSetLayoutBinding b[FV_FOVEA_BINDING_COUNT] = {
         {FV_FOVEA_BINDING_PROB, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
         {FV_FOVEA_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
         {FV_FOVEA_BINDING_RANKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
         {FV_FOVEA_BINDING_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+        {FV_FOVEA_BINDING_DEPTH, cis, 1, cs, NULL},
+        {FV_FOVEA_BINDING_DEPTH + 1, cis, 1, cs, NULL},
+        {FV_FOVEA_BINDING_DEPTH + 2, cis, 1, cs, NULL},
+        {FV_FOVEA_BINDING_DEPTH + 3, cis, 1, cs, NULL},
+        {FV_FOVEA_BINDING_MOTION, cis, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
@@ -232,6 +250,9 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
                            0, VK_WHOLE_SIZE);
         fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                           fv_images_image(env->images, fv->blocks)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_images_bind_gbuffer(env->images, set, FV_FOVEA_BINDING_DEPTH, fv->nearest);
+        fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_MOTION, cis, motion->view, fv->nearest,
+                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     }
     if (res != FV_OK) {
         FV_ERROR(MOD, "sampling-map pass could not be created: %s", fv_result_str(res));
@@ -248,9 +269,11 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     VkCommandBuffer cmd = f->cmd;
     if (!f->samples) return; /* only whole frames make a sample list */
     const fv_quality_fovea *q = &f->input->quality.fovea;
-    fv->pc = (struct fv_fovea_push){.block = fv->block, .flags = q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u,
-                                    .mar_slope = q->mar_slope, .mar_w0_deg = q->mar_w0_deg,
-                                    .min_prob = q->min_prob, .block_words = block_words(fv->block)};
+    uint32_t flags = (q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u) | (q->dof ? FV_FOVEA_FLAG_DOF : 0u) |
+                     (q->saliency > 0.0f ? FV_FOVEA_FLAG_SALIENCY : 0u);
+    fv->pc = (struct fv_fovea_push){.block = fv->block, .flags = flags, .mar_slope = q->mar_slope,
+                                    .mar_w0_deg = q->mar_w0_deg, .min_prob = q->min_prob,
+                                    .block_words = block_words(fv->block), .saliency = q->saliency};
     fv_vk_label_begin(fv->vk, cmd, "fovea (sampling map)");
     /* the block masks start empty; the map ORs each sample's bit in */
     fv_images_use(f->images, cmd, fv->blocks,
@@ -262,6 +285,9 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     /* the previous frame's compaction and debug views read the mask and the probability: the table orders it */
     fv_images_use(f->images, cmd, fv->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
     fv_images_use(f->images, cmd, fv->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
+    fv_images_use_gbuffer(f->images, cmd, CS);
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_vk_compute_bind(&fv->cs, cmd, 0, &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
                   (fv->height + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP, 2);
@@ -272,7 +298,7 @@ static void fovea_record(void *state, const fv_pass_frame *f)
 static uint32_t fovea_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     fovea *fv = state;
-    return add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope, fv->pc.min_prob);
+    return fv_fovea_add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope, fv->pc.min_prob);
 }
 
 const fv_pass fv_fovea_pass = {
@@ -458,10 +484,10 @@ static uint32_t compact_details(void *state, fv_pass_detail *out, uint32_t cap)
     uint32_t n = 0;
     double per_eye = (double)c->width * c->height, s0 = (double)c->last_samples[0], s1 = (double)c->last_samples[1];
     if (c->have_last) {
-        n = add_detail(out, n, cap, "sampled_fraction", 2, s0 / per_eye, s1 / per_eye, 0);
-        n = add_detail(out, n, cap, "samples", 2, s0, s1, 0);
+        n = fv_fovea_add_detail(out, n, cap, "sampled_fraction", 2, s0 / per_eye, s1 / per_eye, 0);
+        n = fv_fovea_add_detail(out, n, cap, "samples", 2, s0, s1, 0);
     }
-    return add_detail(out, n, cap, "compaction_mode", 1, c->mode, 0, 0);
+    return fv_fovea_add_detail(out, n, cap, "compaction_mode", 1, c->mode, 0, 0);
 }
 
 const fv_pass fv_compact_pass = {
@@ -641,9 +667,9 @@ static uint32_t recon_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     recon *rc = state;
     /* final seeds: 0 a, 1 b, FV_RECON_SRC_SEARCH none (the "fovea voronoi" image always holds the result) */
-    uint32_t n = add_detail(out, 0, cap, "jfa_steps_final_seeds_method", 3, rc->last_steps, rc->last_final,
+    uint32_t n = fv_fovea_add_detail(out, 0, cap, "jfa_steps_final_seeds_method", 3, rc->last_steps, rc->last_final,
                             rc->last_method);
-    if (rc->have_stage_ms) n = add_detail(out, n, cap, "stage_gpu_ms_voronoi_fill", 2, rc->stage_ms[0], rc->stage_ms[1], 0);
+    if (rc->have_stage_ms) n = fv_fovea_add_detail(out, n, cap, "stage_gpu_ms_voronoi_fill", 2, rc->stage_ms[0], rc->stage_ms[1], 0);
     return n;
 }
 

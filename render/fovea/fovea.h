@@ -15,6 +15,19 @@
 extern const fv_pass fv_fovea_pass;
 extern const fv_pass fv_compact_pass;
 extern const fv_pass fv_reconstruct_pass;
+/** "temporal", between shade and reconstruct (fovea.temporal > 0): the previous frame's known pixels reprojected
+ *  through the motion vectors (the paper's depth test), blended into the shaded pixels and reused for unshaded
+ *  ones, which reconstruction then takes as samples; the history is the renderer's (fv_images_history). */
+extern const fv_pass fv_temporal_pass;
+
+/** Append one named detail of up to three values when there is room; returns the new count. */
+uint32_t fv_fovea_add_detail(fv_pass_detail *out, uint32_t n, uint32_t cap, const char *key, uint32_t count, double a,
+                             double b, double c);
+
+/** Whether the head jumped between two frames of one eye (view matrices and eye positions): moved more than
+ *  FV_TEMPORAL_JUMP_M or turned more than FV_TEMPORAL_JUMP_DEG, or anything non-finite. The history resets. */
+bool fv_fovea_head_jumped(const fv_mat4 *prev_view, const fv_vec3 *prev_eye, const fv_mat4 *view,
+                          const fv_vec3 *eye);
 
 /** The R2 value of pixel (x, y) of a block, as the GPU computes it (float). */
 double fv_fovea_r2(uint32_t x, uint32_t y);

@@ -16,11 +16,15 @@
 #define FV_FOVEA_SET 1
 #define FV_FOVEA_BINDING_PROB 0  /* image2DArray r32f: sampling probability p per pixel (written) */
 #define FV_FOVEA_BINDING_MASK 1  /* uimage2DArray r32ui: 1 = shade this pixel, 0 = reconstruct it (written) */
-#define FV_FOVEA_BINDING_RANKS 2 /* storage uint[B * B]: rank of each pixel of a block in the R2 order (no turn) */
+#define FV_FOVEA_BINDING_RANKS 2 /* storage uint[B * B]: rank of each pixel of a block in the R2 order (no turn);
+                                  * from FV_FOVEA_SRGB_TABLE on, 256 floats (as bits): 8-bit sRGB -> linear */
+#define FV_FOVEA_SRGB_TABLE 256u
 #define FV_FOVEA_BINDING_BLOCKS 3 /* uimage2DArray r32ui, (blocks_x * words) x blocks_y: each block's samples as
                                    * bits (bit k = its pixel k, row-major, B as the row length), cleared, then
                                    * OR-ed in (atomics) */
-#define FV_FOVEA_BINDING_COUNT 4
+#define FV_FOVEA_BINDING_DEPTH 4  /* G-buffer depth, normal, albedo, material: combined samplers 4..7 (saliency, DoF) */
+#define FV_FOVEA_BINDING_MOTION 8 /* sampler2DArray: the G-buffer's motion (current uv - previous uv) */
+#define FV_FOVEA_BINDING_COUNT 9
 #define FV_FOVEA_BLOCK_WORDS_MAX 8u /* ceil(16 * 16 / 32) */
 #define FV_FOVEA_GROUP 8 /* 8 x 8 pixels per workgroup, z = the eye */
 #define FV_FOVEA_BLOCK_MAX 16u
@@ -30,6 +34,22 @@
 #define FV_FOVEA_LOST_WIDEN_RAD 0.2617993877991494 /* 15 degrees */
 
 #define FV_FOVEA_FLAG_UNCERTAINTY 1u /* e' = max(0, e - u) */
+#define FV_FOVEA_FLAG_SALIENCY 2u    /* p = max(p, saliency S) (fovea.saliency > 0) */
+#define FV_FOVEA_FLAG_DOF 4u         /* the eye's defocus blur widens the MAR (fovea.dof) */
+
+/* Saliency S = max(S_albedo, S_normal, S_motion) in [0, 1] (papers/README.md section 3), each over the 8
+ * neighbours: S_albedo = max CIELAB (D65) Delta E*ab of the linear albedo / FV_FOVEA_SAL_DELTA_E; S_normal = max
+ * (1 - n.n') / FV_FOVEA_SAL_NORMAL, 1 where a neighbour is on the other side of a silhouette (drawn / not drawn);
+ * S_motion = the object's own motion (the G-buffer's motion less what the head's motion alone makes of the pixel's
+ * point), px per frame / FV_FOVEA_SAL_MOTION_PX; each clamped to 1. */
+#define FV_FOVEA_SAL_DELTA_E 25.0
+#define FV_FOVEA_SAL_NORMAL 0.5
+#define FV_FOVEA_SAL_MOTION_PX 4.0
+/* Depth of field: an eye of pupil A focused at d_f (the surface at the gaze) blurs a point at d over the angle
+ * c = A |1/d - 1/d_f| (radians; 1/d = 0 where nothing is drawn); it resolves no finer than that, so w' = max(w, c)
+ * and the saliency term is scaled by clamp(1 - (c - w_min) / w_far, 0, 1). No pupil (0), no valid gaze, or a gaze
+ * off the image or on nothing drawn: no DoF. Distances below FV_FOVEA_DOF_MIN_M count as that. */
+#define FV_FOVEA_DOF_MIN_M 1e-3
 
 /* p = clamp(1 - (w - w_min) / w_far, xi, 1), w = m e' + w0 (degrees): w_min = max(w0, w_px), the display's
  * smallest resolvable angle (p = 1 while the eye resolves a pixel), and w_far = (FV_FOVEA_FAR_PX - 1) w_px, so p
@@ -43,7 +63,8 @@ struct fv_fovea_push {
     float mar_w0_deg;       /* fovea.mar_w0_deg */
     float min_prob;         /* fovea.min_prob (xi) */
     FV_FOVEA_UINT block_words; /* ceil(B * B / 32): words per block in the block masks */
-    FV_FOVEA_UINT pad[2];
+    float saliency;         /* fovea.saliency: the weight of S (FV_FOVEA_FLAG_SALIENCY) */
+    FV_FOVEA_UINT pad;
 };
 
 /* ---- "compact": the sample mask as the frame sample list (compact.comp) ---- */
@@ -123,6 +144,54 @@ struct fv_recon_push {
     FV_FOVEA_UINT block_words;
     FV_FOVEA_UINT reach;  /* blocks: how many blocks around a pixel's own can hold its nearest sample (1: B <= 5) */
     FV_FOVEA_UINT pad;
+};
+
+
+/* ---- "temporal": reprojection of the previous frame's known pixels (temporal.comp) ---- */
+/* The history (the renderer's FV_IMAGE_HISTORY_A/B ping-pong, fv_images_history) holds, per pixel of the frame it
+ * was written in, rgb = the pixel's known radiance (shaded, blended with history, or reused from history) and
+ * a = the distance from that frame's eye to the surface (metres, FV_TEMPORAL_SKY where nothing was drawn) whose 4
+ * lowest mantissa bits hold the frames since the pixel was last shaded (its age, 0..15); a = 0: nothing known
+ * (a pixel reconstruction filled, or no history). */
+#define FV_TEMPORAL_SET 1
+#define FV_TEMPORAL_BINDING_DEPTH 0    /* G-buffer depth, normal, albedo, material: combined samplers 0..3 */
+#define FV_TEMPORAL_BINDING_MOTION 4   /* sampler2DArray: the G-buffer's motion (current uv - previous uv) */
+#define FV_TEMPORAL_BINDING_MASK 5     /* uimage2DArray r32ui "fovea mask": 1 shaded; written 2 = reused here */
+#define FV_TEMPORAL_BINDING_BLOCKS 6   /* uimage2DArray r32ui "fovea blocks": reused pixels' bits OR-ed in */
+#define FV_TEMPORAL_BINDING_COLOR 7    /* image2DArray rgba32f: linear colour */
+#define FV_TEMPORAL_BINDING_PREV 8     /* image2DArray rgba32f: history of the previous frame (read) */
+#define FV_TEMPORAL_BINDING_CUR 9      /* image2DArray rgba32f: this frame's history (written) */
+#define FV_TEMPORAL_BINDING_STATS 10   /* storage uint[4 per frame slot]: hits eye 0, 1, reused eye 0, 1 */
+#define FV_TEMPORAL_BINDING_COUNT 11
+#define FV_TEMPORAL_GROUP 8
+
+
+#define FV_TEMPORAL_MASK_REUSED 2u  /* a "fovea mask" value: not shaded, taken from the history */
+#define FV_TEMPORAL_AGE_BITS 4u
+#define FV_TEMPORAL_AGE_MAX 15u
+#define FV_TEMPORAL_SKY 1.0e30      /* the history distance of a pixel where nothing was drawn */
+/* The paper's cache test, |d_{t-1}(reprojected) - |pos_t - eye_{t-1}|| < eps, with eps relative to the distance
+ * plus what the surface's slope makes one pixel's footprint vary over the bilinear tap's offset. */
+#define FV_TEMPORAL_DEPTH_EPS 0.01
+#define FV_TEMPORAL_SLOPE_TAN_MAX 8.0
+/* A sampled pixel with a history hit: radiance = mix(history clamped to shaded * (1 +- CLAMP_REL) +- CLAMP_ABS,
+ * shaded, this weight). */
+#define FV_TEMPORAL_SAMPLE_WEIGHT 0.5
+#define FV_TEMPORAL_CLAMP_REL 0.1
+#define FV_TEMPORAL_CLAMP_ABS 0.001
+/* A head jump between two frames that resets the history (faster than a head turns or moves within a frame). */
+#define FV_TEMPORAL_JUMP_DEG 20.0
+#define FV_TEMPORAL_JUMP_M 0.25
+
+#define FV_TEMPORAL_FLAG_HISTORY 1u /* the previous frame's history is valid (else: every pixel misses) */
+struct fv_temporal_push {
+    float prev_eye[2][4];        /* the previous frame's eye positions, world metres (xyz) */
+    FV_FOVEA_UINT flags;         /* FV_TEMPORAL_FLAG_* */
+    FV_FOVEA_UINT max_age;       /* fovea.temporal: frames a pixel may be reused since it was last shaded */
+    FV_FOVEA_UINT stats_base;    /* this slot's first stats word */
+    FV_FOVEA_UINT block;         /* B, px */
+    FV_FOVEA_UINT block_words;
+    FV_FOVEA_UINT pad[3];
 };
 
 #endif

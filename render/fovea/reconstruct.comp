@@ -33,6 +33,30 @@ uint dist2(uint s, ivec2 p)
 // Every sample of the blocks within pc.reach blocks of p's own: the nearest (ties: the smaller packed seed) and,
 // with `idw`, the sums of Shepard weights (1 - d / r)^2 / d^2 (r = the radius the neighbourhood always covers, so a
 // sample's weight is 0 before it leaves the neighbourhood: no seams at block edges) and weighted colours.
+// The block masks around this workgroup's 8x8 pixels (and pc.reach blocks beyond), loaded once per workgroup:
+// a pixel's gather reads up to 25 blocks, and storage-image loads are the cost on some devices (lavapipe).
+const int TILE_BLOCKS = FV_RECON_GROUP / 2 + 2 + 2 * 2; // per side: B >= 2, reach <= 2, plus misalignment
+shared uint sh_blocks[TILE_BLOCKS * TILE_BLOCKS * int(FV_FOVEA_BLOCK_WORDS_MAX)];
+shared ivec2 sh_origin; // the tile's first block
+
+void load_block_tile(ivec2 size, int layer)
+{
+    int B = int(pc.block), R = int(pc.reach), words = int(pc.block_words);
+    ivec2 nb = (size + B - 1) / B;
+    ivec2 first = ivec2(gl_WorkGroupID.xy) * FV_RECON_GROUP / B - R;
+    ivec2 last = (ivec2(gl_WorkGroupID.xy) * FV_RECON_GROUP + FV_RECON_GROUP - 1) / B + R;
+    ivec2 n = last - first + 1;
+    int total = n.x * n.y * words;
+    for (int i = int(gl_LocalInvocationIndex); i < total; i += FV_RECON_GROUP * FV_RECON_GROUP) {
+        int w = i % words, bi = i / words;
+        ivec2 bb = first + ivec2(bi % n.x, bi / n.x);
+        bool in_image = all(greaterThanEqual(bb, ivec2(0))) && all(lessThan(bb, nb));
+        uint v = in_image ? imageLoad(blocks_img, ivec3(bb.x * words + w, bb.y, layer)).x : 0u;
+        sh_blocks[((bb.y - first.y) * TILE_BLOCKS + (bb.x - first.x)) * words + w] = v;
+    }
+    if (gl_LocalInvocationIndex == 0u) sh_origin = first;
+}
+
 void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout vec3 sum, inout float wsum)
 {
     int B = int(pc.block), R = int(pc.reach), words = int(pc.block_words);
@@ -41,7 +65,7 @@ void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout
     for (int by = max(b.y - R, 0); by <= min(b.y + R, nb.y - 1); by++)
         for (int bx = max(b.x - R, 0); bx <= min(b.x + R, nb.x - 1); bx++)
             for (int w = 0; w < words; w++) {
-                uint bits = imageLoad(blocks_img, ivec3(bx * words + w, by, p.z)).x;
+                uint bits = sh_blocks[((by - sh_origin.y) * TILE_BLOCKS + (bx - sh_origin.x)) * words + w];
                 while (bits != 0u) {
                     int k = w * 32 + findLSB(bits);
                     bits &= bits - 1u;
@@ -66,6 +90,13 @@ void main()
 {
     ivec3 p = ivec3(gl_GlobalInvocationID);
     ivec2 size = ivec2(frame.counts.y, frame.counts.z);
+    // the stages that gather load the workgroup's block masks first (every invocation reaches the barrier)
+    bool gathers = STAGE == FV_RECON_STAGE_BLOCKS ||
+                   (STAGE == FV_RECON_STAGE_RESOLVE && (pc.method == FV_RECON_METHOD_IDW || pc.src == FV_RECON_SRC_SEARCH));
+    if (gathers) {
+        load_block_tile(size, p.z);
+        barrier();
+    }
     if (p.x >= size.x || p.y >= size.y || p.z > 1) return;
     if (STAGE == FV_RECON_STAGE_INIT) {
         bool s = imageLoad(mask_img, p).x != 0u;

@@ -65,9 +65,9 @@ static const fv_knob g_knobs[] = {
      .doc = "one set of splits for both eyes, fitted to the union of their frusta (off: one set per eye, twice the "
             "shadow draws)"},
     {.name = "fovea.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.enabled),
-     .fast = B(false), .high = B(false), .exact = B(false),
-     .doc = "foveated rendering (off in every preset until temporal reuse keeps the periphery from flickering; "
-            "BENCHMARKS.md): shade a gaze-driven subset of the pixels, reconstruct the rest (off: every pixel shaded)"},
+     .fast = B(true), .high = B(true), .exact = B(false),
+     .doc = "foveated rendering: shade a gaze-driven subset of the pixels, reuse the previous frame's, reconstruct the "
+            "rest (off: every pixel shaded)"},
     {.name = "fovea.mar_slope", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "deg/deg", AT(fovea.mar_slope),
      .fast = F(0.03f), .high = F(0.016f), .exact = F(0.022f),
      .doc = "slope m of the linear minimum angle of resolution w = m e + w0 (e: eccentricity from the gaze)"},
@@ -78,7 +78,7 @@ static const fv_knob g_knobs[] = {
      .fast = F(0.03f), .high = F(0.1f), .exact = F(1.0f),
      .doc = "xi, the smallest sampling probability (the far periphery); 1 samples every pixel"},
     {.name = "fovea.block", .type = FV_KNOB_INT, .min = 2, .max = 16, .unit = "px", AT(fovea.block),
-     .fast = I(4), .high = I(4), .exact = I(2),
+     .fast = I(5), .high = I(4), .exact = I(2),
      .doc = "side of the square blocks that each hold at least one sample (bounds the gap reconstruction fills)"},
     {.name = "fovea.uncertainty", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.uncertainty),
      .fast = B(false), .high = B(true), .exact = B(true),
@@ -99,6 +99,19 @@ static const fv_knob g_knobs[] = {
      .high = I(FV_FOVEA_COMPACTION_TILES), .exact = I(FV_FOVEA_COMPACTION_TILES),
      .doc = "how the samples become the shading's list: tiles (8x8 tiles, one atomic each), rows (the paper's "
             "row-wise CSR reorder), masked (a full dispatch that skips unsampled pixels)"},
+    {.name = "fovea.temporal", .type = FV_KNOB_INT, .min = 0, .max = 15, .unit = "frames", AT(fovea.temporal),
+     .fast = I(12), .high = I(4), .exact = I(0),
+     .doc = "temporal reuse: the previous frame reprojected through the motion vectors (depth test), blended into "
+            "shaded pixels and reused for unshaded ones until they are this many frames older than their last "
+            "shading (0: none)"},
+    {.name = "fovea.saliency", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(fovea.saliency),
+     .fast = F(0.0f), .high = F(0.5f), .exact = F(0.0f),
+     .doc = "weight of the saliency (CIELAB albedo gradient, normal gradient, object motion) that raises the "
+            "sampling probability at edges and moving objects (0: off)"},
+    {.name = "fovea.dof", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.dof),
+     .fast = B(true), .high = B(true), .exact = B(false),
+     .doc = "depth of field: the eye's defocus blur (pupil diameter, focus at the surface under the gaze) widens "
+            "the minimum angle of resolution off the focal plane; no pupil from the tracker: no effect"},
     /* distort.*: the HMD lens (render/distort, the hidden-area mask in render/gbuffer). Not speed/accuracy trades of
      * the image but what the panel needs: on in every preset, exact included (an undistorted frame on an HMD panel
      * is wrong, not more exact; the mask removes only pixels no one can see). They act only with an HMD lens. */

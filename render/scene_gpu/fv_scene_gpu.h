@@ -54,6 +54,7 @@ typedef struct fv_scene_gpu {
     /* per frame in flight: frame block | lights | draw records, at the device's offset alignment */
     fv_vk_buffer upload[FV_MAX_FRAMES_IN_FLIGHT];
     VkDeviceSize lights_offset, draws_offset, upload_size;
+    uint64_t load_count; /* scenes loaded so far: a pass that keeps history across frames resets when it changes */
 } fv_scene_gpu;
 
 /** Layouts, sampler, white texture and the per-slot sets (bound to nothing until a scene is loaded). sg is zeroed

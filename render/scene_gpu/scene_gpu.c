@@ -370,6 +370,7 @@ fv_result fv_scene_gpu_load(fv_scene_gpu *sg, const fv_scene *scene)
         return res;
     }
     sg->loaded = true;
+    sg->load_count++;
     return FV_OK;
 }
 

@@ -26,6 +26,7 @@ static uint64_t g_frame = 1;
 static fv_quality gi_quality(uint32_t rsm, fv_gi_mode mode, fv_gi_limit limit)
 {
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.gi.enabled = true;
     q.gi.rsm_size = rsm;
     q.gi.mode = mode;
@@ -384,6 +385,7 @@ static void floor_tint(const fv_quality *q, float ny, double *out_left, double *
     draw(q, 0, img);
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, NULL, 1, 0.0, &in), FV_OK);
+    in.quality.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     fv_mat4 vp = fv_mat4_mul(&in.eye[0].proj, &in.eye[0].view), inv;
     assert_true(fv_mat4_invert(&vp, &inv));
     double sum[2][2] = {{0, 0}, {0, 0}};

@@ -92,6 +92,7 @@ static uint8_t *run_pass(const fv_lens *lens, const fv_hmd_fov fov[2])
     fv_frame_input in;
     memset(&in, 0, sizeof in);
     in.quality = fv_quality_default();
+    in.quality.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     in.quality.distort.lens = *lens;
     for (int e = 0; e < 2; e++) {
         /* as fv_eye_views_build_fov writes them: signed, left and down negative */

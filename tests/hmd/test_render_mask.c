@@ -37,6 +37,7 @@ static void draw(const fv_quality *q, const fv_hmd_profile *p, frame_out *out)
     assert_int_equal(fv_renderer_set_quality(g_r, q), FV_OK);
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, &g_scene->head, 0, 0.0, &in), FV_OK);
+    in.quality.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     float fov[8];
     for (int e = 0; e < 2; e++) {
         fov[4 * e + 0] = p->fov[e].tan_left;
@@ -88,6 +89,7 @@ static void mask_hides_only_unseen_pixels_and_changes_nothing_shown(void **state
     for (int n = 0; n < 2; n++) {
         fv_hmd_profile p = profile(names[n]);
         fv_quality q = fv_quality_default();
+        q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
         q.distort.lens = p.lens;
         frame_out on, off;
         draw(&q, &p, &on);
@@ -137,6 +139,7 @@ static void distortion_off_or_no_lens_is_the_undistorted_image(void **state)
     load_cornell();
     fv_hmd_profile p = profile("generic");
     fv_quality q = fv_quality_default(); /* no lens */
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     frame_out plain, off, on;
     draw(&q, &p, &plain);
     assert_false(fv_frame_plan_find(fv_renderer_plan(g_r), "distort")->enabled);

@@ -121,6 +121,7 @@ fv_frame_input rt_views(const fv_head *head, uint32_t w, uint32_t h)
 {
     fv_frame_input in;
     fv_frame_input_from_head(head, 0.1f, 10.0f, w, h, 0, 0.0, &in);
+    in.quality.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     return in;
 }
 
@@ -131,6 +132,7 @@ fv_frame_input rt_views_auto(const fv_scene *s, uint32_t w, uint32_t h)
     if (fv_scene_world_bounds(s, 0.0, &lo, &hi)) fv_frame_near_far_from_bounds(&s->head, lo, hi, &n, &f);
     fv_frame_input in;
     fv_frame_input_from_head(&s->head, n, f, w, h, 0, 0.0, &in);
+    in.quality.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     return in;
 }
 

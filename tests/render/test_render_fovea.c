@@ -70,6 +70,8 @@ static fv_frame_input frame_in(void)
     fv_frame_input in;
     assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame_id++, 0.0, &in), FV_OK);
     in.quality.fovea.enabled = true;
+    in.quality.fovea.saliency = 0.0f; /* the plain MAR map unless a test asks (its own test below) */
+    in.quality.fovea.dof = false;
     return in;
 }
 
@@ -151,7 +153,7 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
                     if (err > worst) worst = err;
                     if (!(err <= P_TOL)) fail_msg("%s eye %d (%d, %d): p gpu %.6f cpu %.6f", c->name, e, x, y, got, want);
                     sum_p += want;
-                    count += mask[(size_t)y * W + x] != 0;
+                    count += mask[(size_t)y * W + x] == 1; /* shaded (2: reused from history) */
                 }
             uint32_t B = in.quality.fovea.block, blocks = 0;
             double expect = 0; /* per block: its sum of p, but one sample at least */
@@ -161,7 +163,7 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
                     double bp = 0;
                     for (uint32_t y = by; y < by + B && y < H; y++)
                         for (uint32_t x = bx; x < bx + B && x < W; x++) {
-                            n += mask[(size_t)y * W + x] != 0;
+                            n += mask[(size_t)y * W + x] == 1;
                             bp += ref_p(&in, e, (int)x, (int)y, c->unc_deg * DEG, valid);
                         }
                     if (n < 1) fail_msg("%s eye %d: block (%u, %u) holds no sample", c->name, e, bx, by);
@@ -267,6 +269,7 @@ static void compaction_orders_shade_the_same_image(void **state)
         set_gaze(&in, fv_v3_normalize_or(fv_v3(-0.2f, 0.1f, -1.0f), fv_v3(0, 0, -1)), 1.0f);
         in.quality.fovea.mar_slope = 0.2f;
         in.quality.fovea.compaction = (fv_fovea_compaction)m;
+        in.quality.fovea.temporal = 0; /* the same known pixels each time: no history */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         assert_int_equal(fv_renderer_finish(g_r), FV_OK);
         for (int e = 0; e < 2; e++) {
@@ -274,7 +277,7 @@ static void compaction_orders_shade_the_same_image(void **state)
             assert_int_equal(fv_renderer_read_linear(g_r, e, img[m][e], NPIX * 4), FV_OK);
             if (m == 0) {
                 assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
-                for (size_t i = 0; i < NPIX; i++) samples += mask[i] != 0;
+                for (size_t i = 0; i < NPIX; i++) samples += mask[i] == 1;
             }
         }
         fv_render_stats st;
@@ -404,13 +407,13 @@ static void fovea_follows_fixed_gazes(void **state)
             double best = -1;
             for (int x = 0; x < W; x++) {
                 double n = 0;
-                for (int y = 0; y < H; y++) n += mask[(size_t)y * W + x] != 0;
+                for (int y = 0; y < H; y++) n += mask[(size_t)y * W + x] == 1; /* shaded, not reused */
                 if (n > best) best = n, best_col = x;
             }
             double at = 0, mirror = 0, na = 0, nm = 0, mx = W - gx;
             for (int y = 0; y < H; y++)
                 for (int x = 0; x < W; x++) {
-                    bool m = mask[(size_t)y * W + x] != 0;
+                    bool m = mask[(size_t)y * W + x] == 1;
                     if (hypot(x + 0.5 - gx, y + 0.5 - gy) < 10) at += m, na++;
                     if (hypot(x + 0.5 - mx, y + 0.5 - gy) < 10) mirror += m, nm++;
                 }
@@ -478,6 +481,348 @@ static void foveal_band_equals_full_resolution(void **state)
     fv_scene_destroy(&s);
 }
 
+/* A moving head (yaw 0.5 degrees and 3 mm sideways per frame) and a gaze held at the centre: with temporal reuse
+ * (fovea.temporal=8) the periphery (> 5 degrees from the gaze) is closer to full-resolution shading of the same
+ * frames, and its error flickers less from frame to frame, than without (fovea.temporal=0); the pass reports its
+ * cache hits, and a head jump and a scene load reset the history. */
+#define T_FRAMES 10
+#define T_SKIP 3 /* frames before the history has filled */
+static fv_head head_at(const fv_scene *s, int k, double yaw_deg)
+{
+    fv_head h = s->head;
+    h.orientation = fv_quat_normalize(
+        fv_quat_mul(h.orientation, fv_quat_axis_angle(fv_v3(0, 1, 0), (float)(yaw_deg * k * DEG))));
+    h.position_m = fv_v3_add(h.position_m, fv_quat_rotate(s->head.orientation, fv_v3(0.003f * (float)k, 0, 0)));
+    return h;
+}
+
+static void temporal_reuse_lowers_periphery_error_and_flicker(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    enum { FULL = 0, NO_REUSE = 1, REUSE = 2 };
+    float *img[3][T_FRAMES][2];
+    float *ecc = malloc(NPIX * 4);
+    assert_non_null(ecc);
+    fv_vec3 gaze = fv_v3(0, 0, -1);
+    double hits = 0, reused = 0;
+    for (int mode = 0; mode < 3; mode++)
+        for (int k = 0; k < T_FRAMES; k++) {
+            fv_head h = head_at(s, k, 0.5);
+            fv_frame_input in;
+            assert_int_equal(fv_renderer_frame_input(g_r, &h, g_frame_id++, 0.0, &in), FV_OK);
+            in.quality.fovea.enabled = mode != FULL;
+            in.quality.fovea.mar_slope = 0.2f;
+            in.quality.fovea.temporal = mode == REUSE ? 8u : 0u;
+            set_gaze(&in, gaze, 0.5f);
+            assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+            for (int e = 0; e < 2; e++) {
+                img[mode][k][e] = malloc(NPIX * 16);
+                assert_non_null(img[mode][k][e]);
+                assert_int_equal(fv_renderer_read_linear(g_r, e, img[mode][k][e], NPIX * 4), FV_OK);
+                for (size_t i = 0; i < NPIX * 4; i++) assert_true(isfinite(img[mode][k][e][i]));
+            }
+            if (mode == REUSE && k == T_FRAMES - 1) {
+                /* the counts of a frame are read when its slot comes round: draw the last pose again */
+                for (int again = 0; again < 3; again++) {
+                    in.frame_id = g_frame_id++;
+                    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+                }
+                fv_pass_detail d[4];
+                uint32_t nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+                for (uint32_t i = 0; i < nd; i++) {
+                    if (strcmp(d[i].key, "cache_hit_fraction") == 0) hits = d[i].value[0];
+                    if (strcmp(d[i].key, "reused_fraction") == 0) reused = d[i].value[0];
+                }
+            }
+        }
+    double mse[3] = {0}, flicker[3] = {0}, n = 0, nf = 0;
+    for (int e = 0; e < 2; e++) {
+        fv_frame_input in0;
+        fv_head h0 = head_at(s, 0, 0.5);
+        assert_int_equal(fv_renderer_frame_input(g_r, &h0, 1, 0.0, &in0), FV_OK);
+        fv_metrics_eccentricity_deg(&in0.eye[e], gaze, W, H, ecc, W); /* the gaze is fixed in the eye */
+        for (int k = T_SKIP; k < T_FRAMES; k++)
+            for (size_t i = 0; i < NPIX; i++) {
+                if (!(ecc[i] > 5.0f)) continue;
+                for (int c = 0; c < 3; c++) {
+                    double full = fv_metrics_linear_to_srgb(img[FULL][k][e][i * 4 + c]);
+                    double full_prev = fv_metrics_linear_to_srgb(img[FULL][k - 1][e][i * 4 + c]);
+                    for (int m = NO_REUSE; m <= REUSE; m++) {
+                        double err = fv_metrics_linear_to_srgb(img[m][k][e][i * 4 + c]) - full;
+                        double err_prev = fv_metrics_linear_to_srgb(img[m][k - 1][e][i * 4 + c]) - full_prev;
+                        mse[m] += err * err;
+                        flicker[m] += (err - err_prev) * (err - err_prev);
+                    }
+                    n++;
+                    nf++;
+                }
+            }
+    }
+    for (int m = NO_REUSE; m <= REUSE; m++) mse[m] /= n, flicker[m] /= nf;
+    print_message("moving head, periphery (> 5 deg): PSNR %.2f dB without reuse, %.2f dB with; flicker (mean squared "
+                  "frame-to-frame change of the error) %.3e without, %.3e with; cache hits %.1f%%, reused %.1f%% of "
+                  "eye 0's pixels\n",
+                  fv_metrics_psnr_db(mse[NO_REUSE]), fv_metrics_psnr_db(mse[REUSE]), flicker[NO_REUSE],
+                  flicker[REUSE], 100.0 * hits, 100.0 * reused);
+    assert_true(mse[REUSE] < mse[NO_REUSE]);
+    assert_true(flicker[REUSE] < flicker[NO_REUSE]);
+    assert_true(hits > 0.2 && hits <= 1.0);
+    assert_true(reused > 0.05 && reused < hits);
+    for (int m = 0; m < 3; m++)
+        for (int k = 0; k < T_FRAMES; k++) free(img[m][k][0]), free(img[m][k][1]);
+
+    /* resets: a head jump of 40 degrees, and a scene load, each reset the history (no pixel reused) */
+    fv_pass_detail d[4];
+    double resets0 = -1, resets1 = -1, resets2 = -1;
+    uint32_t nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "resets_max_age") == 0) resets0 = d[i].value[0];
+    fv_head jump = head_at(s, 80, 0.5);
+    fv_frame_input in;
+    assert_int_equal(fv_renderer_frame_input(g_r, &jump, g_frame_id++, 0.0, &in), FV_OK);
+    in.quality.fovea.enabled = true;
+    in.quality.fovea.mar_slope = 0.2f;
+    in.quality.fovea.temporal = 8u;
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "resets_max_age") == 0) resets1 = d[i].value[0];
+    assert_true(resets0 >= 1 && resets1 == resets0 + 1);
+    assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+    uint32_t *mask = malloc(NPIX * 4);
+    assert_non_null(mask);
+    assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", 0, mask, NPIX * 4, 4), FV_OK);
+    for (size_t i = 0; i < NPIX; i++) assert_true(mask[i] <= 1u); /* nothing reused after the jump */
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    in.frame_id = g_frame_id++;
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    nd = fv_renderer_pass_details(g_r, "temporal", d, 4);
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "resets_max_age") == 0) resets2 = d[i].value[0];
+    assert_true(resets2 == resets1 + 1);
+    assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+    assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", 1, mask, NPIX * 4, 4), FV_OK);
+    for (size_t i = 0; i < NPIX; i++) assert_true(mask[i] <= 1u);
+    free(mask);
+    free(ecc);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
+/* ---- saliency and depth of field against the CPU in double ------------------------------------------------------ */
+
+typedef struct gbuf {
+    float depth[NPIX];
+    int16_t normal[NPIX][2];
+    uint8_t albedo[NPIX][4];
+    uint16_t material[NPIX];
+    float motion[NPIX * 2];
+} gbuf;
+
+static double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
+
+static void lab_of(const uint8_t *rgba, double out[3])
+{
+    double c[3];
+    for (int k = 0; k < 3; k++) c[k] = srgb_to_linear(rgba[k] / 255.0);
+    double x = 0.4124564 * c[0] + 0.3575761 * c[1] + 0.1804375 * c[2];
+    double y = 0.2126729 * c[0] + 0.7151522 * c[1] + 0.0721750 * c[2];
+    double z = 0.0193339 * c[0] + 0.1191920 * c[1] + 0.9503041 * c[2];
+    double t[3] = {x / 0.95047, y, z / 1.08883}, f[3];
+    for (int k = 0; k < 3; k++) {
+        double d = 6.0 / 29.0;
+        f[k] = t[k] > d * d * d ? cbrt(t[k]) : t[k] / (3.0 * d * d) + 4.0 / 29.0;
+    }
+    out[0] = 116.0 * f[1] - 16.0, out[1] = 500.0 * (f[0] - f[1]), out[2] = 200.0 * (f[1] - f[2]);
+}
+
+static void normal_of(const int16_t *e16, double out[3])
+{
+    double ex = fmax(e16[0] / 32767.0, -1.0), ey = fmax(e16[1] / 32767.0, -1.0);
+    double n[3] = {ex, ey, 1.0 - fabs(ex) - fabs(ey)};
+    if (n[2] < 0) {
+        double wx = (1.0 - fabs(ey)) * (ex >= 0 ? 1 : -1), wy = (1.0 - fabs(ex)) * (ey >= 0 ? 1 : -1);
+        n[0] = wx, n[1] = wy;
+    }
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++) out[k] = len > 1e-15 ? n[k] / len : (k == 2);
+}
+
+/* The distance from the eye to the surface drawn at (x, y): view z from the depth and the projection, along the
+ * pixel centre's ray. */
+static double dist_of(const fv_frame_input *in, int e, const gbuf *g, int x, int y)
+{
+    const fv_eye_view *v = &in->eye[e];
+    double d = g->depth[(size_t)y * W + x], m22 = v->proj.m[2][2], m32 = v->proj.m[3][2];
+    double z = -m32 / (d + m22);
+    double tx = v->tan_left + (x + 0.5) / W * ((double)v->tan_right - v->tan_left);
+    double ty = v->tan_up + (y + 0.5) / H * ((double)v->tan_down - v->tan_up);
+    return fabs(z) * sqrt(tx * tx + ty * ty + 1.0);
+}
+
+/* p with saliency (weight sal) and DoF (fovea_interface.h), in double; the focus pixel is picked with the GPU's
+ * float arithmetic (a discrete choice). */
+static double ref_p_sal_dof(const fv_frame_input *in, int e, const gbuf *g, int x, int y, double u_rad, bool valid,
+                            double sal, bool dof)
+{
+    const fv_eye_view *v = &in->eye[e];
+    const fv_quality_fovea *q = &in->quality.fovea;
+    double uu = (x + 0.5) / W, tt = (y + 0.5) / H;
+    double r[3] = {v->tan_left + uu * ((double)v->tan_right - v->tan_left),
+                   v->tan_up + tt * ((double)v->tan_down - v->tan_up), -1.0};
+    double gd[3] = {0, 0, -1};
+    if (valid) {
+        fv_vec3 d = in->gaze[e].dir_eye;
+        double len = sqrt((double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z);
+        gd[0] = d.x / len, gd[1] = d.y / len, gd[2] = d.z / len;
+    }
+    double c[3] = {r[1] * gd[2] - r[2] * gd[1], r[2] * gd[0] - r[0] * gd[2], r[0] * gd[1] - r[1] * gd[0]};
+    double ecc = atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), r[0] * gd[0] + r[1] * gd[1] + r[2] * gd[2]);
+    double ep = fmax(0.0, ecc - (valid ? u_rad : 15.0 * DEG));
+    double dtx = fabs((double)v->tan_right - v->tan_left) / W, dty = fabs((double)v->tan_down - v->tan_up) / H;
+    double w_px = 2.0 * atan(0.5 * fmin(dtx, dty)) / DEG;
+    double w0 = q->mar_w0_deg, w = q->mar_slope * ep / DEG + w0, w_min = fmax(w0, w_px), w_far = 3.0 * w_px;
+    size_t i = (size_t)y * W + x;
+    bool hit = g->material[i] != 0;
+    double blur = 0;
+    if (dof && in->pupil_mm > 0 && in->pupil_mm <= 20 && valid && gd[2] < 0) {
+        fv_vec3 d = in->gaze[e].dir_eye;
+        float len = sqrtf(d.x * d.x + d.y * d.y + d.z * d.z);
+        float dx = d.x / len, dy = d.y / len, dz = d.z / len;
+        float fu = (dx / -dz - v->tan_left) / (v->tan_right - v->tan_left);
+        float fv = (dy / -dz - v->tan_up) / (v->tan_down - v->tan_up);
+        if (fu >= 0 && fv >= 0 && fu < 1 && fv < 1) {
+            int fx = (int)(fu * W), fy = (int)(fv * H);
+            fx = fx < W - 1 ? fx : W - 1, fy = fy < H - 1 ? fy : H - 1;
+            if (g->material[(size_t)fy * W + fx]) {
+                double df = fmax(dist_of(in, e, g, fx, fy), 1e-3);
+                double inv = hit ? 1.0 / fmax(dist_of(in, e, g, x, y), 1e-3) : 0.0;
+                blur = fmin(in->pupil_mm * 1e-3 * fabs(inv - 1.0 / df) / DEG, 180.0);
+            }
+        }
+    }
+    double pm = 1.0 - (fmax(w, blur) - w_min) / w_far;
+    if (sal > 0) {
+        double sa = 0, sn = 0, lp[3], np[3];
+        lab_of(g->albedo[i], lp);
+        normal_of(g->normal[i], np);
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                int qx = x + dx, qy = y + dy;
+                if ((!dx && !dy) || qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+                size_t k = (size_t)qy * W + qx;
+                bool qhit = g->material[k] != 0;
+                if (qhit != hit) {
+                    sn = 1.0;
+                    continue;
+                }
+                if (!hit) continue;
+                double lq[3], nq[3];
+                lab_of(g->albedo[k], lq);
+                normal_of(g->normal[k], nq);
+                sa = fmax(sa, sqrt((lp[0] - lq[0]) * (lp[0] - lq[0]) + (lp[1] - lq[1]) * (lp[1] - lq[1]) +
+                                   (lp[2] - lq[2]) * (lp[2] - lq[2])));
+                sn = fmax(sn, 1.0 - (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]));
+            }
+        /* a static scene drawn again with the same views: all motion is the head's (none) */
+        double sv = hit ? hypot(g->motion[2 * i] * W, g->motion[2 * i + 1] * H) / 4.0 : 0.0;
+        double sal_s = fmin(1.0, fmax(fmax(sa / 25.0, sn / 0.5), sv));
+        double seen = fmin(1.0, fmax(0.0, 1.0 - (blur - w_min) / w_far));
+        pm = fmax(pm, sal * sal_s * seen);
+    }
+    return fmin(1.0, fmax((double)q->min_prob, pm));
+}
+
+static void saliency_and_dof_match_cpu(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    gbuf *g = malloc(sizeof *g);
+    float *prob = malloc(NPIX * 4);
+    assert_true(g && prob);
+    fv_frame_input in = frame_in();
+    fv_vec3 corner = fv_v3_normalize_or(fv_v3(in.eye[0].tan_left, in.eye[0].tan_up, -1.0f), fv_v3(0, 0, -1));
+    const gaze_case cases[] = {
+        {"left 10 deg", fv_v3_normalize_or(fv_v3(-0.17f, 0.05f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 0.5f},
+        {"centre, no pupil", fv_v3(0, 0, -1), true, 0.0f, 0.5f},
+        {"low right", fv_v3_normalize_or(fv_v3(0.2f, -0.3f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 0.0f},
+        {"image corner", corner, true, 12.0f, 0.0f},
+        {"off-screen", fv_v3_normalize_or(fv_v3(3.0f, -2.0f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 1.0f},
+        {"NaN", fv_v3(NAN, 0, -1), true, 12.0f, 1.0f},
+        {"lost", fv_v3(0, 0, -1), false, 12.0f, 1.0f},
+    };
+    const double sal_w[] = {1.0, 0.5, 0.0};
+    double worst = 0, raised = 0, lowered = 0;
+    /* Then with a telephoto view (tangents x 0.06, 0.07 degrees a pixel), where a 12 mm pupil's defocus blur exceeds
+     * the MAR off the focal plane, as it does at headset resolutions: gazes on the near box and on the back wall. */
+    const gaze_case tele[] = {
+        {"tele centre", fv_v3(0, 0, -1), true, 12.0f, 0.0f},
+        {"tele lower left", fv_v3_normalize_or(fv_v3(-0.03f, -0.03f, -1.0f), fv_v3(0, 0, -1)), true, 12.0f, 0.0f},
+        {"tele no pupil", fv_v3(0, 0, -1), true, 0.0f, 0.0f},
+    };
+    size_t nc = sizeof cases / sizeof cases[0], nt = sizeof tele / sizeof tele[0];
+    for (size_t k = 0; k < nc + nt; k++)
+        for (int sw = 0; sw < 3; sw++) {
+            const gaze_case *c = k < nc ? &cases[k] : &tele[k - nc];
+            for (int rep = 0; rep < 2; rep++) { /* twice: the second frame's motion is that of the same views */
+                in = frame_in();
+                for (int e = 0; e < 2 && k >= nc; e++) {
+                    fv_eye_view *v = &in.eye[e];
+                    v->tan_left *= 0.06f, v->tan_right *= 0.06f, v->tan_up *= 0.06f, v->tan_down *= 0.06f;
+                    v->proj = fv_mat4_perspective_tan(v->tan_left, v->tan_right, v->tan_up, v->tan_down, v->near_m,
+                                                      v->far_m);
+                }
+                in.pupil_mm = c->pupil_mm;
+                set_gaze(&in, c->dir, c->unc_deg);
+                for (int e = 0; e < 2; e++) in.gaze[e].valid = c->valid;
+                in.quality.fovea.mar_slope = 0.2f;
+                in.quality.fovea.saliency = (float)sal_w[sw];
+                in.quality.fovea.dof = sw != 2 || k % 2 == 0;
+                if (k >= nc) in.quality.fovea.mar_slope = 0.022f;
+                assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            }
+            bool valid = c->valid && isfinite(c->dir.x);
+            for (int e = 0; e < 2; e++) {
+                assert_int_equal(fv_renderer_read_image(g_r, "fovea prob", e, prob, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer depth", e, g->depth, sizeof g->depth, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer normal (oct)", e, g->normal, sizeof g->normal, 4),
+                                 FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer albedo", e, g->albedo, sizeof g->albedo, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer material id", e, g->material, sizeof g->material, 2),
+                                 FV_OK);
+                assert_int_equal(fv_renderer_read_motion(g_r, e, g->motion, NPIX * 2), FV_OK);
+                for (int y = 0; y < H; y++)
+                    for (int x = 0; x < W; x++) {
+                        float got = prob[(size_t)y * W + x];
+                        if (!isfinite(got)) fail_msg("%s eye %d (%d, %d): p %f", c->name, e, x, y, got);
+                        double want = ref_p_sal_dof(&in, e, g, x, y, c->unc_deg * DEG, valid, sal_w[sw],
+                                                    in.quality.fovea.dof);
+                        double plain = ref_p(&in, e, x, y, c->unc_deg * DEG, valid);
+                        raised += want > plain + 1e-3;
+                        lowered += want < plain - 1e-3;
+                        double err = fabs(got - want);
+                        worst = fmax(worst, err);
+                        if (!(err <= P_TOL))
+                            fail_msg("%s, saliency %.1f, dof %d, eye %d (%d, %d): p gpu %.6f cpu %.6f (without: %.6f)",
+                                     c->name, sal_w[sw], in.quality.fovea.dof, e, x, y, got, want, plain);
+                    }
+            }
+        }
+    print_message("saliency + DoF: worst p error %.2e; pixels raised by saliency %.0f, lowered by DoF %.0f\n", worst,
+                  raised, lowered);
+    assert_true(raised > 100 && lowered > 100); /* both terms act on this scene */
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    free(g);
+    free(prob);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -486,6 +831,8 @@ int main(void)
         cmocka_unit_test(sibson_matches_brute_force_natural_neighbours),
         cmocka_unit_test(fovea_follows_fixed_gazes),
         cmocka_unit_test(foveal_band_equals_full_resolution),
+        cmocka_unit_test(temporal_reuse_lowers_periphery_error_and_flicker),
+        cmocka_unit_test(saliency_and_dof_match_cpu),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

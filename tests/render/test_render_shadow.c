@@ -218,6 +218,7 @@ static void spot_shadow_matches_exact_visibility(void **state)
     fv_scene *s = plane_scene(true);
     add_spot(s);
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.shadow.filter = FV_SHADOW_FILTER_NONE; /* binary visibility, as the exact one */
     report("spot, 2048px, no filter", compare(s, &q, true, spot_end));
     const fv_plan_entry *e = fv_frame_plan_find(fv_renderer_plan(g_r), "shadow");
@@ -239,6 +240,7 @@ static void directional_cascades_match_exact_visibility_shared_and_per_eye(void 
     fv_scene *s = plane_scene(true);
     add_sun(s);
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.shadow.filter = FV_SHADOW_FILTER_NONE;
     report("sun, 4 shared splits", compare(s, &q, true, sun_end));
     q.shadow.stereo_shared = false;
@@ -262,6 +264,7 @@ static void a_plane_alone_never_shadows_itself(void **state)
         adders[k](s);
         for (int f = 0; f < 3; f++) {
             fv_quality q = fv_quality_default();
+            q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
             q.shadow.filter = filters[f];
             counts c = compare(s, &q, false, ends[k]);
             static const char *const kinds[3] = {"spot", "directional", "point"};
@@ -294,6 +297,7 @@ static void point_light_cube_map_matches_exact_visibility(void **state)
     fv_scene *s = plane_scene(true);
     add_point(s);
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.shadow.filter = FV_SHADOW_FILTER_NONE;
     report("point, cube map of 2048px, no filter", compare(s, &q, true, spot_end));
     const fv_plan_entry *e = fv_frame_plan_find(fv_renderer_plan(g_r), "shadow");
@@ -330,6 +334,7 @@ static void shadow_plan_says_why_it_is_off(void **state)
     s = plane_scene(false);
     add_spot(s);
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.shadow.enabled = false;
     assert_int_equal(fv_renderer_set_quality(g_r, &q), FV_OK);
     assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
@@ -337,6 +342,7 @@ static void shadow_plan_says_why_it_is_off(void **state)
     assert_false(e->enabled);
     assert_non_null(strstr(e->reason, "shadow.enabled is false"));
     q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     assert_int_equal(fv_renderer_set_quality(g_r, &q), FV_OK);
     assert_true(fv_frame_plan_find(fv_renderer_plan(g_r), "shadow")->enabled);
     fv_scene_destroy(&s);

@@ -283,6 +283,7 @@ static void assert_visibility_within_bounds(const vis_stats *v, const char *what
 static fv_quality binary_quality(void)
 {
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.shadow.filter = FV_SHADOW_FILTER_NONE;
     return q;
 }

@@ -72,6 +72,7 @@ static void draw(const fv_frame_input *in, float *out_rgb)
 static fv_quality sss_quality(fv_sss_mode mode, uint32_t limit, float distance_scale)
 {
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.gi.enabled = false; /* the subsurface term alone against the reference's (GI has its own tests) */
     q.sss.map_size_px = MAP;
     q.sss.mode = mode;
@@ -200,6 +201,7 @@ static void light_bleeds_into_the_side_the_light_does_not_reach(void **state)
           *off = malloc(2 * NPIX * 3 * sizeof *off);
     assert_true(mask && direct && on && off);
     fv_quality q = fv_quality_default();
+    q.fovea.enabled = false; /* full resolution (foveation has its own tests) */
     q.gi.enabled = false; /* no indirect light: the unlit side is black without SSS */
     assert_true(sphere_mask(&q, mask) > 100);
     /* The unlit side: sphere pixels that the spot's direct light does not reach (n.l <= 0 or in shadow). */

@@ -18,6 +18,10 @@
 
 double fv_bench_plot_error(const fv_bench_result *r, const fv_bench_point *p, const char **out_label)
 {
+    if (!r->has_reference && !r->has_exact) {
+        if (out_label) *out_label = "1 - SSIM vs full resolution of the same model (GPU)";
+        return p->has_vs_full ? 1.0 - p->vs_full.all.ssim : p->quality.fovea.enabled ? NAN : 0.0;
+    }
     if (out_label)
         *out_label = !r->has_reference          ? "1 - SSIM vs the exact preset (GPU)"
                      : strcmp(r->reference_mode, "path") == 0 ? "1 - SSIM vs the CPU reference (path)"
@@ -116,9 +120,10 @@ cJSON *fv_bench_json(const fv_bench_result *r)
     cJSON *sw = cJSON_AddArrayToObject(j, "sweeps");
     for (size_t s = 0; s < r->plan->sweep_count; s++)
         cJSON_AddItemToArray(sw, fv_cli_json_string(r->plan->sweeps[s].name));
-    cJSON *ex = cJSON_AddObjectToObject(j, "exact");
-    timings_json(ex, &r->exact);
-    if (r->has_reference) error_json(ex, "vs_reference", &r->exact.vs_reference); /* the floor of the GPU's model */
+    cJSON *ex = r->has_exact ? cJSON_AddObjectToObject(j, "exact") : NULL;
+    if (!r->has_exact) cJSON_AddNullToObject(j, "exact");
+    else timings_json(ex, &r->exact);
+    if (ex && r->has_reference) error_json(ex, "vs_reference", &r->exact.vs_reference); /* the GPU model's floor */
     cJSON *pts = cJSON_AddArrayToObject(j, "points");
     for (size_t i = 0; i < r->point_count; i++) {
         const fv_bench_point *p = &r->points[i];
@@ -135,6 +140,19 @@ cJSON *fv_bench_json(const fv_bench_result *r)
         error_json(o, "vs_exact", &p->vs_exact);
         if (r->has_reference) error_json(o, "vs_reference", &p->vs_reference);
         else cJSON_AddNullToObject(o, "vs_reference");
+        if (p->has_vs_full) {
+            error_json(o, "vs_full_resolution", &p->vs_full);
+            cJSON *vf = cJSON_GetObjectItem(o, "vs_full_resolution");
+            fv_cli_json_number(vf, "full_frame_ms", p->vs_full_frame_ms);
+            fv_cli_json_number(vf, "full_shade_ms", p->vs_full_shade_ms);
+            cJSON *eyes = cJSON_AddArrayToObject(o, "fovea_eyes");
+            for (int e = 0; e < 2; e++) {
+                cJSON *je = cJSON_CreateObject();
+                fv_cli_json_number(je, "sampled_fraction", p->sampled_fraction[e]);
+                fv_cli_json_number(je, "cache_hit_fraction", p->cache_hit_fraction[e]);
+                cJSON_AddItemToArray(eyes, je);
+            }
+        }
         cJSON_AddItemToArray(pts, o);
     }
     cJSON_AddNumberToObject(j, "validation_messages", r->validation_messages);
@@ -175,7 +193,11 @@ fv_result fv_bench_write_csv(const fv_bench_result *r, const char *path)
     for (size_t s = 0; s < r->plan->sweep_count; s++) fprintf(f, "%s,", r->plan->sweeps[s].name);
     fputs("frame_ms_median,frame_ms_p95", f);
     for (uint32_t k = 0; k < np; k++) fprintf(f, ",%s_median_ms", passes[k]);
-    fputs(",exact_psnr_db,exact_ssim,exact_rel_mean,reference_psnr_db,reference_ssim,reference_rel_mean\n", f);
+    fputs(",exact_psnr_db,exact_ssim,exact_rel_mean,reference_psnr_db,reference_ssim,reference_rel_mean", f);
+    fputs(",full_psnr_db,full_ssim,full_frame_ms,full_shade_ms,sampled_fraction_left,sampled_fraction_right", f);
+    for (int k = 0; k < FV_METRICS_BANDS; k++)
+        fprintf(f, ",full_psnr_db_%g_%g_deg", fv_metrics_band_edges_deg[k], fv_metrics_band_edges_deg[k + 1]);
+    fputc('\n', f);
     for (size_t i = 0; i < r->point_count; i++) {
         const fv_bench_point *p = &r->points[i];
         char buf[48];
@@ -192,6 +214,14 @@ fv_result fv_bench_write_csv(const fv_bench_result *r, const char *path)
         csv_num(f, e->psnr_db), csv_num(f, e->ssim), csv_num(f, e->rel_mean);
         if (r->has_reference) csv_num(f, ref->psnr_db), csv_num(f, ref->ssim), csv_num(f, ref->rel_mean);
         else fputs(",,,", f);
+        if (p->has_vs_full) {
+            csv_num(f, p->vs_full.all.psnr_db), csv_num(f, p->vs_full.all.ssim);
+            csv_num(f, p->vs_full_frame_ms), csv_num(f, p->vs_full_shade_ms);
+            csv_num(f, p->sampled_fraction[0]), csv_num(f, p->sampled_fraction[1]);
+            for (int k = 0; k < FV_METRICS_BANDS; k++) csv_num(f, p->vs_full.has_bands ? p->vs_full.band[k].psnr_db : NAN);
+        } else {
+            for (int k = 0; k < 6 + FV_METRICS_BANDS; k++) fputc(',', f);
+        }
         fputc('\n', f);
     }
     if (fclose(f) != 0) {
@@ -400,6 +430,73 @@ fv_result fv_bench_plot(const fv_bench_result *r, const char *dir, size_t *out_p
     rc = run_gnuplot(draw, false);
     if (rc != 0) {
         FV_WARN(MOD, "gnuplot %s failed (exit %d): plots may be missing", script, rc);
+        return FV_ERR_UNSUPPORTED;
+    }
+    *out_plots = r->plan->sweep_count;
+    return FV_OK;
+}
+
+/* ---- per-band error curves of foveated points ------------------------------------------------------------------ */
+
+fv_result fv_bench_plot_bands(const fv_bench_result *r, const char *dir, size_t *out_plots)
+{
+    *out_plots = 0;
+    bool any = false;
+    for (size_t i = 0; i < r->point_count; i++) any = any || (r->points[i].has_vs_full && r->points[i].vs_full.has_bands);
+    if (!any || r->plan->sweep_count == 0) return FV_OK;
+    const char *terminal = fv_gnuplot_terminal("bench.json and bench.csv are written");
+    if (!terminal) return FV_ERR_UNSUPPORTED;
+    char script[1200], path[1200], text[1024];
+    snprintf(script, sizeof script, "%s/bench_bands.gp", dir);
+    FILE *f = fopen(script, "w");
+    if (!f) {
+        FV_WARN(MOD, "%s: cannot write the plot script (%s): no band plots", script, strerror(errno));
+        return FV_ERR_IO;
+    }
+    fprintf(f, "# fovea bench: per-band PSNR against full resolution over frame time, one plot per swept knob\n");
+    for (size_t s = 0; s < r->plan->sweep_count; s++) {
+        const fv_bench_sweep *sweep = &r->plan->sweeps[s];
+        snprintf(path, sizeof path, "%s/bands_%s.png", dir, sweep->name);
+        fprintf(f, "reset\nset terminal %s size 900,600 font ',10'\nset output ", terminal);
+        gp_quoted(f, path);
+        fputs("\nset title \"", f);
+        snprintf(text, sizeof text, "%s, %ux%u per eye, %s: %s swept (every other knob as %s); PSNR vs full resolution",
+                 r->scene, r->eye_width, r->eye_height, r->device, sweep->name, r->preset);
+        gp_escaped(f, text);
+        fputs("\" noenhanced\nset xlabel 'frame time: median GPU ms' noenhanced\n"
+              "set ylabel 'PSNR (dB) vs full resolution, per eccentricity band; 99 = identical' noenhanced\n"
+              "set grid\nset key outside right noenhanced\nset offsets graph 0.05, graph 0.15, graph 0.05, graph 0.05\n",
+              f);
+        for (int k = 0; k < FV_METRICS_BANDS; k++) {
+            fprintf(f, "$b%d << EOD\n", k);
+            /* points in the order of the sweep's values, each labelled with its value */
+            for (size_t v = 0; v < sweep->value_count; v++)
+                for (size_t i = 0; i < r->point_count; i++) {
+                    const fv_bench_point *p = &r->points[i];
+                    if (p->value_index[s] != v || !p->has_vs_full || !p->vs_full.has_bands) continue;
+                    double db = p->vs_full.band[k].psnr_db;
+                    if (isnan(db) || !isfinite(p->frame.median_ms)) continue;
+                    fprintf(f, "%.9g %.9g \"%s\"\n", p->frame.median_ms, isinf(db) ? 99.0 : db, sweep->values[v]);
+                }
+            fputs("EOD\n", f);
+        }
+        fputs("plot ", f);
+        for (int k = 0; k < FV_METRICS_BANDS; k++) {
+            snprintf(text, sizeof text, "%g-%g deg", fv_metrics_band_edges_deg[k], fv_metrics_band_edges_deg[k + 1]);
+            fprintf(f, "%s$b%d using 1:2 with linespoints pt 7 title ", k ? ", \\\n  " : "", k);
+            gp_quoted(f, text);
+            fprintf(f, ", \\\n  $b%d using 1:2:3 with labels offset 0.6,0.6 left font ',8' notitle", k);
+        }
+        fputs("\nunset output\n", f);
+    }
+    if (fclose(f) != 0) {
+        FV_WARN(MOD, "%s: cannot write the plot script: no band plots", script);
+        return FV_ERR_IO;
+    }
+    const char *draw[] = {"gnuplot", script, NULL};
+    int rc = run_gnuplot(draw, false);
+    if (rc != 0) {
+        FV_WARN(MOD, "gnuplot %s failed (exit %d): band plots may be missing", script, rc);
         return FV_ERR_UNSUPPORTED;
     }
     *out_plots = r->plan->sweep_count;

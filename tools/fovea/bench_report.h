@@ -31,6 +31,12 @@ typedef struct fv_bench_point {
     fv_bench_ms frame;
     size_t frames_timed;
     fv_metrics_report vs_exact, vs_reference; /* vs_reference: only with has_reference */
+    bool has_vs_full;           /* fovea.enabled: measured against full-resolution shading of the same model */
+    fv_metrics_report vs_full;  /* the same knobs with fovea.enabled off (per band around --gaze-deg) */
+    double vs_full_frame_ms;    /* that full-resolution frame's median GPU ms (the whole-frame ratio's divisor) */
+    double vs_full_shade_ms;    /* and its shade pass's */
+    double sampled_fraction[2];   /* fovea.enabled: per eye, of the newest frame counted (NaN: unknown) */
+    double cache_hit_fraction[2]; /* and the temporal reuse's cache hits (NaN: fovea.temporal=0) */
 } fv_bench_point;
 
 /** A whole bench run. The pointers are borrowed. */
@@ -46,12 +52,14 @@ typedef struct fv_bench_result {
     double reference_s;              /* wall time of the CPU reference */
     const fv_bench_plan *plan;
     fv_bench_point exact;            /* the exact preset on the GPU, the image every vs_exact is measured from */
+    bool has_exact;                  /* false: --exact off (vs_exact errors are NaN) */
     const fv_bench_point *points;
     size_t point_count;
     uint32_t validation_messages;
 } fv_bench_result;
 
-/** The error the plots and the Pareto front use: 1 - SSIM against the reference, or against exact without one.
+/** The error the plots and the Pareto front use: 1 - SSIM against the reference, or against exact without one, or
+ *  against full resolution of the same model without either (foveated points; 0 for the full-resolution ones).
  *  NaN when it is not known. *out_label (non-NULL) names it. */
 double fv_bench_plot_error(const fv_bench_result *r, const fv_bench_point *p, const char **out_label);
 
@@ -77,5 +85,8 @@ void fv_gnuplot_quoted(FILE *f, const char *s);
  *  dir/bench_plots.gp. Without gnuplot (or when it fails): a warning and FV_ERR_UNSUPPORTED; the caller goes on.
  *  *out_plots receives the count drawn. */
 fv_result fv_bench_plot(const fv_bench_result *r, const char *dir, size_t *out_plots);
+/** With foveated points and a gaze: bands_<knob>.png in dir for each swept knob, the PSNR of every eccentricity band
+ *  against full-resolution shading of the same model over frame time, from dir/bench_bands.gp. *out_plots: drawn. */
+fv_result fv_bench_plot_bands(const fv_bench_result *r, const char *dir, size_t *out_plots);
 
 #endif

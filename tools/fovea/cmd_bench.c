@@ -34,6 +34,7 @@ static const char *USAGE_FMT =
     "                   [--reference model|path|none] [--spp N] [--out DIR] [--hmd PROFILE|FILE] [--json]\n"
     "                   [--baseline-set NAME=VALUE]...\n"
     "                   [--bounces N]\n"
+    "                   [--exact on|off]\n"
     "  --sweep     a knob and the values to try (repeatable); the points are the cross product of the sweeps\n"
     "              (at most %d). NAME=VALUE is checked as --set checks it; `fovea knobs` lists the knobs.\n"
     "              The pseudo-knob `preset` sweeps the presets: --sweep preset=%s\n"
@@ -54,6 +55,10 @@ static const char *USAGE_FMT =
     "  --baseline-set  measure every point against the --quality preset (with --set) plus this knob (repeatable)\n"
     "              instead of the exact preset, e.g. interp.enabled=0: the trade of one technique alone\n"
     "  --hmd       distort and mask every point for this HMD's lens (fovea run --hmd; default none: undistorted)\n"
+    "  --exact     off: skip the `exact` preset on the GPU (its GI alone takes minutes a frame at 720x800 on a\n"
+    "              CPU); the vs_exact errors are then null (default on)\n"
+    "  Foveated points (fovea.enabled) are also measured against full-resolution shading of the same model (their\n"
+    "  knobs with fovea.enabled off; per eccentricity band with --gaze-deg; bands_<knob>.png).\n"
     "  Every point is also measured against the `exact` preset on the GPU (same scene, views and size). Errors:\n"
     "  psnr_db and ssim on the sRGB values (as fovea compare), rel_mean on the linear values; both eyes side by\n"
     "  side. The plots show frame time against 1 - SSIM vs the reference (vs exact with --reference none).\n";
@@ -88,6 +93,7 @@ typedef struct bench_opts {
     const char *out_dir;
     bool json;
     const char *hmd;      /* --hmd: the lens every point (and exact) is drawn with; NULL = none */
+    bool no_exact;        /* --exact off */
     fv_lens lens;
     const char *baseline_sets[8]; /* --baseline-set: the baseline is o->base with these (none: the exact preset) */
     uint32_t baseline_count;
@@ -191,6 +197,13 @@ static int parse_args(int argc, char **argv, bench_opts *o)
         if ((r = fv_tool_quality_option(&o->plan.tq, argc, argv, &i, "bench", USAGE)) == FV_EXIT_USAGE) return r;
         else if (r) continue;
         if (strcmp(a, "--json") == 0) { o->json = true; continue; }
+        if (strcmp(a, "--exact") == 0) {
+            const char *x = i + 1 < argc ? argv[++i] : "";
+            if (strcmp(x, "on") == 0) o->no_exact = false;
+            else if (strcmp(x, "off") == 0) o->no_exact = true;
+            else return fv_cli_usage_error("bench", USAGE, "--exact: '%s' is not on or off", x);
+            continue;
+        }
         return fv_cli_usage_error("bench", USAGE, "unknown option '%s'", a);
     }
     if (o->plan.sweep_count == 0)
@@ -253,6 +266,15 @@ static fv_result bench_point(bench_state *st, const fv_quality *q, fv_bench_poin
         out->frames_timed = m.measured;
     }
     fv_measure_fini(&m);
+    for (int e = 0; e < 2; e++) out->sampled_fraction[e] = out->cache_hit_fraction[e] = NAN;
+    fv_pass_detail d[8];
+    uint32_t nd = q->fovea.enabled ? fv_renderer_pass_details(st->r, "compact", d, 8) : 0;
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "sampled_fraction") == 0) out->sampled_fraction[0] = d[i].value[0], out->sampled_fraction[1] = d[i].value[1];
+    nd = q->fovea.enabled ? fv_renderer_pass_details(st->r, "temporal", d, 8) : 0;
+    for (uint32_t i = 0; i < nd; i++)
+        if (strcmp(d[i].key, "cache_hit_fraction") == 0)
+            out->cache_hit_fraction[0] = d[i].value[0], out->cache_hit_fraction[1] = d[i].value[1];
     uint32_t w = o->eye_w, h = o->eye_h;
     for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++) {
         res = fv_renderer_read_linear(st->r, eye, st->rgba, (size_t)w * h * 4);
@@ -311,7 +333,10 @@ static void print_table(const fv_bench_result *res, const char *out_dir, size_t 
     printf("fovea bench: scene '%s' on %s, %ux%u per eye, preset %s, %zu point%s of %u frames (%u warm-up)\n",
            res->scene, res->device, res->eye_width, res->eye_height, res->preset, res->point_count,
            res->point_count == 1 ? "" : "s", res->frames, res->warmup_frames);
-    if (res->has_reference)
+    if (!res->has_exact)
+        printf("  reference: %s; %s: not rendered (--exact off)\n", res->reference_mode,
+               strcmp(res->exact.preset, "exact") ? "the baseline (--baseline-set)" : "exact preset");
+    else if (res->has_reference)
         printf("  reference: %s, %u spp, %.2f s; %s on the GPU: %.3f ms median, %.2f dB and SSIM %.5f vs "
                "the reference\n", res->reference_mode, res->reference_spp, res->reference_s,
                strcmp(res->exact.preset, "exact") ? "the baseline (--baseline-set)" : "exact preset",
@@ -340,6 +365,34 @@ static void print_table(const fv_bench_result *res, const char *out_dir, size_t 
                    fv_cli_format_number(e, sizeof e, "%.4g", p->vs_reference.all.rel_mean));
         printf("%s\n", p->is_preset ? "   <- the preset's own values" : "");
     }
+    /* foveated points against full-resolution shading of the same model */
+    bool any = false;
+    for (size_t i = 0; i < res->point_count; i++) any = any || res->points[i].has_vs_full;
+    if (any) {
+        printf("  foveated vs full resolution (same model): sampled %%, cache hits %%, frame and shade time ratios,"
+               " PSNR dB whole / per band (deg)");
+        for (int k = 0; k < FV_METRICS_BANDS && res->has_gaze; k++)
+            printf(" %g-%g", fv_metrics_band_edges_deg[k], fv_metrics_band_edges_deg[k + 1]);
+        printf("\n");
+    }
+    for (size_t i = 0; any && i < res->point_count; i++) {
+        const fv_bench_point *p = &res->points[i];
+        if (!p->has_vs_full) continue;
+        double shade = NAN;
+        for (uint32_t k = 0; k < p->pass_count; k++)
+            if (strcmp(p->pass_name[k], "shade") == 0) shade = p->pass[k].median_ms;
+        char a[32];
+        printf("  ");
+        for (size_t s = 0; s < plan->sweep_count; s++)
+            printf("%s=%s ", plan->sweeps[s].name, plan->sweeps[s].values[p->value_index[s]]);
+        printf("| %.2f / %.2f | %.1f / %.1f | frame %.3f shade %.3f | %s", 100.0 * p->sampled_fraction[0],
+               100.0 * p->sampled_fraction[1], 100.0 * p->cache_hit_fraction[0], 100.0 * p->cache_hit_fraction[1],
+               p->frame.median_ms / p->vs_full_frame_ms, shade / p->vs_full_shade_ms,
+               fv_cli_format_number(a, sizeof a, "%.2f", p->vs_full.all.psnr_db));
+        for (int k = 0; k < FV_METRICS_BANDS && p->vs_full.has_bands; k++)
+            printf(" %s", fv_cli_format_number(a, sizeof a, "%.2f", p->vs_full.band[k].psnr_db));
+        printf("\n");
+    }
     printf("  files: %s/bench.json, %s/bench.csv", out_dir, out_dir);
     if (plots) printf(", %zu plot%s (pareto_<knob>.png)", plots, plots == 1 ? "" : "s");
     printf("\n");
@@ -360,6 +413,50 @@ static fv_result write_json_file(const char *path, const char *text)
     return FV_OK;
 }
 
+/* Full-resolution images of the same model as foveated points (their knobs with fovea.enabled off and the fovea
+ * knobs at the preset's, which then change nothing): rendered once each, kept for the points that share them. */
+#define FULL_CACHE 4
+typedef struct full_cache {
+    fv_quality quality[FULL_CACHE];
+    fv_rgb_image img[FULL_CACHE];
+    double frame_ms[FULL_CACHE], shade_ms[FULL_CACHE];
+    int count, next;
+} full_cache;
+
+static fv_result vs_full_resolution(bench_state *st, full_cache *c, fv_bench_point *p, const fv_rgb_image *img,
+                                    fv_metrics_desc *md)
+{
+    fv_quality q = p->quality;
+    q.fovea = st->o->base.fovea;
+    q.fovea.enabled = false;
+    int k = -1;
+    for (int i = 0; i < c->count && k < 0; i++)
+        if (fv_quality_equal(&c->quality[i], &q)) k = i;
+    if (k < 0) {
+        k = c->count < FULL_CACHE ? c->count++ : c->next;
+        c->next = (k + 1) % FULL_CACHE;
+        if (!c->img[k].rgb) FV_TRY(fv_rgb_image_init(&c->img[k], img->width, img->height, FV_IMAGE_KIND_LINEAR));
+        fv_bench_point fp;
+        memset(&fp, 0, sizeof fp);
+        c->quality[k] = q;
+        fv_result res = bench_point(st, &q, &fp, &c->img[k]);
+        if (FV_FAILED(res)) {
+            c->count = k; /* not kept */
+            return res;
+        }
+        c->frame_ms[k] = fp.frame.median_ms;
+        c->shade_ms[k] = NAN;
+        for (uint32_t i = 0; i < fp.pass_count; i++)
+            if (strcmp(fp.pass_name[i], "shade") == 0) c->shade_ms[k] = fp.pass[i].median_ms;
+    }
+    md->name_b = "full resolution";
+    FV_TRY(fv_metrics_compare(img, &c->img[k], md, &p->vs_full));
+    p->has_vs_full = true;
+    p->vs_full_frame_ms = c->frame_ms[k];
+    p->vs_full_shade_ms = c->shade_ms[k];
+    return FV_OK;
+}
+
 int fv_cmd_bench(int argc, char **argv)
 {
     bench_opts o;
@@ -375,6 +472,7 @@ int fv_cmd_bench(int argc, char **argv)
     fv_bench_point *points = calloc(n, sizeof *points);
     fv_rgb_image exact_img = {0}, ref_img = {0}, img = {0};
     float *ecc = NULL;
+    full_cache full = {0};
     bench_state st = {.o = &o, .tty = isatty(STDERR_FILENO), .t_start_ns = fv_time_monotonic_ns()};
     st.rgba = malloc((size_t)w * h * 4 * sizeof *st.rgba);
     char err[512];
@@ -431,7 +529,9 @@ int fv_cmd_bench(int argc, char **argv)
                            .plan = &o.plan, .points = points, .point_count = n};
     res.exact.quality = exact;
     res.exact.preset = o.baseline_count ? "baseline" : "exact";
-    if (FV_FAILED(bench_point(&st, &exact, &res.exact, &exact_img))) {
+    res.has_exact = !o.no_exact;
+    res.exact.frame = (fv_bench_ms){NAN, NAN};
+    if (res.has_exact && FV_FAILED(bench_point(&st, &exact, &res.exact, &exact_img))) {
         fprintf(stderr, "fovea bench: rendering the exact preset failed (see the messages above)\n");
         goto done;
     }
@@ -445,7 +545,8 @@ int fv_cmd_bench(int argc, char **argv)
         }
     }
     fv_metrics_desc md = {.name_a = "point", .name_b = "reference", .ecc_deg = ecc, .eyes = 2};
-    if (res.has_reference && FV_FAILED(fv_metrics_compare(&exact_img, &ref_img, &md, &res.exact.vs_reference)))
+    if (res.has_exact && res.has_reference &&
+        FV_FAILED(fv_metrics_compare(&exact_img, &ref_img, &md, &res.exact.vs_reference)))
         goto done;
     for (size_t i = 0; i < n; i++) {
         fv_bench_point *p = &points[i];
@@ -462,7 +563,9 @@ int fv_cmd_bench(int argc, char **argv)
             goto done;
         }
         md.name_b = "exact";
-        if (FV_FAILED(fv_metrics_compare(&img, &exact_img, &md, &p->vs_exact))) goto done;
+        if (res.has_exact && FV_FAILED(fv_metrics_compare(&img, &exact_img, &md, &p->vs_exact))) goto done;
+        if (!res.has_exact) p->vs_exact.all = (fv_metrics_stats){.psnr_db = NAN, .ssim = NAN, .rel_mean = NAN};
+        if (p->quality.fovea.enabled && FV_FAILED(vs_full_resolution(&st, &full, p, &img, &md))) goto done;
         md.name_b = "reference";
         if (res.has_reference && FV_FAILED(fv_metrics_compare(&img, &ref_img, &md, &p->vs_reference))) goto done;
     }
@@ -483,6 +586,8 @@ int fv_cmd_bench(int argc, char **argv)
     if (FV_FAILED(fv_bench_write_csv(&res, path))) goto done;
     size_t plots = 0;
     if (FV_FAILED(fv_bench_plot(&res, o.out_dir, &plots))) { /* warned; bench.json and bench.csv stand */ }
+    size_t band_plots = 0;
+    if (FV_FAILED(fv_bench_plot_bands(&res, o.out_dir, &band_plots))) { /* warned, as above */ }
     if (!o.json) print_table(&res, o.out_dir, plots);
     if (res.validation_messages > 0) {
         fprintf(stderr, "fovea bench: %u Vulkan validation message%s (see above)\n", res.validation_messages,
@@ -496,6 +601,7 @@ done:
     fv_rgb_image_fini(&exact_img);
     fv_rgb_image_fini(&ref_img);
     fv_rgb_image_fini(&img);
+    for (int k = 0; k < FULL_CACHE; k++) fv_rgb_image_fini(&full.img[k]);
     free(ecc);
     free(st.rgba);
     free(points);

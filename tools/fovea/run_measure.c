@@ -183,13 +183,17 @@ void fv_measure_add_fovea_json(const fv_measure *mc, const fv_renderer *r, cJSON
     fv_measure *m = (fv_measure *)mc;
     if (!isfinite(pass_median(m, "fovea"))) return;
     cJSON *jf = cJSON_AddObjectToObject(j, "fovea");
-    fv_pass_detail frac, split;
+    fv_pass_detail frac, split, hits, reused;
     bool have = detail_of(r, "compact", "sampled_fraction", &frac);
+    /* without temporal reuse (fovea.temporal=0) nothing is cached: null */
+    bool have_hits = detail_of(r, "temporal", "cache_hit_fraction", &hits);
+    bool have_reused = detail_of(r, "temporal", "reused_fraction", &reused);
     cJSON *eyes = cJSON_AddArrayToObject(jf, "eyes");
     for (int e = 0; e < 2; e++) {
         cJSON *je = cJSON_CreateObject();
         add_ms_or_null(je, "sampled_fraction", have ? frac.value[e] : NAN);
-        cJSON_AddNullToObject(je, "cache_hit_fraction"); /* no temporal reuse yet */
+        add_ms_or_null(je, "cache_hit_fraction", have_hits ? hits.value[e] : NAN);
+        add_ms_or_null(je, "reused_fraction", have_reused ? reused.value[e] : NAN);
         cJSON_AddItemToArray(eyes, je);
     }
     cJSON *js = cJSON_AddObjectToObject(jf, "stage_gpu_ms");
@@ -204,10 +208,17 @@ void fv_measure_print_fovea(const fv_measure *mc, const fv_renderer *r, FILE *f)
 {
     fv_measure *m = (fv_measure *)mc;
     if (!isfinite(pass_median(m, "fovea"))) return;
-    fv_pass_detail frac, split;
-    if (detail_of(r, "compact", "sampled_fraction", &frac))
-        fprintf(f, "  fovea: sampled fraction %.2f%% (left), %.2f%% (right); cache hits: no temporal reuse\n",
-                100.0 * frac.value[0], 100.0 * frac.value[1]);
+    fv_pass_detail frac, split, hits, reused;
+    if (detail_of(r, "compact", "sampled_fraction", &frac)) {
+        fprintf(f, "  fovea: sampled fraction %.2f%% (left), %.2f%% (right)", 100.0 * frac.value[0],
+                100.0 * frac.value[1]);
+        if (detail_of(r, "temporal", "cache_hit_fraction", &hits) &&
+            detail_of(r, "temporal", "reused_fraction", &reused))
+            fprintf(f, "; cache hits %.2f%% / %.2f%%, reused for unshaded pixels %.2f%% / %.2f%%\n",
+                    100.0 * hits.value[0], 100.0 * hits.value[1], 100.0 * reused.value[0], 100.0 * reused.value[1]);
+        else
+            fprintf(f, "; cache hits: no temporal reuse (fovea.temporal=0)\n");
+    }
     fprintf(f, "  fovea stages (median GPU ms):");
     for (int s = 0; s < 5; s++) {
         double v = pass_median(m, FOVEA_STAGE[s][1]);

@@ -122,6 +122,11 @@ typedef struct fv_quality_fovea {
     fv_fovea_recon recon;  /* "fovea.recon": nearest | sibson | idw */
     fv_fovea_voronoi voronoi; /* "fovea.voronoi": jfa | blocks */
     fv_fovea_compaction compaction; /* "fovea.compaction": tiles | rows | masked */
+    uint32_t temporal;     /* "fovea.temporal": temporal reuse, the frames an unshaded pixel may take a reprojected
+                            * history value since it was last shaded, 0..15 (0: no temporal reuse) */
+    float saliency;        /* "fovea.saliency": p raised to this weight times the saliency (albedo and normal
+                            * gradients, object motion), 0..1 (0: off) */
+    bool dof;              /* "fovea.dof": the eye's defocus blur (pupil, focus at the gaze) lowers p */
 } fv_quality_fovea;
 
 /** The lens knobs (render/distort/: pre-distortion with chromatic aberration; the hidden-area mask in render/gbuffer)
@@ -240,15 +245,18 @@ static inline fv_quality fv_quality_default(void)
                                .filter = FV_SHADOW_FILTER_PCF3,
                                .bias_texels = 1.5f,
                                .stereo_shared = true},
-                    .fovea = {.enabled = false, /* experimental: see the knob fovea.enabled */
+                    .fovea = {.enabled = true, /* BENCHMARKS.md: foveated sparse shading */
                               .mar_slope = 0.022f,
                               .mar_w0_deg = 1.0f / 48.0f,
                               .min_prob = 0.05f,
-                              .block = 4,
+                              .block = 5,
                               .uncertainty = true,
                               .recon = FV_FOVEA_RECON_NEAREST,
                               .compaction = FV_FOVEA_COMPACTION_TILES,
-                              .voronoi = FV_FOVEA_VORONOI_BLOCKS},
+                              .voronoi = FV_FOVEA_VORONOI_BLOCKS,
+                              .temporal = 8,
+                              .saliency = 0.0f,
+                              .dof = true},
                     .distort = {.enabled = true, .mask = true},
                     .gi = {.enabled = true, /* scenes without a spot or directional light skip the pass */
                            .mode = FV_GI_CUT,
