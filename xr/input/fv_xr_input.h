@@ -2,8 +2,18 @@
    table, interaction profiles, action sets, actions, suggested bindings, attachment, the xrSyncActions snapshot,
    bound sources, localized names, haptics and pose bindings.
 
-   The contract with xr/ (issue 14). Changes to the contract's signatures: none. Added functions (after the contract
-   ones): fv_xr_input_sync_unfocused, fv_xr_input_is_attached.
+   The contract with xr/ (issue 14). Changes to the contract's signatures: none. Additions: fields at the END of
+   fv_xr_input_desc (max_paths) and fv_xr_input_devices (time, hand_profiles, values: zero = as before), the type
+   fv_xr_input_value, and the functions after the contract ones: fv_xr_input_sync_unfocused, fv_xr_input_is_attached.
+
+   Rules the runtime (xr/) keeps, because they need the session state this library does not see:
+   - xrSyncActions on a session that is not FOCUSED: call fv_xr_input_sync_unfocused (XR_SESSION_NOT_FOCUSED).
+   - xrGetActionState* / haptics while the session is not running: the spec wants isActive false and haptics
+     suppressed; the runtime checks that first (XR_ERROR_SESSION_NOT_RUNNING is not an error these return).
+   - XrEventDataInteractionProfileChanged: only for running sessions; the profile changes inside a sync (the spec:
+     "Interaction profile selection changes must only happen when xrSyncActions is called"), so ask
+     fv_xr_input_take_profile_changed after each fv_xr_input_sync / _sync_unfocused.
+   - XR_ERROR_HANDLE_INVALID for the XrInstance / XrSession handles themselves.
 
    Handle lifetime (spec, xrDestroyAction / xrDestroyActionSet): destroying a handle invalidates the handle only;
    the action's state lives on while a session has its set attached, so action spaces stay locatable and
@@ -26,6 +36,7 @@ typedef struct fv_xr_input_session fv_xr_input_session;
 
 typedef struct fv_xr_input_desc {
     bool eye_gaze_ext_enabled;
+    uint32_t max_paths; /* XR_ERROR_PATH_COUNT_EXCEEDED past this many path atoms; 0 = 262144 */
 } fv_xr_input_desc;
 /** One per XrInstance. desc may be NULL (no extension enabled). */
 XrResult fv_xr_input_create(const fv_xr_input_desc *desc, fv_xr_input **out);
@@ -43,12 +54,25 @@ XrResult fv_xr_input_create_action(fv_xr_input *in, XrActionSet set, const XrAct
 XrResult fv_xr_input_destroy_action(fv_xr_input *in, XrAction action);
 XrResult fv_xr_input_suggest_bindings(fv_xr_input *in, const XrInteractionProfileSuggestedBinding *b);
 
+/** One component value of a present device, named by its full binding path in the device's interaction
+ *  profile ("/user/hand/left/input/trigger/value"). click/touch: 0 or 1; value/force: 0..1; x, y, twist: -1..1
+ *  (clamped; NaN reads 0). A component of a present device that is not listed reads its rest state 0. */
+typedef struct fv_xr_input_value {
+    const char *path;
+    float value;
+    XrTime changed_time; /* when the device saw this value change; 0: unknown (devices.time is used) */
+} fv_xr_input_value;
+
 /* What fovea's devices provide right now; the runtime fills it before each sync. */
 typedef struct fv_xr_input_devices {
     bool eye_gaze_present; /* a gaze source is open: the eye-gaze profile may become current */
     bool eye_gaze_tracked; /* the newest prediction is valid (not a blink, not lost) */
     bool hands_present[2]; /* controllers (none in fovea today: false) */
     /* values of controller components could follow here; none today */
+    XrTime time;                   /* the runtime's XrTime of this state: lastChangeTime of a change without its own */
+    const char *hand_profiles[2];  /* interaction profile path each hand's device is (NULL: none in particular) */
+    const fv_xr_input_value *values; /* value_count component values (borrowed for the call) */
+    uint32_t value_count;
 } fv_xr_input_devices;
 
 /** One per XrSession (the runtime owns the XrSession handle). */
@@ -56,7 +80,11 @@ XrResult fv_xr_input_session_create(fv_xr_input *in, fv_xr_input_session **out);
 void fv_xr_input_session_destroy(fv_xr_input_session **s);
 XrResult fv_xr_input_attach(fv_xr_input_session *s, const XrSessionActionSetsAttachInfo *info);
 /* Called by the runtime when the session first becomes focused / when devices change: picks the current
-   interaction profile per top-level path from the suggested bindings and the devices. */
+   interaction profile per top-level path from the suggested bindings and the devices. The choice takes effect at
+   the next sync (fv_xr_input_sync, which also re-picks from the devices it is given, or _sync_unfocused): the spec
+   allows profile changes only inside xrSyncActions. Per hand: the device's own profile (hand_profiles) when the
+   app suggested it, else khr/simple_controller (emulated) when suggested, else the first suggested hand profile;
+   /user/eyes_ext: ext/eye_gaze_interaction while a gaze source is present; other paths: none (no devices). */
 void fv_xr_input_update_profiles(fv_xr_input_session *s, const fv_xr_input_devices *dev);
 XrResult fv_xr_input_get_current_interaction_profile(fv_xr_input_session *s, XrPath top_level_user_path,
                                                      XrInteractionProfileState *out);
