@@ -221,7 +221,9 @@ XrResult xri_resolve_binding(const xri_profile *p, xri_user u, const char *sub, 
         }
         return XR_SUCCESS;
     }
-    /* A parent path ("/input/trigger"): valid when some component of this user lies under it. */
+    /* A parent path ("/input/trigger"): valid when some component of this user lies under it. It names an input
+       source, so it holds an identifier: "/input" alone is not one. */
+    if (strncmp(sub, "/input/", 7) != 0 || n <= 7) return XR_ERROR_PATH_UNSUPPORTED;
     bool is_parent = false;
     for (uint32_t i = 0; i < p->comp_count && !is_parent; i++) {
         const char *c = p->comps[i].sub;
@@ -279,7 +281,7 @@ static const struct {
     const char *comp;
     const char *name;
 } comp_names[] = {
-    {"click", "Press"}, {"touch", "Touch"}, {"value", ""},        {"force", "Force"},
+    {"click", ""}, {"touch", "Touch"}, {"value", ""},        {"force", "Force"},
     {"twist", "Twist"}, {"x", "X Axis"},    {"y", "Y Axis"},      {"pose", "Pose"},
 };
 
