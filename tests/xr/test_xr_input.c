@@ -3,6 +3,7 @@
    Each test is one rule of the OpenXR 1.0 spec ("Input and Haptics"), named by its behaviour. */
 #include "fv_test.h"
 #include "fv_xr_input.h"
+#include "test_xr_input_util.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -38,73 +39,13 @@ static void done(fx *f)
     fv_xr_input_destroy(&f->in);
 }
 
-static XrPath P(fv_xr_input *in, const char *s)
-{
-    XrPath p = XR_NULL_PATH;
-    XrResult r = fv_xr_input_string_to_path(in, s, &p);
-    if (r != XR_SUCCESS) fail_msg("xrStringToPath(\"%s\") = %d", s, r);
-    return p;
-}
-
-static XrResult try_set(fv_xr_input *in, const char *name, const char *lname, uint32_t prio, XrActionSet *out)
-{
-    XrActionSetCreateInfo si = {.type = XR_TYPE_ACTION_SET_CREATE_INFO, .priority = prio};
-    snprintf(si.actionSetName, sizeof si.actionSetName, "%s", name);
-    snprintf(si.localizedActionSetName, sizeof si.localizedActionSetName, "%s", lname);
-    return fv_xr_input_create_action_set(in, &si, out);
-}
-
-static XrActionSet make_set(fv_xr_input *in, const char *name, uint32_t prio)
-{
-    char l[128];
-    snprintf(l, sizeof l, "Set %s", name);
-    XrActionSet s = XR_NULL_HANDLE;
-    assert_int_equal(try_set(in, name, l, prio, &s), XR_SUCCESS);
-    return s;
-}
-
-static XrResult try_action(fv_xr_input *in, XrActionSet set, const char *name, const char *lname, XrActionType t,
-                           uint32_t nsub, const XrPath *sub, XrAction *out)
-{
-    XrActionCreateInfo ai = {.type = XR_TYPE_ACTION_CREATE_INFO, .actionType = t, .countSubactionPaths = nsub,
-                             .subactionPaths = sub};
-    snprintf(ai.actionName, sizeof ai.actionName, "%s", name);
-    snprintf(ai.localizedActionName, sizeof ai.localizedActionName, "%s", lname);
-    return fv_xr_input_create_action(in, set, &ai, out);
-}
-
-static XrAction make_action(fv_xr_input *in, XrActionSet set, const char *name, XrActionType t, uint32_t nsub,
-                            const XrPath *sub)
-{
-    char l[128];
-    snprintf(l, sizeof l, "Action %s", name);
-    XrAction a = XR_NULL_HANDLE;
-    XrResult r = try_action(in, set, name, l, t, nsub, sub, &a);
-    if (r != XR_SUCCESS) fail_msg("xrCreateAction(%s) = %d", name, r);
-    return a;
-}
-
-static XrResult suggest(fv_xr_input *in, const char *profile, uint32_t n, const XrAction *acts, const char *const *paths)
-{
-    XrActionSuggestedBinding b[32];
-    assert_true(n <= 32);
-    for (uint32_t i = 0; i < n; i++) {
-        b[i].action = acts[i];
-        b[i].binding = P(in, paths[i]);
-    }
-    XrInteractionProfileSuggestedBinding sb = {.type = XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING,
-                                               .interactionProfile = P(in, profile),
-                                               .countSuggestedBindings = n,
-                                               .suggestedBindings = b};
-    return fv_xr_input_suggest_bindings(in, &sb);
-}
-
-static void suggest_one(fv_xr_input *in, const char *profile, XrAction a, const char *path)
-{
-    const char *paths[1] = {path};
-    XrResult r = suggest(in, profile, 1, &a, paths);
-    if (r != XR_SUCCESS) fail_msg("suggest %s %s = %d", profile, path, r);
-}
+#define P xri_test_path
+#define try_set xri_test_try_set
+#define make_set xri_test_set
+#define try_action xri_test_try_action
+#define make_action xri_test_action
+#define suggest xri_test_suggest
+#define suggest_one xri_test_suggest_one
 
 static XrResult attach(fx *f, uint32_t n, const XrActionSet *sets)
 {
@@ -1278,40 +1219,28 @@ static void hello_xr_sequence_succeeds(void **st)
     XrAction pose = make_action(f.in, set, "hand_pose", XR_ACTION_TYPE_POSE_INPUT, 2, hp);
     XrAction vib = make_action(f.in, set, "vibrate_hand", XR_ACTION_TYPE_VIBRATION_OUTPUT, 2, hp);
     XrAction quit = make_action(f.in, set, "quit_session", XR_ACTION_TYPE_BOOLEAN_INPUT, 2, hp);
-    {
-        XrAction a[8] = {grab, grab, pose, pose, quit, quit, vib, vib};
-        const char *p[8] = {LEFT "/input/select/click", RIGHT "/input/select/click", LEFT "/input/grip/pose",
-                            RIGHT "/input/grip/pose",   LEFT "/input/menu/click",    RIGHT "/input/menu/click",
-                            LEFT "/output/haptic",      RIGHT "/output/haptic"};
-        assert_int_equal(suggest(f.in, SIMPLE, 8, a, p), XR_SUCCESS);
-    }
-    {
-        XrAction a[7] = {grab, grab, pose, pose, quit, vib, vib};
-        const char *p[7] = {LEFT "/input/squeeze/value", RIGHT "/input/squeeze/value", LEFT "/input/grip/pose",
-                            RIGHT "/input/grip/pose",    LEFT "/input/menu/click",     LEFT "/output/haptic",
-                            RIGHT "/output/haptic"};
-        assert_int_equal(suggest(f.in, TOUCH, 7, a, p), XR_SUCCESS);
-    }
-    {
-        XrAction a[8] = {grab, grab, pose, pose, quit, quit, vib, vib};
-        const char *p[8] = {LEFT "/input/trigger/value", RIGHT "/input/trigger/value", LEFT "/input/grip/pose",
-                            RIGHT "/input/grip/pose",    LEFT "/input/menu/click",     RIGHT "/input/menu/click",
-                            LEFT "/output/haptic",       RIGHT "/output/haptic"};
-        assert_int_equal(suggest(f.in, VIVE, 8, a, p), XR_SUCCESS);
-    }
-    {
-        XrAction a[8] = {grab, grab, pose, pose, quit, quit, vib, vib};
-        const char *p[8] = {LEFT "/input/squeeze/force", RIGHT "/input/squeeze/force", LEFT "/input/grip/pose",
-                            RIGHT "/input/grip/pose",    LEFT "/input/b/click",        RIGHT "/input/b/click",
-                            LEFT "/output/haptic",       RIGHT "/output/haptic"};
-        assert_int_equal(suggest(f.in, INDEX, 8, a, p), XR_SUCCESS);
-    }
-    {
-        XrAction a[8] = {grab, grab, pose, pose, quit, quit, vib, vib};
-        const char *p[8] = {LEFT "/input/squeeze/click", RIGHT "/input/squeeze/click", LEFT "/input/grip/pose",
-                            RIGHT "/input/grip/pose",    LEFT "/input/menu/click",     RIGHT "/input/menu/click",
-                            LEFT "/output/haptic",       RIGHT "/output/haptic"};
-        assert_int_equal(suggest(f.in, WMR, 8, a, p), XR_SUCCESS);
+    /* hello_xr's table: per profile the grab, pose and quit components (quit on Touch: the left menu only) */
+    static const struct {
+        const char *profile, *grab, *quit;
+        bool quit_left_only;
+    } hx[] = {
+        {SIMPLE, "/input/select/click", "/input/menu/click", false},
+        {TOUCH, "/input/squeeze/value", "/input/menu/click", true},
+        {VIVE, "/input/trigger/value", "/input/menu/click", false},
+        {INDEX, "/input/squeeze/force", "/input/b/click", false},
+        {WMR, "/input/squeeze/click", "/input/menu/click", false},
+    };
+    for (size_t i = 0; i < sizeof hx / sizeof hx[0]; i++) {
+        XrAction a[8] = {grab, grab, pose, pose, vib, vib, quit, quit};
+        char p[8][XR_MAX_PATH_LENGTH];
+        const char *pp[8];
+        const char *comp[4] = {hx[i].grab, "/input/grip/pose", "/output/haptic", hx[i].quit};
+        for (int k = 0; k < 8; k++) {
+            snprintf(p[k], sizeof p[k], "%s%s", k % 2 ? RIGHT : LEFT, comp[k / 2]);
+            pp[k] = p[k];
+        }
+        uint32_t n = hx[i].quit_left_only ? 7 : 8;
+        if (xri_test_suggest(f.in, hx[i].profile, n, a, pp) != XR_SUCCESS) fail_msg("hello_xr's %s", hx[i].profile);
     }
     for (int h = 0; h < 2; h++) {
         XrActionSpaceCreateInfo ci = {.type = XR_TYPE_ACTION_SPACE_CREATE_INFO, .action = pose, .subactionPath = hp[h],

@@ -1,8 +1,10 @@
 /* @brief fv_xr_input: the path table (OpenXR 1.0 "Well-Formed Path Strings", xrStringToPath, xrPathToString) and
    xrSuggestInteractionProfileBindings (the core interaction profiles' component lists, per-profile validation, the
    implicit components of "Suggested Bindings"). Each test is one rule of the spec, named by its behaviour. */
-#include "fv_test.h"
+/* fv_xr_input.h first: the public header compiles on its own. */
 #include "fv_xr_input.h"
+#include "fv_test.h"
+#include "test_xr_input_util.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,13 +17,7 @@ static fv_xr_input *make(bool gaze)
     return in;
 }
 
-static XrPath P(fv_xr_input *in, const char *s)
-{
-    XrPath p = XR_NULL_PATH;
-    XrResult r = fv_xr_input_string_to_path(in, s, &p);
-    if (r != XR_SUCCESS) fail_msg("xrStringToPath(\"%s\") = %d", s, r);
-    return p;
-}
+#define P xri_test_path
 
 static XrResult s2p(fv_xr_input *in, const char *s)
 {
@@ -237,43 +233,9 @@ static void random_strings_round_trip_or_are_refused(void **st)
 
 /* ---- Suggested bindings ---- */
 
-static XrAction make_action(fv_xr_input *in, XrActionSet set, const char *name, XrActionType t, uint32_t nsub,
-                            const XrPath *sub)
-{
-    XrActionCreateInfo ai = {.type = XR_TYPE_ACTION_CREATE_INFO, .actionType = t, .countSubactionPaths = nsub,
-                             .subactionPaths = sub};
-    snprintf(ai.actionName, sizeof ai.actionName, "%s", name);
-    snprintf(ai.localizedActionName, sizeof ai.localizedActionName, "L %s", name);
-    XrAction a = XR_NULL_HANDLE;
-    XrResult r = fv_xr_input_create_action(in, set, &ai, &a);
-    if (r != XR_SUCCESS) fail_msg("xrCreateAction(%s) = %d", name, r);
-    return a;
-}
-
-static XrActionSet make_set(fv_xr_input *in, const char *name, uint32_t priority)
-{
-    XrActionSetCreateInfo si = {.type = XR_TYPE_ACTION_SET_CREATE_INFO, .priority = priority};
-    snprintf(si.actionSetName, sizeof si.actionSetName, "%s", name);
-    snprintf(si.localizedActionSetName, sizeof si.localizedActionSetName, "L %s", name);
-    XrActionSet s = XR_NULL_HANDLE;
-    assert_int_equal(fv_xr_input_create_action_set(in, &si, &s), XR_SUCCESS);
-    return s;
-}
-
-static XrResult suggest(fv_xr_input *in, const char *profile, uint32_t n, const XrAction *acts, const char *const *paths)
-{
-    XrActionSuggestedBinding b[32];
-    assert_true(n <= 32);
-    for (uint32_t i = 0; i < n; i++) {
-        b[i].action = acts[i];
-        b[i].binding = P(in, paths[i]);
-    }
-    XrInteractionProfileSuggestedBinding sb = {.type = XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING,
-                                               .interactionProfile = P(in, profile),
-                                               .countSuggestedBindings = n,
-                                               .suggestedBindings = b};
-    return fv_xr_input_suggest_bindings(in, &sb);
-}
+#define make_action xri_test_action
+#define make_set xri_test_set
+#define suggest xri_test_suggest
 
 /* The component lists of OpenXR 1.0 "Interaction Profile Paths", typed out from the spec text (L: left hand only,
    R: right hand only, else every user path of the profile). */

@@ -1201,77 +1201,72 @@ static XrResult query_slot(fv_xr_input_session *s, const char *fn, XrAction h, X
     return XR_SUCCESS;
 }
 
-static bool get_info_ok(const XrActionStateGetInfo *g, const void *out, XrStructureType out_type, const char *fn)
+/* The common part of xrGetActionState*: structure checks, then query_slot. out is the state structure (its type
+   first); NULL slot on error. */
+static XrResult read_state(fv_xr_input_session *s, const XrActionStateGetInfo *g, const void *out,
+                           XrStructureType out_type, XrActionType want, const char *fn, const xri_slot **slot)
 {
+    *slot = NULL;
+    if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!g || g->type != XR_TYPE_ACTION_STATE_GET_INFO || !out || *(const XrStructureType *)out != out_type) {
         FV_WARN(XRI_LOG, "%s: getInfo or state is NULL or has the wrong structure type", fn);
-        return false;
+        return XR_ERROR_VALIDATION_FAILURE;
     }
-    return true;
+    xri_session_action *sa;
+    uint32_t k;
+    XrResult r = query_slot(s, fn, g->action, g->subactionPath, want, false, &sa, &k);
+    if (r == XR_SUCCESS) *slot = &sa->slot[k];
+    return r;
 }
+
+/* The fields every input state shares: an inactive action reads FALSE / 0 (compute_slot zeroes its value). */
+#define FILL_COMMON(out, slot)                                                                                         \
+    do {                                                                                                               \
+        (out)->changedSinceLastSync = (slot)->changed ? XR_TRUE : XR_FALSE;                                            \
+        (out)->lastChangeTime = (slot)->last_change;                                                                   \
+        (out)->isActive = (slot)->active ? XR_TRUE : XR_FALSE;                                                         \
+    } while (0)
 
 XrResult fv_xr_input_get_boolean(fv_xr_input_session *s, const XrActionStateGetInfo *g, XrActionStateBoolean *out)
 {
-    if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!get_info_ok(g, out, XR_TYPE_ACTION_STATE_BOOLEAN, "xrGetActionStateBoolean")) return XR_ERROR_VALIDATION_FAILURE;
-    xri_session_action *sa;
-    uint32_t k;
-    XrResult r = query_slot(s, "xrGetActionStateBoolean", g->action, g->subactionPath, XR_ACTION_TYPE_BOOLEAN_INPUT,
-                            false, &sa, &k);
+    const xri_slot *slot;
+    XrResult r = read_state(s, g, out, XR_TYPE_ACTION_STATE_BOOLEAN, XR_ACTION_TYPE_BOOLEAN_INPUT,
+                            "xrGetActionStateBoolean", &slot);
     if (r != XR_SUCCESS) return r;
-    const xri_slot *slot = &sa->slot[k];
     out->currentState = slot->b ? XR_TRUE : XR_FALSE;
-    out->changedSinceLastSync = slot->changed ? XR_TRUE : XR_FALSE;
-    out->lastChangeTime = slot->last_change;
-    out->isActive = slot->active ? XR_TRUE : XR_FALSE;
+    FILL_COMMON(out, slot);
     return XR_SUCCESS;
 }
 
 XrResult fv_xr_input_get_float(fv_xr_input_session *s, const XrActionStateGetInfo *g, XrActionStateFloat *out)
 {
-    if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!get_info_ok(g, out, XR_TYPE_ACTION_STATE_FLOAT, "xrGetActionStateFloat")) return XR_ERROR_VALIDATION_FAILURE;
-    xri_session_action *sa;
-    uint32_t k;
-    XrResult r = query_slot(s, "xrGetActionStateFloat", g->action, g->subactionPath, XR_ACTION_TYPE_FLOAT_INPUT, false,
-                            &sa, &k);
+    const xri_slot *slot;
+    XrResult r = read_state(s, g, out, XR_TYPE_ACTION_STATE_FLOAT, XR_ACTION_TYPE_FLOAT_INPUT, "xrGetActionStateFloat",
+                            &slot);
     if (r != XR_SUCCESS) return r;
-    const xri_slot *slot = &sa->slot[k];
     out->currentState = slot->f;
-    out->changedSinceLastSync = slot->changed ? XR_TRUE : XR_FALSE;
-    out->lastChangeTime = slot->last_change;
-    out->isActive = slot->active ? XR_TRUE : XR_FALSE;
+    FILL_COMMON(out, slot);
     return XR_SUCCESS;
 }
 
 XrResult fv_xr_input_get_vector2f(fv_xr_input_session *s, const XrActionStateGetInfo *g, XrActionStateVector2f *out)
 {
-    if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!get_info_ok(g, out, XR_TYPE_ACTION_STATE_VECTOR2F, "xrGetActionStateVector2f"))
-        return XR_ERROR_VALIDATION_FAILURE;
-    xri_session_action *sa;
-    uint32_t k;
-    XrResult r = query_slot(s, "xrGetActionStateVector2f", g->action, g->subactionPath, XR_ACTION_TYPE_VECTOR2F_INPUT,
-                            false, &sa, &k);
+    const xri_slot *slot;
+    XrResult r = read_state(s, g, out, XR_TYPE_ACTION_STATE_VECTOR2F, XR_ACTION_TYPE_VECTOR2F_INPUT,
+                            "xrGetActionStateVector2f", &slot);
     if (r != XR_SUCCESS) return r;
-    const xri_slot *slot = &sa->slot[k];
     out->currentState = slot->v;
-    out->changedSinceLastSync = slot->changed ? XR_TRUE : XR_FALSE;
-    out->lastChangeTime = slot->last_change;
-    out->isActive = slot->active ? XR_TRUE : XR_FALSE;
+    FILL_COMMON(out, slot);
     return XR_SUCCESS;
 }
 
 XrResult fv_xr_input_get_pose(fv_xr_input_session *s, const XrActionStateGetInfo *g, XrActionStatePose *out)
 {
-    if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!get_info_ok(g, out, XR_TYPE_ACTION_STATE_POSE, "xrGetActionStatePose")) return XR_ERROR_VALIDATION_FAILURE;
-    xri_session_action *sa;
-    uint32_t k;
-    XrResult r = query_slot(s, "xrGetActionStatePose", g->action, g->subactionPath, XR_ACTION_TYPE_POSE_INPUT, false,
-                            &sa, &k);
+    const xri_slot *slot;
+    XrResult r = read_state(s, g, out, XR_TYPE_ACTION_STATE_POSE, XR_ACTION_TYPE_POSE_INPUT, "xrGetActionStatePose",
+                            &slot);
     if (r != XR_SUCCESS) return r;
-    out->isActive = sa->slot[k].active ? XR_TRUE : XR_FALSE;
+    out->isActive = slot->active ? XR_TRUE : XR_FALSE;
     return XR_SUCCESS;
 }
 
