@@ -75,6 +75,8 @@ typedef struct fv_xr_frame_stats {
     double overhead_ms_sum;    /* runtime time inside xrWaitFrame (not sleeping), xrBeginFrame, xrEndFrame */
     uint64_t overhead_frames;
     int64_t predicted_minus_photon_ns_max; /* |predicted display time - photon time of the vsync shown| */
+    double predicted_error_ms_sum;         /* the same, summed over presented frames (mean = sum / presented) */
+    uint64_t presented;
 } fv_xr_frame_stats;
 
 struct XrSession_T {
@@ -99,6 +101,7 @@ struct XrSession_T {
     int64_t predicted_ns;          /* its predictedDisplayTime */
     fv_xr_frame_stats stats;
     uint32_t visible_after;        /* frames ended before the session becomes VISIBLE/FOCUSED */
+    uint64_t exit_after_frames;    /* FOVEA_XR_FRAMES: the runtime ends the session after this many frames (0 = never) */
     uint64_t lose_after_frames;    /* FOVEA_XR_LOSE_DISPLAY_AFTER: the simulated display goes away (0 = never) */
     struct fv_xr_space_list *spaces;
     struct XrSwapchain_T *swapchains;

@@ -101,6 +101,8 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
     pthread_cond_init(&s->frame_cond, NULL);
     const char *lose = getenv("FOVEA_XR_LOSE_DISPLAY_AFTER");
     if (lose && *lose) s->lose_after_frames = strtoull(lose, NULL, 10);
+    const char *frames = getenv("FOVEA_XR_FRAMES");
+    if (frames && *frames) s->exit_after_frames = strtoull(frames, NULL, 10);
     /* The display clock: the simulated display at the HMD's refresh rate on the host clock (no window yet). */
     fv_sim_display_desc dd = {.clock = fv_clock_monotonic(), .refresh_hz = inst->hmd.refresh_hz};
     if (fv_sim_display_create(&dd, &s->display) != FV_OK) {
@@ -170,13 +172,14 @@ static void write_stats(struct XrSession_T *s)
             "{\n  \"frames_waited\": %llu,\n  \"frames_begun\": %llu,\n  \"frames_ended\": %llu,\n"
             "  \"frames_discarded\": %llu,\n  \"frames_composited\": %llu,\n  \"frames_missed\": %llu,\n"
             "  \"app_ms\": %.4f,\n  \"composite_ms\": %.4f,\n  \"runtime_overhead_ms\": %.4f,\n"
-            "  \"predicted_vs_photon_max_ms\": %.4f,\n  \"headless\": %s,\n  \"validation_messages\": %u,\n"
+            "  \"predicted_vs_photon_max_ms\": %.4f,\n  \"predicted_vs_photon_mean_ms\": %.4f,\n  \"headless\": %s,\n  \"validation_messages\": %u,\n"
             "  \"states\": \"%s\"\n}\n",
             (unsigned long long)st->waited, (unsigned long long)st->begun, (unsigned long long)st->ended,
             (unsigned long long)st->discarded, (unsigned long long)st->composited, (unsigned long long)st->missed,
             st->app_ms_ema, st->composite_ms_ema,
             st->overhead_frames ? st->overhead_ms_sum / (double)st->overhead_frames : 0.0,
-            (double)st->predicted_minus_photon_ns_max * MS_PER_NS, s->headless ? "true" : "false",
+            (double)st->predicted_minus_photon_ns_max * MS_PER_NS,
+            st->presented ? st->predicted_error_ms_sum / (double)st->presented : 0.0, s->headless ? "true" : "false",
             s->inst->comp ? fv_xr_compositor_validation_messages(s->inst->comp) : 0u, g_history);
     fclose(f);
 }
@@ -526,6 +529,12 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
         int64_t err = fv_display_photon_ns(s->display, &shown_at) - s->predicted_ns;
         if (err < 0) err = -err;
         if (err > st->predicted_minus_photon_ns_max) st->predicted_minus_photon_ns_max = err;
+        st->predicted_error_ms_sum += (double)err * MS_PER_NS;
+        st->presented++;
+        FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "frame %llu: app %.2f ms, composite %.2f ms, vsync %llu (planned %llu)",
+               (unsigned long long)st->ended, (double)(t0 - s->begin_ns) * MS_PER_NS,
+               (double)(t_done - t_comp) * MS_PER_NS, (unsigned long long)shown_at.index,
+               (unsigned long long)s->target_vsync);
     }
     st->overhead_ms_sum += (double)((t_comp - t0) + (shown ? 0 : t_done - t_comp)) * MS_PER_NS;
     st->overhead_frames++;
@@ -535,6 +544,12 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
         set_state(s, XR_SESSION_STATE_VISIBLE);
         set_state(s, XR_SESSION_STATE_FOCUSED);
         fv_xr_input_focus(s);
+    }
+    /* a fixed number of frames (FOVEA_XR_FRAMES, like `fovea run --frames`): the runtime stops the session as a
+     * window's close button would; the app then ends it and the session exits */
+    if (s->exit_after_frames && st->ended >= s->exit_after_frames && !s->exit_requested) {
+        s->exit_requested = true;
+        go_stopping(s);
     }
     if (s->lose_after_frames && st->ended >= s->lose_after_frames)
         lose_display(s, "FOVEA_XR_LOSE_DISPLAY_AFTER frames on the simulated display");
