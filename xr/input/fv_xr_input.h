@@ -17,7 +17,12 @@
 
    Handle lifetime (spec, xrDestroyAction / xrDestroyActionSet): destroying a handle invalidates the handle only;
    the action's state lives on while a session has its set attached, so action spaces stay locatable and
-   fv_xr_input_pose_source accepts an action whose handle was destroyed. */
+   fv_xr_input_pose_source accepts an action whose handle was destroyed.
+
+   Choices the spec leaves to the runtime: a boolean action bound to a scalar is pressed above 0.5 and released
+   below 0.4 (per action and subaction filter); the pose source is the first suggested binding that is live; a pose
+   action bound to the eye gaze is active while a gaze source is present (a blink or lost tracking keeps it active:
+   the runtime clears the location's TRACKED bits); attached sets keep the suggested bindings they had at attach. */
 #ifndef FV_XR_INPUT_H
 #define FV_XR_INPUT_H
 
@@ -40,7 +45,7 @@ typedef struct fv_xr_input_desc {
 } fv_xr_input_desc;
 /** One per XrInstance. desc may be NULL (no extension enabled). */
 XrResult fv_xr_input_create(const fv_xr_input_desc *desc, fv_xr_input **out);
-/** Destroys its action sets and actions. Every session created from it must be destroyed first. */
+/** Destroys its action sets, actions and any session still alive (those pointers become invalid). */
 void fv_xr_input_destroy(fv_xr_input **in);
 
 /* xrStringToPath / xrPathToString (the whole spec's path syntax rules: XR_ERROR_PATH_FORMAT_INVALID,
