@@ -181,6 +181,7 @@ static void hello(const char *graphics)
     if (bad) fail_msg("%d validation/error lines; the first: %s", bad, first);
     /* the layers really ran: the core-validation layer announces itself, hello_xr names its Vulkan layer */
     fv_assert_contains(log, "Core Validation output type");
+    fv_assert_contains(log, "Inserted device layer \"VK_LAYER_KHRONOS_validation\"");
     char stats_path[1200];
     snprintf(stats_path, sizeof stats_path, "%s/stats.json", dir);
     char *stats = fv_test_read_file(stats_path, NULL);
