@@ -692,7 +692,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     for (uint32_t i = 0; i < info->layerCount; i++) {
         const XrCompositionLayerBaseHeader *lh = info->layers[i];
         XrPosef space_local;
-        XrSpaceLocationFlags sf = fv_xr_space_pose(lh->space, info->displayTime, &space_local);
+        XrSpaceLocationFlags sf = fv_xr_space_pose(lh->space, info->displayTime, &space_local, NULL);
         if (!(sf & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT)) continue; /* its space is not located: not shown */
         for (int e = 0; e < 2; e++) {
             if (nl[e] == FV_XR_COMPOSE_MAX_LAYERS) continue;

@@ -103,7 +103,10 @@ bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], floa
     drain(g);
     fv_gaze_prediction p;
     fv_gaze_pipeline_predict(g->pipeline, t_ns, &p);
-    bool tracked = p.combined_valid && !g->lost && p.event != FV_GAZE_EVENT_BLINK;
+    bool tracked = p.combined_valid && !g->lost && p.event != FV_GAZE_EVENT_BLINK && p.event != FV_GAZE_EVENT_LOST &&
+                   p.event != FV_GAZE_EVENT_NONE;
+    FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "gaze at %+.1f ms from the newest sample: %s, %s", (double)(t_ns - p.t_sample_ns) * 1e-6,
+           fv_gaze_event_str(p.event), tracked ? "tracked" : "not tracked");
     pthread_mutex_unlock(&g->lock);
     /* the combined (cyclopean) ray starts between the eyes: the head frame's origin */
     out_origin_m[0] = out_origin_m[1] = out_origin_m[2] = 0.0f;

@@ -209,7 +209,10 @@ FV_XR_DECL(xrLocateViews)(XrSession session, const XrViewLocateInfo *info, XrVie
 void fv_xr_spaces_destroy_all(struct XrSession_T *s);
 /** The pose of a space in the session's LOCAL space at time t (head, gaze or reference); flags as in
  *  XrSpaceLocation. */
-XrSpaceLocationFlags fv_xr_space_pose(struct XrSpace_T *sp, XrTime t, XrPosef *out);
+XrSpaceLocationFlags fv_xr_space_pose(struct XrSpace_T *sp, XrTime t, XrPosef *out, bool *out_on_head);
+/** Space a located in space b at time t; flags of the relation (the head's own tracking only where one end rides on
+ *  the head and the other does not). */
+XrSpaceLocationFlags fv_xr_space_relate(struct XrSpace_T *a, struct XrSpace_T *b, XrTime t, XrPosef *out_a_in_b);
 /** The head (VIEW space) in LOCAL at time t. */
 void fv_xr_head_pose(struct XrInstance_T *inst, XrTime t, XrPosef *out);
 

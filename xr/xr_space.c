@@ -186,21 +186,26 @@ void fv_xr_spaces_destroy_all(struct XrSession_T *s)
 #define LOC_VALID (XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT)
 #define LOC_TRACKED (XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT)
 
-XrSpaceLocationFlags fv_xr_space_pose(struct XrSpace_T *sp, XrTime t, XrPosef *out)
+/* The head's own flags in LOCAL: valid, not tracked (no head tracker in fovea today). */
+#define HEAD_FLAGS LOC_VALID
+
+XrSpaceLocationFlags fv_xr_space_pose(struct XrSpace_T *sp, XrTime t, XrPosef *out, bool *out_on_head)
 {
     XrPosef base = POSE_IDENTITY;
     XrSpaceLocationFlags flags = LOC_VALID | LOC_TRACKED;
+    bool on_head = false;
     struct XrInstance_T *inst = sp->session->inst;
     if (sp->kind == FV_XR_SPACE_REFERENCE) {
         if (sp->ref_type == XR_REFERENCE_SPACE_TYPE_VIEW) {
             fv_xr_head_pose(inst, t, &base);
-            flags = LOC_VALID; /* given, not tracked */
+            on_head = true; /* exactly the head: its relation to the head is known */
         } else if (sp->ref_type == XR_REFERENCE_SPACE_TYPE_STAGE ||
                    sp->ref_type == XR_REFERENCE_SPACE_TYPE_LOCAL_FLOOR_EXT) {
             base.position.y = -FV_XR_EYE_HEIGHT_M;
         }
     } else {
         flags = 0;
+        on_head = true; /* the gaze is measured in the head frame */
         if (fv_xr_input_space_source(sp) == 1 /* FV_XR_POSE_EYE_GAZE */ && inst->gaze) {
             /* the gaze ray in the head frame, predicted by fovea's pipeline to t, then into LOCAL with the head */
             float o[3], d[3];
@@ -223,7 +228,23 @@ XrSpaceLocationFlags fv_xr_space_pose(struct XrSpace_T *sp, XrTime t, XrPosef *o
         }
     }
     *out = pose_mul(base, sp->offset);
+    if (out_on_head) *out_on_head = on_head;
     return flags;
+}
+
+XrSpaceLocationFlags fv_xr_space_relate(struct XrSpace_T *a, struct XrSpace_T *b, XrTime t, XrPosef *out_a_in_b)
+{
+    XrPosef pa, pb;
+    bool ha, hb;
+    XrSpaceLocationFlags f = fv_xr_space_pose(a, t, &pa, &ha) & fv_xr_space_pose(b, t, &pb, &hb);
+    /* a relation through the head carries the head's own tracking, unless both ends ride on the head */
+    if (ha != hb) f &= HEAD_FLAGS;
+    if (!(f & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT) || !(f & XR_SPACE_LOCATION_POSITION_VALID_BIT)) {
+        *out_a_in_b = POSE_IDENTITY;
+        return 0;
+    }
+    *out_a_in_b = pose_mul(pose_inv(pb), pa);
+    return f;
 }
 
 FV_XR_DECL(xrLocateSpace)(XrSpace space, XrSpace base, XrTime time, XrSpaceLocation *location)
@@ -238,15 +259,7 @@ FV_XR_DECL(xrLocateSpace)(XrSpace space, XrSpace base, XrTime time, XrSpaceLocat
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = s->loss_pending ? XR_ERROR_SESSION_LOST : XR_SUCCESS;
     if (r == XR_SUCCESS) {
-        XrPosef pa, pb;
-        XrSpaceLocationFlags fa = fv_xr_space_pose(a, time, &pa), fb = fv_xr_space_pose(b, time, &pb);
-        XrSpaceLocationFlags f = fa & fb;
-        if (f & LOC_VALID) {
-            location->pose = pose_mul(pose_inv(pb), pa);
-        } else {
-            location->pose = POSE_IDENTITY;
-            f = 0;
-        }
+        XrSpaceLocationFlags f = fv_xr_space_relate(a, b, time, &location->pose);
         location->locationFlags = f;
         XrSpaceVelocity *vel = (XrSpaceVelocity *)fv_xr_find_next(location->next, XR_TYPE_SPACE_VELOCITY);
         if (vel) {
@@ -286,8 +299,10 @@ FV_XR_DECL(xrLocateViews)(XrSession session, const XrViewLocateInfo *info, XrVie
         return XR_ERROR_SESSION_LOST;
     }
     XrPosef head, base;
+    bool base_on_head;
     fv_xr_head_pose(s->inst, info->displayTime, &head);
-    XrSpaceLocationFlags fb = fv_xr_space_pose(info->space, info->displayTime, &base);
+    XrSpaceLocationFlags fb = fv_xr_space_pose(info->space, info->displayTime, &base, &base_on_head);
+    if (!base_on_head) fb &= HEAD_FLAGS; /* the eyes ride on the head */
     XrPosef base_inv = pose_inv(base);
     const fv_hmd_profile *h = &s->inst->hmd;
     for (uint32_t i = 0; i < n; i++) {
@@ -303,8 +318,13 @@ FV_XR_DECL(xrLocateViews)(XrSession session, const XrViewLocateInfo *info, XrVie
         views[i].fov.angleUp = atanf(f->tan_up);
         views[i].fov.angleDown = -atanf(f->tan_down);
     }
-    /* the head is given, not tracked: valid poses, tracked bits clear */
-    state->viewStateFlags = (fb & LOC_VALID) ? (XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT) : 0;
+    /* relative to a space off the head, the head's tracking decides (given, not tracked today) */
+    state->viewStateFlags = 0;
+    if ((fb & LOC_VALID) == LOC_VALID)
+        state->viewStateFlags = XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
+                                ((fb & LOC_TRACKED) == LOC_TRACKED
+                                     ? XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT
+                                     : 0);
     pthread_mutex_unlock(&s->inst->lock);
     return XR_SUCCESS;
 }

@@ -54,6 +54,9 @@ typedef struct xri_binding {
     xri_user user;
     xri_resolved res;
     XrPath source; /* the physical source: the resolved component, or the suggested parent for a vector2f */
+    const char *comp;   /* the profile component read first (comp[0]); NULL when the binding feeds nothing */
+    uint16_t ident_len; /* length of its "/input/<identifier>" part: the input source, for priorities */
+    bool is_input;
 } xri_binding;
 
 typedef struct xri_profile_bindings {
@@ -79,6 +82,7 @@ struct fv_xr_input {
     uint32_t profile_count;
     const xri_profile *profile_table;
     xri_session_node *sessions;
+    xri_map objs; /* handle value -> xri_action_set / xri_action */
 };
 
 /* The state of one action seen through one subaction filter, as of the last sync. */
@@ -93,9 +97,16 @@ typedef struct xri_slot {
     const char *pose_sub; /* its component in the profile table ("/input/grip/pose"); NULL: none */
 } xri_slot;
 
+typedef struct xri_binding_ref {
+    uint8_t profile;
+    uint32_t index;
+} xri_binding_ref;
+
 typedef struct xri_session_action {
     xri_action *a;
     xri_slot *slot; /* a->sub_count + 1 slots: one per subaction path, the last for XR_NULL_PATH (all) */
+    xri_binding_ref *binds; /* its bindings in the session's snapshot */
+    uint32_t bind_count;
 } xri_session_action;
 
 struct fv_xr_input_session {
@@ -106,6 +117,8 @@ struct fv_xr_input_session {
     xri_session_action *acts;
     uint32_t act_count;
     xri_profile_bindings prof[XRI_PROFILE_MAX]; /* the bindings of the attached sets, frozen at attach */
+    uint8_t *live[XRI_PROFILE_MAX];             /* per binding, this sync: takes part (see mark_live) */
+    xri_map act_index;                          /* action handle value -> index into acts, + 1 */
     int current[XRI_USER_COUNT]; /* profile index per top-level user path, -1 none */
     bool profile_changed;
     bool have_pending;
@@ -135,9 +148,8 @@ static xri_action_set *find_set(const fv_xr_input *in, XrActionSet h)
 {
     uint64_t v = set_value(h);
     if (v == 0 || (v >> 40) != in->serial || ((v >> 36) & 0xF) != KIND_SET) return NULL;
-    for (uint32_t i = 0; i < in->set_count; i++)
-        if (in->sets[i]->handle == v) return in->sets[i]->handle_alive ? in->sets[i] : NULL;
-    return NULL;
+    xri_action_set *set = xri_map_get(&in->objs, v);
+    return set && set->handle_alive ? set : NULL;
 }
 
 /* The action of handle h, live or not (alive_only: only a live handle). */
@@ -145,14 +157,8 @@ static xri_action *find_action(const fv_xr_input *in, XrAction h, bool alive_onl
 {
     uint64_t v = action_value(h);
     if (v == 0 || (v >> 40) != in->serial || ((v >> 36) & 0xF) != KIND_ACTION) return NULL;
-    for (uint32_t i = 0; i < in->set_count; i++) {
-        xri_action_set *set = in->sets[i];
-        for (uint32_t k = 0; k < set->action_count; k++) {
-            xri_action *a = set->actions[k];
-            if (a->handle == v) return (!alive_only || a->handle_alive) ? a : NULL;
-        }
-    }
-    return NULL;
+    xri_action *a = xri_map_get(&in->objs, v);
+    return a && (!alive_only || a->handle_alive) ? a : NULL;
 }
 
 /* ------------------------------------------------------------------------------------------------------------ */
@@ -206,6 +212,15 @@ static XrResult check_names(const char *fn, const char *name, size_t name_cap, c
         return XR_ERROR_PATH_FORMAT_INVALID;
     }
     return XR_SUCCESS;
+}
+
+/* The identifier part ("/input/trigger") of a component: the length up to its third '/'. */
+static size_t identifier_len(const char *sub)
+{
+    int slashes = 0;
+    for (size_t i = 0; sub[i]; i++)
+        if (sub[i] == '/' && ++slashes == 3) return i;
+    return strlen(sub);
 }
 
 /* Two-call idiom for a string (count includes the terminator). */
@@ -270,6 +285,7 @@ XrResult fv_xr_input_create(const fv_xr_input_desc *desc, fv_xr_input **out)
 }
 
 static void free_set(fv_xr_input *in, xri_action_set *set);
+static void free_attachment(fv_xr_input_session *s);
 
 void fv_xr_input_destroy(fv_xr_input **pin)
 {
@@ -282,6 +298,7 @@ void fv_xr_input_destroy(fv_xr_input **pin)
     while (in->set_count) free_set(in, in->sets[in->set_count - 1]);
     free(in->sets);
     for (int p = 0; p < XRI_PROFILE_MAX; p++) free(in->prof[p].b);
+    xri_map_fini(&in->objs);
     xri_paths_fini(&in->paths);
     free(in);
     *pin = NULL;
@@ -365,6 +382,10 @@ XrResult fv_xr_input_create_action_set(fv_xr_input *in, const XrActionSetCreateI
     memcpy(set->name, info->actionSetName, sizeof set->name);
     memcpy(set->lname, info->localizedActionSetName, sizeof set->lname);
     set->priority = info->priority;
+    if (!xri_map_put(&in->objs, set->handle, set)) {
+        free(set);
+        return XR_ERROR_OUT_OF_MEMORY;
+    }
     in->sets[in->set_count++] = set;
     *out = set_handle(set->handle);
     return XR_SUCCESS;
@@ -384,8 +405,9 @@ static void drop_bindings(fv_xr_input *in, const xri_action_set *set, const xri_
     }
 }
 
-static void free_action(xri_action_set *set, uint32_t k)
+static void free_action(fv_xr_input *in, xri_action_set *set, uint32_t k)
 {
+    xri_map_del(&in->objs, set->actions[k]->handle);
     free(set->actions[k]);
     memmove(&set->actions[k], &set->actions[k + 1], (set->action_count - k - 1) * sizeof set->actions[0]);
     set->action_count--;
@@ -394,7 +416,8 @@ static void free_action(xri_action_set *set, uint32_t k)
 static void free_set(fv_xr_input *in, xri_action_set *set)
 {
     drop_bindings(in, set, NULL);
-    while (set->action_count) free_action(set, set->action_count - 1);
+    while (set->action_count) free_action(in, set, set->action_count - 1);
+    xri_map_del(&in->objs, set->handle);
     free(set->actions);
     for (uint32_t i = 0; i < in->set_count; i++) {
         if (in->sets[i] == set) {
@@ -529,6 +552,10 @@ XrResult fv_xr_input_create_action(fv_xr_input *in, XrActionSet h, const XrActio
     a->type = info->actionType;
     memcpy(a->name, info->actionName, sizeof a->name);
     memcpy(a->lname, info->localizedActionName, sizeof a->lname);
+    if (!xri_map_put(&in->objs, a->handle, a)) {
+        free(a);
+        return XR_ERROR_OUT_OF_MEMORY;
+    }
     set->actions[set->action_count++] = a;
     *out = action_handle(a->handle);
     return XR_SUCCESS;
@@ -546,7 +573,7 @@ XrResult fv_xr_input_destroy_action(fv_xr_input *in, XrAction h)
         drop_bindings(in, NULL, a);
         for (uint32_t k = 0; k < set->action_count; k++) {
             if (set->actions[k] == a) {
-                free_action(set, k);
+                free_action(in, set, k);
                 break;
             }
         }
@@ -629,6 +656,11 @@ XrResult fv_xr_input_suggest_bindings(fv_xr_input *in, const XrInteractionProfil
         nb->user = u;
         nb->res = res;
         nb->source = b->binding;
+        if (res.count > 0) {
+            nb->comp = prof->comps[res.comp[0]].sub;
+            nb->is_input = strncmp(nb->comp, "/input/", 7) == 0;
+            nb->ident_len = (uint16_t)identifier_len(nb->comp);
+        }
         if (res.count == 1) {
             /* The physical source is the resolved component ("/input/trigger" -> ".../trigger/value"). */
             char full[XR_MAX_PATH_LENGTH * 2];
@@ -685,20 +717,98 @@ void fv_xr_input_session_destroy(fv_xr_input_session **ps)
             break;
         }
     }
-    for (uint32_t i = 0; i < s->act_count; i++) free(s->acts[i].slot);
-    free(s->acts);
-    for (int p = 0; p < XRI_PROFILE_MAX; p++) free(s->prof[p].b);
     for (uint32_t i = 0; i < s->set_count; i++) {
         xri_action_set *set = s->sets[i];
         set->session_refs--;
         if (set->session_refs == 0 && !set->handle_alive) free_set(in, set);
     }
-    free(s->sets);
+    free_attachment(s);
     free(s);
     *ps = NULL;
 }
 
 bool fv_xr_input_is_attached(const fv_xr_input_session *s) { return s && s->attached; }
+
+/* Frees what attach built (safe on a partial build); the set references are the caller's. */
+static void free_attachment(fv_xr_input_session *s)
+{
+    for (uint32_t i = 0; i < s->act_count; i++) {
+        free(s->acts[i].slot);
+        free(s->acts[i].binds);
+    }
+    free(s->acts);
+    s->acts = NULL;
+    s->act_count = 0;
+    for (int p = 0; p < XRI_PROFILE_MAX; p++) {
+        free(s->prof[p].b);
+        s->prof[p] = (xri_profile_bindings){0};
+        free(s->live[p]);
+        s->live[p] = NULL;
+    }
+    xri_map_fini(&s->act_index);
+    free(s->sets);
+    s->sets = NULL;
+    s->set_count = 0;
+}
+
+static XrResult build_attachment(fv_xr_input_session *s, const XrSessionActionSetsAttachInfo *info)
+{
+    fv_xr_input *in = s->in;
+    s->sets = calloc(info->countActionSets, sizeof *s->sets);
+    if (!s->sets) return XR_ERROR_OUT_OF_MEMORY;
+    uint32_t act_count = 0;
+    for (uint32_t i = 0; i < info->countActionSets; i++) {
+        xri_action_set *set = find_set(in, info->actionSets[i]);
+        bool dup = false;
+        for (uint32_t k = 0; k < s->set_count && !dup; k++) dup = s->sets[k] == set;
+        if (dup) continue;
+        s->sets[s->set_count++] = set;
+        act_count += set->action_count;
+    }
+    s->acts = calloc(act_count ? act_count : 1, sizeof *s->acts);
+    if (!s->acts) return XR_ERROR_OUT_OF_MEMORY;
+    for (uint32_t i = 0; i < s->set_count; i++) {
+        for (uint32_t k = 0; k < s->sets[i]->action_count; k++) {
+            xri_session_action *sa = &s->acts[s->act_count];
+            sa->a = s->sets[i]->actions[k];
+            sa->slot = calloc(sa->a->sub_count + 1, sizeof *sa->slot);
+            if (!sa->slot) return XR_ERROR_OUT_OF_MEMORY;
+            s->act_count++;
+            if (!xri_map_put(&s->act_index, sa->a->handle, (void *)(uintptr_t)s->act_count))
+                return XR_ERROR_OUT_OF_MEMORY;
+        }
+    }
+    /* The attached sets are immutable from now on: this session keeps their suggested bindings as they are, and
+       each action the list of its own. */
+    for (int p = 0; p < XRI_PROFILE_MAX; p++) {
+        const xri_profile_bindings *pb = &in->prof[p];
+        if (pb->count == 0) continue;
+        s->prof[p].b = malloc(pb->count * sizeof *pb->b);
+        s->live[p] = calloc(pb->count, 1);
+        if (!s->prof[p].b || !s->live[p]) return XR_ERROR_OUT_OF_MEMORY;
+        for (uint32_t i = 0; i < pb->count; i++) {
+            uintptr_t ai = (uintptr_t)xri_map_get(&s->act_index, pb->b[i].action->handle);
+            if (ai == 0) continue; /* an action of a set not attached here */
+            s->prof[p].b[s->prof[p].count++] = pb->b[i];
+            s->acts[ai - 1].bind_count++;
+        }
+    }
+    for (uint32_t i = 0; i < s->act_count; i++) {
+        xri_session_action *sa = &s->acts[i];
+        if (sa->bind_count == 0) continue;
+        sa->binds = malloc(sa->bind_count * sizeof *sa->binds);
+        if (!sa->binds) return XR_ERROR_OUT_OF_MEMORY;
+        sa->bind_count = 0;
+    }
+    for (int p = 0; p < XRI_PROFILE_MAX; p++) {
+        for (uint32_t i = 0; i < s->prof[p].count; i++) {
+            uintptr_t ai = (uintptr_t)xri_map_get(&s->act_index, s->prof[p].b[i].action->handle);
+            xri_session_action *sa = &s->acts[ai - 1];
+            sa->binds[sa->bind_count++] = (xri_binding_ref){(uint8_t)p, i};
+        }
+    }
+    return XR_SUCCESS;
+}
 
 XrResult fv_xr_input_attach(fv_xr_input_session *s, const XrSessionActionSetsAttachInfo *info)
 {
@@ -720,66 +830,15 @@ XrResult fv_xr_input_attach(fv_xr_input_session *s, const XrSessionActionSetsAtt
             return XR_ERROR_HANDLE_INVALID;
         }
     }
-    xri_action_set **sets = calloc(info->countActionSets, sizeof *sets);
-    if (!sets) return XR_ERROR_OUT_OF_MEMORY;
-    uint32_t set_count = 0, act_count = 0;
-    for (uint32_t i = 0; i < info->countActionSets; i++) {
-        xri_action_set *set = find_set(in, info->actionSets[i]);
-        bool dup = false;
-        for (uint32_t k = 0; k < set_count && !dup; k++) dup = sets[k] == set;
-        if (dup) continue;
-        sets[set_count++] = set;
-        act_count += set->action_count;
+    XrResult r = build_attachment(s, info);
+    if (r != XR_SUCCESS) {
+        free_attachment(s);
+        return r;
     }
-    xri_session_action *acts = calloc(act_count ? act_count : 1, sizeof *acts);
-    if (!acts) {
-        free(sets);
-        return XR_ERROR_OUT_OF_MEMORY;
+    for (uint32_t i = 0; i < s->set_count; i++) {
+        s->sets[i]->ever_attached = true;
+        s->sets[i]->session_refs++;
     }
-    uint32_t w = 0;
-    for (uint32_t i = 0; i < set_count; i++) {
-        for (uint32_t k = 0; k < sets[i]->action_count; k++) {
-            xri_action *a = sets[i]->actions[k];
-            acts[w].a = a;
-            acts[w].slot = calloc(a->sub_count + 1, sizeof(xri_slot));
-            if (!acts[w].slot) {
-                for (uint32_t j = 0; j < w; j++) free(acts[j].slot);
-                free(acts);
-                free(sets);
-                return XR_ERROR_OUT_OF_MEMORY;
-            }
-            w++;
-        }
-    }
-    /* The attached sets are immutable from now on: this session keeps their suggested bindings as they are. */
-    for (int p = 0; p < XRI_PROFILE_MAX; p++) {
-        const xri_profile_bindings *pb = &in->prof[p];
-        if (pb->count == 0) continue;
-        s->prof[p].b = malloc(pb->count * sizeof *pb->b);
-        if (!s->prof[p].b) {
-            for (int q = 0; q < p; q++) {
-                free(s->prof[q].b);
-                s->prof[q] = (xri_profile_bindings){0};
-            }
-            for (uint32_t j = 0; j < w; j++) free(acts[j].slot);
-            free(acts);
-            free(sets);
-            return XR_ERROR_OUT_OF_MEMORY;
-        }
-        for (uint32_t i = 0; i < pb->count; i++) {
-            bool attached = false;
-            for (uint32_t k = 0; k < set_count && !attached; k++) attached = pb->b[i].action->set == sets[k];
-            if (attached) s->prof[p].b[s->prof[p].count++] = pb->b[i];
-        }
-    }
-    for (uint32_t i = 0; i < set_count; i++) {
-        sets[i]->ever_attached = true;
-        sets[i]->session_refs++;
-    }
-    s->sets = sets;
-    s->set_count = set_count;
-    s->acts = acts;
-    s->act_count = act_count;
     s->attached = true;
     return XR_SUCCESS;
 }
@@ -881,9 +940,8 @@ XrResult fv_xr_input_get_current_interaction_profile(fv_xr_input_session *s, XrP
 
 static xri_session_action *session_action(const fv_xr_input_session *s, const xri_action *a)
 {
-    for (uint32_t i = 0; i < s->act_count; i++)
-        if (s->acts[i].a == a) return &s->acts[i];
-    return NULL;
+    uintptr_t i = (uintptr_t)xri_map_get(&s->act_index, a->handle);
+    return i ? &s->acts[i - 1] : NULL;
 }
 
 /* Validates an XrActionsSyncInfo; fills active[set index][user] (true when that set is active on that user). */
@@ -999,40 +1057,38 @@ static bool action_has_user(const xri_action *a, xri_user u)
     return false;
 }
 
-/* The identifier part ("/input/trigger") of a component: the length up to its third '/'. */
-static size_t identifier_len(const char *sub)
-{
-    int slashes = 0;
-    for (size_t i = 0; sub[i]; i++)
-        if (sub[i] == '/' && ++slashes == 3) return i;
-    return strlen(sub);
-}
 
-/* Whether binding b takes part this sync: its profile is current on its user, its set is attached and active on
-   that user, it feeds its action's type, and no active set of higher priority uses the same input source (same
-   user, identifier and location: the spec's "same input source" even across components). */
-static bool binding_live(const xri_sync_ctx *c, int p, const xri_binding *b)
+/* Marks which bindings take part in this sync (s->live): its profile is current on its user, its set is attached
+   and active on that user, it feeds its action's type, and no active set of higher priority uses the same input
+   source (same user, identifier and location: the spec's "same input source" even across components). Once per
+   sync: O(bindings) plus, per current profile, the pairs of input bindings on one user. */
+static void mark_live(const xri_sync_ctx *c)
 {
-    const fv_xr_input_session *s = c->s;
-    const fv_xr_input *in = s->in;
-    if (s->current[b->user] != p || b->res.count == 0) return false;
-    int si = set_index(s, b->action->set);
-    if (si < 0 || !c->active[si][b->user] || !action_has_user(b->action, b->user)) return false;
-    const xri_profile *prof = &in->profile_table[p];
-    const char *sub = prof->comps[b->res.comp[0]].sub;
-    if (strncmp(sub, "/input/", 7) != 0) return true; /* priorities are about input sources */
-    size_t idn = identifier_len(sub);
-    const xri_profile_bindings *pb = &s->prof[p];
-    for (uint32_t i = 0; i < pb->count; i++) {
-        const xri_binding *o = &pb->b[i];
-        if (o->user != b->user || o->res.count == 0) continue;
-        int oi = set_index(s, o->action->set);
-        if (oi < 0 || !c->active[oi][o->user] || !action_has_user(o->action, o->user)) continue;
-        if (o->action->set->priority <= b->action->set->priority) continue;
-        const char *osub = prof->comps[o->res.comp[0]].sub;
-        if (identifier_len(osub) == idn && strncmp(osub, sub, idn) == 0) return false;
+    fv_xr_input_session *s = c->s;
+    for (int p = 0; p < XRI_PROFILE_MAX; p++) {
+        const xri_profile_bindings *pb = &s->prof[p];
+        uint8_t *live = s->live[p];
+        for (uint32_t i = 0; i < pb->count; i++) {
+            const xri_binding *b = &pb->b[i];
+            int si = set_index(s, b->action->set);
+            live[i] = s->current[b->user] == p && b->res.count > 0 && si >= 0 && c->active[si][b->user] &&
+                      action_has_user(b->action, b->user);
+        }
+        for (uint32_t i = 0; i < pb->count; i++) {
+            const xri_binding *b = &pb->b[i];
+            if (!(live[i] & 1) || !b->is_input) continue;
+            for (uint32_t j = 0; j < pb->count; j++) {
+                const xri_binding *o = &pb->b[j];
+                if (!(live[j] & 1) || !o->is_input || o->user != b->user ||
+                    o->action->set->priority <= b->action->set->priority || o->ident_len != b->ident_len ||
+                    strncmp(o->comp, b->comp, b->ident_len) != 0)
+                    continue;
+                live[i] |= 2; /* hidden by a higher-priority set (bit 0 stays: others still compare with it) */
+                break;
+            }
+        }
+        for (uint32_t i = 0; i < pb->count; i++) live[i] = live[i] == 1;
     }
-    return true;
 }
 
 static void compute_slot(const xri_sync_ctx *c, xri_session_action *sa, uint32_t slot_i)
@@ -1050,12 +1106,13 @@ static void compute_slot(const xri_sync_ctx *c, xri_session_action *sa, uint32_t
     XrTime t = 0;
     const char *pose_sub = NULL;
     xri_user pose_user = XRI_USER_HEAD;
-    for (int p = 0; p < (int)in->profile_count; p++) {
-        const xri_profile_bindings *pb = &s->prof[p];
+    for (uint32_t n = 0; n < sa->bind_count; n++) {
+        int p = sa->binds[n].profile;
+        uint32_t i = sa->binds[n].index;
         const xri_profile *prof = &in->profile_table[p];
-        for (uint32_t i = 0; i < pb->count; i++) {
-            const xri_binding *b = &pb->b[i];
-            if (b->action != a || (!any_user && b->user != only) || !binding_live(c, p, b)) continue;
+        {
+            const xri_binding *b = &s->prof[p].b[i];
+            if ((!any_user && b->user != only) || !s->live[p][i]) continue;
             xri_reading r0 = read_component(c->dev, b->user, prof->comps[b->res.comp[0]].sub);
             if (!r0.present) continue;
             active = true;
@@ -1138,6 +1195,7 @@ XrResult fv_xr_input_sync(fv_xr_input_session *s, const XrActionsSyncInfo *info,
     select_profiles(s, dev);
     s->have_pending = false;
     xri_sync_ctx c = {s, dev, active};
+    mark_live(&c);
     for (uint32_t i = 0; i < s->act_count; i++)
         for (uint32_t j = 0; j <= s->acts[i].a->sub_count; j++) compute_slot(&c, &s->acts[i], j);
     free(active);

@@ -33,6 +33,19 @@ const char *xri_paths_str(const xri_path_table *t, XrPath p);
 /** The atom of s when it is already interned, else XR_NULL_PATH (never allocates). */
 XrPath xri_paths_find(const xri_path_table *t, const char *s, size_t n);
 
+/* ---- Handle map (handle_map.c): 64-bit handle value -> pointer; keys 0 and UINT64_MAX are reserved ---- */
+
+typedef struct xri_map {
+    uint64_t *key;
+    void **val;
+    uint32_t cap, used, count; /* slots, slots not empty (with tombstones), live entries */
+} xri_map;
+
+bool xri_map_put(xri_map *m, uint64_t key, void *val); /* false: out of memory */
+void *xri_map_get(const xri_map *m, uint64_t key);     /* NULL: absent */
+void xri_map_del(xri_map *m, uint64_t key);
+void xri_map_fini(xri_map *m);
+
 /* ---- Top-level user paths and interaction profiles (profiles.c) ---- */
 
 typedef enum xri_user {
