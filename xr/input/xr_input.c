@@ -1074,9 +1074,14 @@ static void mark_live(const xri_sync_ctx *c)
             live[i] = s->current[b->user] == p && b->res.count > 0 && si >= 0 && c->active[si][b->user] &&
                       action_has_user(b->action, b->user);
         }
+        /* Only a binding below the highest priority among active sets can be hidden: the usual app (one priority)
+           skips the pairwise pass. */
+        uint32_t top = 0;
+        for (uint32_t i = 0; i < pb->count; i++)
+            if ((live[i] & 1) && pb->b[i].action->set->priority > top) top = pb->b[i].action->set->priority;
         for (uint32_t i = 0; i < pb->count; i++) {
             const xri_binding *b = &pb->b[i];
-            if (!(live[i] & 1) || !b->is_input) continue;
+            if (!(live[i] & 1) || !b->is_input || b->action->set->priority == top) continue;
             for (uint32_t j = 0; j < pb->count; j++) {
                 const xri_binding *o = &pb->b[j];
                 if (!(live[j] & 1) || !o->is_input || o->user != b->user ||
@@ -1335,7 +1340,6 @@ XrResult fv_xr_input_enumerate_bound_sources(fv_xr_input_session *s, const XrBou
                                              uint32_t capacity, uint32_t *count_out, XrPath *sources)
 {
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    fv_xr_input *in = s->in;
     if (!e || e->type != XR_TYPE_BOUND_SOURCES_FOR_ACTION_ENUMERATE_INFO || !count_out || (capacity > 0 && !sources)) {
         FV_WARN(XRI_LOG, "xrEnumerateBoundSourcesForAction: enumerateInfo is NULL or of the wrong type, "
                          "sourceCountOutput is NULL, or sources is NULL with a non-zero capacity");
@@ -1351,12 +1355,11 @@ XrResult fv_xr_input_enumerate_bound_sources(fv_xr_input_session *s, const XrBou
     XrPath found[64];
     XrPath *list = found;
     uint32_t list_cap = 64;
-    for (int p = 0; p < (int)in->profile_count; p++) {
-        const xri_profile_bindings *pb = &s->prof[p];
-        for (uint32_t i = 0; i < pb->count; i++) {
-            const xri_binding *b = &pb->b[i];
-            if (b->action != sa->a || b->res.count == 0 || s->current[b->user] != p || !action_has_user(sa->a, b->user))
-                continue;
+    for (uint32_t m = 0; m < sa->bind_count; m++) {
+        int p = sa->binds[m].profile;
+        {
+            const xri_binding *b = &s->prof[p].b[sa->binds[m].index];
+            if (b->res.count == 0 || s->current[b->user] != p || !action_has_user(sa->a, b->user)) continue;
             bool dup = false;
             for (uint32_t j = 0; j < n && !dup; j++) dup = list[j] == b->source;
             if (dup) continue;
