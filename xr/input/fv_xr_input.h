@@ -22,7 +22,8 @@
    Choices the spec leaves to the runtime: a boolean action bound to a scalar is pressed above 0.5 and released
    below 0.4 (per action and subaction filter); the pose source is the first suggested binding that is live; a pose
    action bound to the eye gaze is active while a gaze source is present (a blink or lost tracking keeps it active:
-   the runtime clears the location's TRACKED bits); attached sets keep the suggested bindings they had at attach. */
+   the runtime clears the location's TRACKED bits); attached sets keep the suggested bindings they had at attach;
+   an action declared with subaction paths ignores its bindings under other top-level paths. */
 #ifndef FV_XR_INPUT_H
 #define FV_XR_INPUT_H
 
