@@ -31,6 +31,7 @@ struct fv_xr_gaze {
     fv_gaze_source *source;
     fv_gaze_pipeline *pipeline;
     bool lost;
+    fv_xr_gaze_stats stats;
 };
 
 fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out)
@@ -97,7 +98,7 @@ bool fv_xr_gaze_present(fv_xr_gaze *g)
     return st.state == FV_GAZE_SOURCE_CONNECTED || st.state == FV_GAZE_SOURCE_LOST;
 }
 
-bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3])
+static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3], bool record)
 {
     pthread_mutex_lock(&g->lock);
     drain(g);
@@ -105,7 +106,13 @@ bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], floa
     fv_gaze_pipeline_predict(g->pipeline, t_ns, &p);
     bool tracked = p.combined_valid && !g->lost && p.event != FV_GAZE_EVENT_BLINK && p.event != FV_GAZE_EVENT_LOST &&
                    p.event != FV_GAZE_EVENT_NONE;
-    FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "gaze at %+.1f ms from the newest sample: %s, %s", (double)(t_ns - p.t_sample_ns) * 1e-6,
+    double horizon_ms = (double)(t_ns - p.t_sample_ns) * 1e-6;
+    if (tracked && record) {
+        g->stats.count++;
+        g->stats.sum_ms += horizon_ms;
+        if (horizon_ms > g->stats.max_ms) g->stats.max_ms = horizon_ms;
+    }
+    FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "gaze at %+.1f ms from the newest sample: %s, %s", horizon_ms,
            fv_gaze_event_str(p.event), tracked ? "tracked" : "not tracked");
     pthread_mutex_unlock(&g->lock);
     /* the combined (cyclopean) ray starts between the eyes: the head frame's origin */
@@ -118,4 +125,22 @@ bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], floa
         out_dir[0] = out_dir[1] = out_dir[2] = NAN; /* nothing known: not even a last pose */
     }
     return tracked;
+}
+
+void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out)
+{
+    pthread_mutex_lock(&g->lock);
+    *out = g->stats;
+    pthread_mutex_unlock(&g->lock);
+}
+
+bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3])
+{
+    return predict(g, t_ns, out_origin_m, out_dir, true);
+}
+
+bool fv_xr_gaze_tracked(fv_xr_gaze *g, int64_t t_ns)
+{
+    float o[3], d[3];
+    return predict(g, t_ns, o, d, false);
 }

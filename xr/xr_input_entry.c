@@ -27,8 +27,7 @@ static void devices_now(struct XrSession_T *s, fv_xr_input_devices *dev)
     dev->time = fv_xr_now_ns();
     if (inst->gaze && inst->ext.eye_gaze && fv_xr_gaze_present(inst->gaze)) {
         dev->eye_gaze_present = true;
-        float o[3], d[3];
-        dev->eye_gaze_tracked = fv_xr_gaze_predict(inst->gaze, dev->time, o, d);
+        dev->eye_gaze_tracked = fv_xr_gaze_tracked(inst->gaze, dev->time);
     }
 }
 

@@ -72,6 +72,7 @@ typedef struct fv_xr_frame_stats {
     uint64_t waited, begun, ended, discarded, composited, missed;
     double app_ms_ema;         /* xrBeginFrame -> xrEndFrame (the app's frame work as the runtime sees it) */
     double composite_ms_ema;   /* compositing + present, CPU wall time including the GPU wait */
+    double oversleep_ms_ema;   /* how late xrWaitFrame's sleep wakes (the OS scheduler's share of the pipeline) */
     double overhead_ms_sum;    /* runtime time inside xrWaitFrame (not sleeping), xrBeginFrame, xrEndFrame */
     uint64_t overhead_frames;
     int64_t predicted_minus_photon_ns_max; /* |predicted display time - photon time of the vsync shown| */
@@ -96,6 +97,7 @@ struct XrSession_T {
     uint64_t frames_waited, frames_begun, frames_ended;
     bool frame_open;               /* between xrBeginFrame and xrEndFrame */
     int64_t begin_ns;              /* when the open frame began */
+    int64_t wait_return_ns;        /* when the last xrWaitFrame returned: the app's frame starts there */
     fv_display *display;           /* the display clock: the simulated display (headless) */
     uint64_t target_vsync;         /* the vsync the last xrWaitFrame planned for */
     int64_t predicted_ns;          /* its predictedDisplayTime */
@@ -292,5 +294,14 @@ void fv_xr_gaze_update(fv_xr_gaze *g);
  *  not tracked (blink, lost, no samples yet). */
 bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3]);
 bool fv_xr_gaze_present(fv_xr_gaze *g);
+/** Whether the gaze is tracked at t (not counted in the statistics: the runtime's own question). */
+bool fv_xr_gaze_tracked(fv_xr_gaze *g, int64_t t_ns);
+/** The prediction horizons the app asked for while tracked: requested time minus the newest sample's host time (the
+ *  gaze-to-photon latency when the app asks for its frame's predicted display time). */
+typedef struct fv_xr_gaze_stats {
+    uint64_t count;
+    double sum_ms, max_ms;
+} fv_xr_gaze_stats;
+void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out);
 
 #endif

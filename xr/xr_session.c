@@ -168,11 +168,14 @@ static void write_stats(struct XrSession_T *s)
         return;
     }
     const fv_xr_frame_stats *st = &s->stats;
+    fv_xr_gaze_stats gs = {0};
+    if (s->inst->gaze) fv_xr_gaze_get_stats(s->inst->gaze, &gs);
     fprintf(f,
             "{\n  \"frames_waited\": %llu,\n  \"frames_begun\": %llu,\n  \"frames_ended\": %llu,\n"
             "  \"frames_discarded\": %llu,\n  \"frames_composited\": %llu,\n  \"frames_missed\": %llu,\n"
             "  \"app_ms\": %.4f,\n  \"composite_ms\": %.4f,\n  \"runtime_overhead_ms\": %.4f,\n"
             "  \"predicted_vs_photon_max_ms\": %.4f,\n  \"predicted_vs_photon_mean_ms\": %.4f,\n  \"headless\": %s,\n  \"validation_messages\": %u,\n"
+            "  \"gaze_locates\": %llu,\n  \"gaze_horizon_ms_mean\": %.4f,\n  \"gaze_horizon_ms_max\": %.4f,\n"
             "  \"states\": \"%s\"\n}\n",
             (unsigned long long)st->waited, (unsigned long long)st->begun, (unsigned long long)st->ended,
             (unsigned long long)st->discarded, (unsigned long long)st->composited, (unsigned long long)st->missed,
@@ -180,7 +183,8 @@ static void write_stats(struct XrSession_T *s)
             st->overhead_frames ? st->overhead_ms_sum / (double)st->overhead_frames : 0.0,
             (double)st->predicted_minus_photon_ns_max * MS_PER_NS,
             st->presented ? st->predicted_error_ms_sum / (double)st->presented : 0.0, s->headless ? "true" : "false",
-            s->inst->comp ? fv_xr_compositor_validation_messages(s->inst->comp) : 0u, g_history);
+            s->inst->comp ? fv_xr_compositor_validation_messages(s->inst->comp) : 0u, (unsigned long long)gs.count,
+            gs.count ? gs.sum_ms / (double)gs.count : 0.0, gs.max_ms, g_history);
     fclose(f);
 }
 
@@ -343,8 +347,7 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     XrResult r = XR_SUCCESS;
     if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
     else if (!s->running) r = XR_ERROR_SESSION_NOT_RUNNING;
-    else if (s->headless) r = XR_ERROR_VALIDATION_FAILURE; /* XR_MND_headless: no frame loop */
-    double app_ms = s->stats.app_ms_ema, comp_ms = s->stats.composite_ms_ema;
+    double app_ms = s->stats.app_ms_ema, comp_ms = s->stats.composite_ms_ema, late_ms = s->stats.oversleep_ms_ema;
     pthread_mutex_unlock(&s->inst->lock);
     if (r != XR_SUCCESS) return r;
     /* A second xrWaitFrame blocks until the previous frame was begun (another thread calls xrBeginFrame). */
@@ -358,7 +361,7 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     /* Plan the vsync: the app needs app_ms for its frame, the compositor comp_ms, and the display's latch margin;
      * the first vsync after all that (never the one the previous frame aimed at) is the frame's. */
     fv_display *d = s->display;
-    int64_t need_ns = (int64_t)((app_ms + comp_ms) * 1e6) + d->present_margin_ns;
+    int64_t need_ns = (int64_t)((app_ms + comp_ms + 2.0 * late_ms) * 1e6) + d->present_margin_ns;
     if (need_ns > 4 * d->period_ns) need_ns = 4 * d->period_ns; /* a stalled frame never pushes the plan away */
     int64_t now = fv_xr_now_ns();
     fv_vsync v;
@@ -368,7 +371,8 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
         return XR_ERROR_RUNTIME_FAILURE;
     int64_t wake = v.t_ns - need_ns;
     int64_t t_work = fv_xr_now_ns() - t_enter;
-    if (wake > fv_xr_now_ns()) sleep_until_ns(wake);
+    bool slept = wake > fv_xr_now_ns();
+    if (slept) sleep_until_ns(wake);
     int64_t t_resume = fv_xr_now_ns();
 
     pthread_mutex_lock(&s->inst->lock);
@@ -378,12 +382,13 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     state->predictedDisplayPeriod = d->period_ns;
     state->shouldRender = s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED;
     s->stats.waited++;
+    if (slept) s->stats.oversleep_ms_ema = ema(s->stats.oversleep_ms_ema, (double)(t_resume - wake) * MS_PER_NS, s->stats.waited);
     s->stats.overhead_ms_sum += (double)t_work * MS_PER_NS;
+    s->wait_return_ns = fv_xr_now_ns();
     pthread_mutex_unlock(&s->inst->lock);
     pthread_mutex_lock(&s->frame_lock);
     s->frames_waited++;
     pthread_mutex_unlock(&s->frame_lock);
-    (void)t_resume;
     return XR_SUCCESS;
 }
 
@@ -506,8 +511,11 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     pthread_mutex_unlock(&s->frame_lock);
     fv_xr_frame_stats *st = &s->stats;
     st->ended++;
-    st->app_ms_ema = ema(st->app_ms_ema, (double)(t0 - s->begin_ns) * MS_PER_NS, st->ended);
-    bool shown = s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED;
+    /* the app's frame: from xrWaitFrame's return (it may locate and simulate before xrBeginFrame) to xrEndFrame */
+    int64_t app_start = s->wait_return_ns && s->wait_return_ns < s->begin_ns ? s->wait_return_ns : s->begin_ns;
+    st->app_ms_ema = ema(st->app_ms_ema, (double)(t0 - app_start) * MS_PER_NS, st->ended);
+    /* a headless session (XR_MND_headless) may run a frame loop for its timing; it has nothing to show */
+    bool shown = (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED) && !s->headless;
     int64_t t_comp = fv_xr_now_ns();
     if (shown && info->layerCount > 0) {
         fv_result fr = fv_xr_compositor_frame(s->inst->comp, s, info);

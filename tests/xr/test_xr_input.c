@@ -612,6 +612,29 @@ static void subaction_filters_select_the_devices_read(void **st)
     done(&f);
 }
 
+static void bindings_outside_the_declared_subaction_paths_are_ignored(void **st)
+{
+    (void)st;
+    fx f = make(false);
+    XrActionSet s = make_set(f.in, "s", 0);
+    XrPath left = P(f.in, LEFT);
+    XrAction a = make_action(f.in, s, "a", XR_ACTION_TYPE_BOOLEAN_INPUT, 1, &left);
+    XrAction acts[2] = {a, a};
+    const char *paths[2] = {LEFT "/input/select/click", RIGHT "/input/select/click"};
+    assert_int_equal(suggest(f.in, SIMPLE, 2, acts, paths), XR_SUCCESS);
+    assert_int_equal(attach(&f, 1, &s), XR_SUCCESS);
+    dev_state ds = hands(1);
+    set_value(&ds, RIGHT "/input/select/click", 1.0f, 0);
+    assert_int_equal(sync1(&f, s, &ds), XR_SUCCESS);
+    XrActionStateBoolean b = get_bool(&f, a, XR_NULL_PATH);
+    assert_true(b.isActive);      /* the left hand feeds it */
+    assert_false(b.currentState); /* the right hand's press is not this action's */
+    XrPath src[2];
+    assert_int_equal(bound_sources(&f, a, src, 2), 1);
+    assert_int_equal(src[0], P(f.in, LEFT "/input/select/click"));
+    done(&f);
+}
+
 static void multiple_bindings_combine_by_or_largest_and_longest(void **st)
 {
     (void)st;
@@ -1317,6 +1340,7 @@ int main(void)
         cmocka_unit_test(changed_since_last_sync_and_last_change_time_follow_the_spec),
         cmocka_unit_test(is_active_needs_a_binding_and_a_present_device),
         cmocka_unit_test(subaction_filters_select_the_devices_read),
+        cmocka_unit_test(bindings_outside_the_declared_subaction_paths_are_ignored),
         cmocka_unit_test(multiple_bindings_combine_by_or_largest_and_longest),
         cmocka_unit_test(boolean_from_a_scalar_uses_a_threshold_with_hysteresis),
         cmocka_unit_test(implicit_components_follow_the_suggested_binding_rules),
