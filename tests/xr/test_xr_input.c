@@ -833,6 +833,47 @@ static void unfocused_sync_validates_then_reads_everything_inactive(void **st)
     done(&f);
 }
 
+static void deactivate_makes_every_action_read_inactive_until_the_next_sync(void **st)
+{
+    (void)st;
+    fx f = make(false);
+    XrActionSet s = make_set(f.in, "s", 0);
+    XrAction a = make_action(f.in, s, "a", XR_ACTION_TYPE_BOOLEAN_INPUT, 0, NULL);
+    suggest_one(f.in, SIMPLE, a, LEFT "/input/select/click");
+    assert_int_equal(attach(&f, 1, &s), XR_SUCCESS);
+    dev_state ds = hands(7);
+    set_value(&ds, LEFT "/input/select/click", 1.0f, 0);
+    assert_int_equal(sync1(&f, s, &ds), XR_SUCCESS);
+    assert_true(get_bool(&f, a, XR_NULL_PATH).currentState);
+    fv_xr_input_deactivate(f.s); /* the session stopped running */
+    XrActionStateBoolean b = get_bool(&f, a, XR_NULL_PATH);
+    assert_false(b.isActive || b.currentState || b.changedSinceLastSync);
+    assert_int_equal(b.lastChangeTime, 0);
+    assert_int_equal(sync1(&f, s, &ds), XR_SUCCESS);
+    assert_true(get_bool(&f, a, XR_NULL_PATH).isActive);
+    fv_xr_input_deactivate(NULL);
+    done(&f);
+}
+
+static void owns_handle_tells_the_instances_apart(void **st)
+{
+    (void)st;
+    fx f = make(false), g = make(false);
+    XrActionSet fs = make_set(f.in, "s", 0), gs = make_set(g.in, "s", 0);
+    XrAction fa = make_action(f.in, fs, "a", XR_ACTION_TYPE_BOOLEAN_INPUT, 0, NULL);
+    assert_true(fv_xr_input_owns_handle(f.in, (uint64_t)(uintptr_t)fs));
+    assert_true(fv_xr_input_owns_handle(f.in, (uint64_t)(uintptr_t)fa));
+    assert_false(fv_xr_input_owns_handle(g.in, (uint64_t)(uintptr_t)fs));
+    assert_false(fv_xr_input_owns_handle(g.in, (uint64_t)(uintptr_t)fa));
+    assert_true(fv_xr_input_owns_handle(g.in, (uint64_t)(uintptr_t)gs));
+    assert_false(fv_xr_input_owns_handle(f.in, 0));
+    assert_false(fv_xr_input_owns_handle(NULL, (uint64_t)(uintptr_t)fs));
+    assert_int_equal(fv_xr_input_destroy_action(f.in, fa), XR_SUCCESS);
+    assert_false(fv_xr_input_owns_handle(f.in, (uint64_t)(uintptr_t)fa)); /* a dead handle is nobody's */
+    done(&g);
+    done(&f);
+}
+
 /* ---- Interaction profiles ---- */
 
 static void current_profile_follows_devices_and_changes_only_at_sync(void **st)
@@ -1347,6 +1388,8 @@ int main(void)
         cmocka_unit_test(higher_priority_sets_hide_the_same_input_source),
         cmocka_unit_test(hostile_device_values_never_give_nan_or_inf),
         cmocka_unit_test(unfocused_sync_validates_then_reads_everything_inactive),
+        cmocka_unit_test(deactivate_makes_every_action_read_inactive_until_the_next_sync),
+        cmocka_unit_test(owns_handle_tells_the_instances_apart),
         cmocka_unit_test(current_profile_follows_devices_and_changes_only_at_sync),
         cmocka_unit_test(only_profiles_the_app_suggested_become_current),
         cmocka_unit_test(a_second_suggestion_replaces_the_first_for_that_profile),

@@ -4,12 +4,14 @@
 
    The contract with xr/ (issue 14). Changes to the contract's signatures: none. Additions: fields at the END of
    fv_xr_input_desc (max_paths) and fv_xr_input_devices (time, hand_profiles, values: zero = as before), the type
-   fv_xr_input_value, and the functions after the contract ones: fv_xr_input_sync_unfocused, fv_xr_input_is_attached.
+   fv_xr_input_value, and the functions after the contract ones: fv_xr_input_sync_unfocused, fv_xr_input_is_attached,
+   fv_xr_input_deactivate, fv_xr_input_owns_handle.
 
    Rules the runtime (xr/) keeps, because they need the session state this library does not see:
    - xrSyncActions on a session that is not FOCUSED: call fv_xr_input_sync_unfocused (XR_SESSION_NOT_FOCUSED).
    - xrGetActionState* / haptics while the session is not running: the spec wants isActive false and haptics
-     suppressed; the runtime checks that first (XR_ERROR_SESSION_NOT_RUNNING is not an error these return).
+     suppressed: call fv_xr_input_deactivate when the session stops running (xrEndSession, loss), and suppress
+     haptics there yourself (fovea has no haptic device today).
    - XrEventDataInteractionProfileChanged: only for running sessions; the profile changes inside a sync (the spec:
      "Interaction profile selection changes must only happen when xrSyncActions is called"), so ask
      fv_xr_input_take_profile_changed after each fv_xr_input_sync / _sync_unfocused.
@@ -131,6 +133,12 @@ fv_xr_pose_source fv_xr_input_pose_source(fv_xr_input_session *s, XrAction actio
  *  XR_ERROR_ACTIONSET_NOT_ATTACHED, XR_ERROR_PATH_UNSUPPORTED, ... still come first), then makes every action of
  *  the session read inactive and returns XR_SESSION_NOT_FOCUSED. */
 XrResult fv_xr_input_sync_unfocused(fv_xr_input_session *s, const XrActionsSyncInfo *info);
+/** Every action of the session reads inactive (zero state, no change, lastChangeTime 0) until the next sync: for a
+ *  session that stops running. */
+void fv_xr_input_deactivate(fv_xr_input_session *s);
+/** True when handle_value is a live XrActionSet or XrAction of this instance: lets a runtime with several instances
+ *  find the one an xrCreateAction / xrDestroyAction* handle belongs to. */
+bool fv_xr_input_owns_handle(const fv_xr_input *in, uint64_t handle_value);
 /** True once xrAttachSessionActionSets succeeded on this session. */
 bool fv_xr_input_is_attached(const fv_xr_input_session *s);
 

@@ -1207,6 +1207,18 @@ XrResult fv_xr_input_sync(fv_xr_input_session *s, const XrActionsSyncInfo *info,
     return XR_SUCCESS;
 }
 
+void fv_xr_input_deactivate(fv_xr_input_session *s)
+{
+    if (s) clear_states(s);
+}
+
+bool fv_xr_input_owns_handle(const fv_xr_input *in, uint64_t v)
+{
+    if (!in) return false;
+    if (((v >> 36) & 0xF) == KIND_SET) return find_set(in, set_handle(v)) != NULL;
+    return find_action(in, action_handle(v), true) != NULL;
+}
+
 XrResult fv_xr_input_sync_unfocused(fv_xr_input_session *s, const XrActionsSyncInfo *info)
 {
     if (!s) return XR_ERROR_HANDLE_INVALID;
