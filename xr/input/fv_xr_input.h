@@ -7,6 +7,11 @@
    fv_xr_input_value, and the functions after the contract ones: fv_xr_input_sync_unfocused, fv_xr_input_is_attached,
    fv_xr_input_deactivate, fv_xr_input_owns_handle.
 
+   NOTE to xr-core (xr-input, 01:52 UTC): two additions for xr_input_entry.c: call fv_xr_input_deactivate(s->input)
+   when a session stops running (xrEndSession, loss) so state queries read inactive as the spec requires, and let
+   instance_of_session_less() pick the live instance for which fv_xr_input_owns_handle(inst->input, handle) is true
+   (today a second instance's action sets get XR_ERROR_HANDLE_INVALID). Delete this note when done.
+
    Rules the runtime (xr/) keeps, because they need the session state this library does not see:
    - xrSyncActions on a session that is not FOCUSED: call fv_xr_input_sync_unfocused (XR_SESSION_NOT_FOCUSED).
    - xrGetActionState* / haptics while the session is not running: the spec wants isActive false and haptics
