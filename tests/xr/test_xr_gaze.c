@@ -4,6 +4,7 @@
  *  - fixed: the pose comes back as the fixed direction, tracked, at any requested time;
  *  - sim: the pose is fovea's prediction to the requested time (later times are further along the eye's motion);
  *    blinks clear the TRACKED bits;
+ *  - trace: a real recording replayed: gaze at each frame's predicted display time of a headless frame loop;
  *  - no FOVEA_XR_GAZE: supportsEyeGazeInteraction is false and the action space is not located.
  * argv[1] = the runtime manifest. */
 #include <math.h>
@@ -111,6 +112,37 @@ static void sim_blinks_clear_the_tracked_bits(void **state)
     xr_app_close(&a);
 }
 
+static void replayed_recording_gives_predicted_gaze_per_frame(void **state)
+{
+    (void)state;
+    /* a real recording (HTC Vive Pro Eye, SRanipal) replayed by the trace driver; the app locates the gaze at each
+     * frame's predicted display time, as a foveated renderer would */
+    char uri[1200];
+    snprintf(uri, sizeof uri, "trace:%s", fv_test_data("gaze/htc_vive_pro_eye_sranipal/TESTNA01_2D_Fist3.csv"));
+    xr_app a;
+    xr_app_open(&a, g_manifest, uri);
+    assert_true(a.supports_gaze);
+    int tracked = 0, frames = 90;
+    double first[3] = {0, 0, 0}, spread = 0;
+    XrTime prev = 0;
+    for (int f = 0; f < frames; f++) {
+        XrTime t = xr_app_frame(&a);
+        assert_true(t > prev); /* predicted display times advance */
+        prev = t;
+        double d[3];
+        XrSpaceLocationFlags fl = xr_app_locate(&a, t, d);
+        if ((fl & ALL_BITS) != ALL_BITS) continue;
+        for (int k = 0; k < 3; k++) assert_true(isfinite(d[k]));
+        if (!tracked) memcpy(first, d, sizeof first);
+        else spread = fmax(spread, xr_app_angle_deg(first, d));
+        tracked++;
+    }
+    print_message("trace: %d of %d frames tracked, gaze moved up to %.2f deg\n", tracked, frames, spread);
+    assert_true(tracked > frames / 2);
+    assert_true(spread > 0.1); /* the recorded eye moves */
+    xr_app_close(&a);
+}
+
 static void no_gaze_source_no_eye_gaze(void **state)
 {
     (void)state;
@@ -134,6 +166,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(fixed_gaze_comes_back_as_the_same_pose),
         cmocka_unit_test(sim_gaze_is_predicted_to_the_requested_time),
         cmocka_unit_test(sim_blinks_clear_the_tracked_bits),
+        cmocka_unit_test(replayed_recording_gives_predicted_gaze_per_frame),
         cmocka_unit_test(no_gaze_source_no_eye_gaze),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
