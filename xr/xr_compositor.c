@@ -62,7 +62,10 @@ struct fv_xr_compositor {
     VkSemaphore sem_ready, sem_done; /* the target hand-over semaphores (unused by headless and files targets) */
     fv_frame_input input;        /* eye frusta and the lens for the distortion pass */
     uint64_t frame_id;
-    fv_xr_frame_stats *stats;
+    fv_vk_timer timer;           /* GPU time of the compose and distortion passes */
+    bool timer_ready;
+    double gpu_ms_sum[2];        /* compose, distort: summed over frames */
+    uint64_t gpu_frames;
 };
 
 /* ---- device ------------------------------------------------------------------------------------------------ */
@@ -501,6 +504,10 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
         FV_VK_CHECK_GOTO(vkCreateSemaphore(c->vk->device, &sci, NULL, &c->sem_ready), res, done);
         FV_VK_CHECK_GOTO(vkCreateSemaphore(c->vk->device, &sci, NULL, &c->sem_done), res, done);
     }
+    if (res == FV_OK) {
+        res = fv_vk_timer_init(&c->timer, c->vk, 1);
+        c->timer_ready = res == FV_OK;
+    }
     /* fovea's lens-distortion pass, planned like the renderer plans it (on when the HMD has a lens) */
     if (res == FV_OK) {
         fv_plan_context pc = {.quality = &c->input.quality, .target = "headless"};
@@ -547,6 +554,8 @@ void fv_xr_compositor_session_end(fv_xr_compositor *c)
     c->fence = VK_NULL_HANDLE;
     c->cmd = VK_NULL_HANDLE;
     fv_vk_buffer_destroy(c->vk, &c->block);
+    if (c->timer_ready) fv_vk_timer_fini(&c->timer, c->vk);
+    c->timer_ready = false;
     if (c->sampler) vkDestroySampler(c->vk->device, c->sampler, NULL);
     c->sampler = VK_NULL_HANDLE;
     fv_vk_compute_fini(c->vk, &c->cs);
@@ -668,8 +677,10 @@ static void set_layer(fv_xr_compose_layer *l, const mat3 *h, const XrSwapchainSu
     l->info = (fv_xr_uvec4){slot, si->imageArrayIndex, f, 0};
 }
 
-fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info)
+fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info,
+                                 double *out_app_wait_ms)
 {
+    *out_app_wait_ms = 0.0;
     if (!c->active) return FV_ERR_STATE;
     fv_vk *vk = c->vk;
     fv_xr_compose_block *blk = c->block.mapped;
@@ -723,6 +734,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     fv_result res = fv_vk_buffer_flush(vk, &c->block);
     if (res != FV_OK) return res;
     /* the app's releases must have run before fovea's device reads the images */
+    int64_t t_wait = fv_xr_now_ns();
     for (uint32_t i = 0; i < nsrc; i++) {
         fv_xr_swapchain_image *im = &src[i].sc->images[src[i].index];
         VkResult vr = vkWaitForFences(s->vk.device, 1, &im->app_fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS);
@@ -731,6 +743,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
             return vr == VK_ERROR_DEVICE_LOST ? FV_ERR_DEVICE_LOST : FV_ERR_VULKAN;
         }
     }
+    *out_app_wait_ms = (double)(fv_xr_now_ns() - t_wait) * 1e-6;
     for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
         /* unused slots repeat the first source (every element of the array must be valid) */
         VkImageView v = nsrc ? src[i < nsrc ? i : 0].sc->images[src[i < nsrc ? i : 0].index].comp_view : VK_NULL_HANDLE;
@@ -753,6 +766,8 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     FV_VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
     fv_vk_label_begin(vk, cmd, "xr composite");
+    fv_vk_timer_reset(&c->timer, cmd, 0);
+    int tp_compose = fv_vk_timer_begin(&c->timer, cmd, 0, "compose");
     /* acquire every source from the external owner (the app's release), in the layout the pass samples */
     VkImageMemoryBarrier acq[FV_XR_COMPOSE_MAX_SOURCES], rel[FV_XR_COMPOSE_MAX_SOURCES];
     uint32_t nacq = 0;
@@ -776,6 +791,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     fv_vk_compute_bind(&c->cs, cmd, 0, NULL, 0, 0, NULL);
     vkCmdDispatch(cmd, (c->width + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP,
                   (c->height + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP, 2);
+    fv_vk_timer_end(&c->timer, cmd, 0, tp_compose);
     /* give every source back to the external owner, in the layout the app renders in */
     uint32_t nrel = 0;
     for (uint32_t i = 0; i < nsrc; i++) {
@@ -794,7 +810,11 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     c->input.frame_id = c->frame_id;
     c->input.t_photon_ns = info->displayTime;
     fv_pass_frame pf = {.cmd = cmd, .slot = 0, .input = &c->input, .images = &c->images, .counters = &counters};
-    if (c->distort) fv_distort_pass.record(c->distort, &pf);
+    if (c->distort) {
+        int tp = fv_vk_timer_begin(&c->timer, cmd, 0, "distort");
+        fv_distort_pass.record(c->distort, &pf);
+        fv_vk_timer_end(&c->timer, cmd, 0, tp);
+    }
     fv_target_frame tf = {.vk = vk, .images = &c->images, .width = c->width, .height = c->height, .slot = 0,
                           .frame_id = c->frame_id, .cmd = cmd, .image_ready = c->sem_ready,
                           .frame_done = c->sem_done};
@@ -816,6 +836,13 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     FV_VK_CHECK(vkQueueSubmit(vk->queue, 1, &si, c->fence));
     FV_VK_CHECK(vkWaitForFences(vk->device, 1, &c->fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS));
     FV_VK_CHECK(vkResetFences(vk->device, 1, &c->fence));
+    double ms[2] = {0, 0}, total = 0;
+    char names[2][FV_VK_TIMER_NAME_MAX];
+    if (fv_vk_timer_collect(&c->timer, vk, 0, ms, names, 2, &total) > 0) {
+        c->gpu_ms_sum[0] += ms[0];
+        c->gpu_ms_sum[1] += c->distort ? ms[1] : 0.0;
+        c->gpu_frames++;
+    }
     for (uint32_t i = 0; i < nsrc; i++) {
         fv_xr_swapchain_image *im = &src[i].sc->images[src[i].index];
         if (im->owner != OWNER_EXTERNAL) continue;
@@ -826,4 +853,11 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     fv_images_next_frame(&c->images);
     c->frame_id++;
     return FV_OK;
+}
+
+void fv_xr_compositor_gpu_ms(const fv_xr_compositor *c, double *out_compose_ms, double *out_distort_ms)
+{
+    double n = c && c->gpu_frames ? (double)c->gpu_frames : 0.0;
+    *out_compose_ms = n > 0 ? c->gpu_ms_sum[0] / n : 0.0;
+    *out_distort_ms = n > 0 ? c->gpu_ms_sum[1] / n : 0.0;
 }

@@ -72,6 +72,8 @@ typedef struct fv_xr_frame_stats {
     uint64_t waited, begun, ended, discarded, composited, missed;
     double app_ms_ema;         /* xrBeginFrame -> xrEndFrame (the app's frame work as the runtime sees it) */
     double composite_ms_ema;   /* compositing + present, CPU wall time including the GPU wait */
+    double app_gpu_wait_ms_ema; /* of composite_ms: waiting for the app's queue to finish its released images */
+    double composite_ms_sum, app_gpu_wait_ms_sum; /* over composited frames (means in the statistics) */
     double oversleep_ms_ema;   /* how late xrWaitFrame's sleep wakes (the OS scheduler's share of the pipeline) */
     double overhead_ms_sum;    /* runtime time inside xrWaitFrame (not sleeping), xrBeginFrame, xrEndFrame */
     uint64_t overhead_frames;
@@ -280,10 +282,13 @@ XrResult fv_xr_swapchain_image_acquire(fv_xr_compositor *c, struct XrSwapchain_T
 XrResult fv_xr_swapchain_image_release(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index);
 XrResult fv_xr_swapchain_image_wait(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, XrDuration timeout);
 /** Composite one frame's layers (already validated) for the head at display_time; shows it on the target. */
-fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info);
+fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info,
+                                 double *out_app_wait_ms);
 /** Write the last composited frame (FOVEA_XR_OUT) and the statistics. */
 void fv_xr_compositor_flush(fv_xr_compositor *c);
 uint32_t fv_xr_compositor_validation_messages(const fv_xr_compositor *c);
+/** Mean GPU time per composited frame of the compose pass and of the distortion pass (0 without timestamps). */
+void fv_xr_compositor_gpu_ms(const fv_xr_compositor *c, double *out_compose_ms, double *out_distort_ms);
 
 /* xr_gaze.c: fovea's gaze pipeline from FOVEA_XR_GAZE */
 fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out);

@@ -169,22 +169,34 @@ static void write_stats(struct XrSession_T *s)
     }
     const fv_xr_frame_stats *st = &s->stats;
     fv_xr_gaze_stats gs = {0};
+    double gpu_ms[2] = {0, 0};
     if (s->inst->gaze) fv_xr_gaze_get_stats(s->inst->gaze, &gs);
-    fprintf(f,
-            "{\n  \"frames_waited\": %llu,\n  \"frames_begun\": %llu,\n  \"frames_ended\": %llu,\n"
-            "  \"frames_discarded\": %llu,\n  \"frames_composited\": %llu,\n  \"frames_missed\": %llu,\n"
-            "  \"app_ms\": %.4f,\n  \"composite_ms\": %.4f,\n  \"runtime_overhead_ms\": %.4f,\n"
-            "  \"predicted_vs_photon_max_ms\": %.4f,\n  \"predicted_vs_photon_mean_ms\": %.4f,\n  \"headless\": %s,\n  \"validation_messages\": %u,\n"
-            "  \"gaze_locates\": %llu,\n  \"gaze_horizon_ms_mean\": %.4f,\n  \"gaze_horizon_ms_max\": %.4f,\n"
-            "  \"states\": \"%s\"\n}\n",
-            (unsigned long long)st->waited, (unsigned long long)st->begun, (unsigned long long)st->ended,
-            (unsigned long long)st->discarded, (unsigned long long)st->composited, (unsigned long long)st->missed,
-            st->app_ms_ema, st->composite_ms_ema,
-            st->overhead_frames ? st->overhead_ms_sum / (double)st->overhead_frames : 0.0,
-            (double)st->predicted_minus_photon_ns_max * MS_PER_NS,
-            st->presented ? st->predicted_error_ms_sum / (double)st->presented : 0.0, s->headless ? "true" : "false",
-            s->inst->comp ? fv_xr_compositor_validation_messages(s->inst->comp) : 0u, (unsigned long long)gs.count,
-            gs.count ? gs.sum_ms / (double)gs.count : 0.0, gs.max_ms, g_history);
+    if (s->inst->comp) fv_xr_compositor_gpu_ms(s->inst->comp, &gpu_ms[0], &gpu_ms[1]);
+    double nc = st->composited ? (double)st->composited : 1.0;
+    fprintf(f, "{\n");
+    fprintf(f, "  \"frames_waited\": %llu,\n", (unsigned long long)st->waited);
+    fprintf(f, "  \"frames_begun\": %llu,\n", (unsigned long long)st->begun);
+    fprintf(f, "  \"frames_ended\": %llu,\n", (unsigned long long)st->ended);
+    fprintf(f, "  \"frames_discarded\": %llu,\n", (unsigned long long)st->discarded);
+    fprintf(f, "  \"frames_composited\": %llu,\n", (unsigned long long)st->composited);
+    fprintf(f, "  \"frames_missed\": %llu,\n", (unsigned long long)st->missed);
+    fprintf(f, "  \"app_ms\": %.4f,\n", st->app_ms_ema);
+    fprintf(f, "  \"composite_ms_mean\": %.4f,\n", st->composite_ms_sum / nc);
+    fprintf(f, "  \"app_gpu_wait_ms_mean\": %.4f,\n", st->app_gpu_wait_ms_sum / nc);
+    fprintf(f, "  \"compose_gpu_ms_mean\": %.4f,\n", gpu_ms[0]);
+    fprintf(f, "  \"distort_gpu_ms_mean\": %.4f,\n", gpu_ms[1]);
+    fprintf(f, "  \"runtime_overhead_ms\": %.4f,\n",
+            st->overhead_frames ? st->overhead_ms_sum / (double)st->overhead_frames : 0.0);
+    fprintf(f, "  \"predicted_vs_photon_max_ms\": %.4f,\n", (double)st->predicted_minus_photon_ns_max * MS_PER_NS);
+    fprintf(f, "  \"predicted_vs_photon_mean_ms\": %.4f,\n",
+            st->presented ? st->predicted_error_ms_sum / (double)st->presented : 0.0);
+    fprintf(f, "  \"headless\": %s,\n", s->headless ? "true" : "false");
+    fprintf(f, "  \"validation_messages\": %u,\n",
+            s->inst->comp ? fv_xr_compositor_validation_messages(s->inst->comp) : 0u);
+    fprintf(f, "  \"gaze_locates\": %llu,\n", (unsigned long long)gs.count);
+    fprintf(f, "  \"gaze_horizon_ms_mean\": %.4f,\n", gs.count ? gs.sum_ms / (double)gs.count : 0.0);
+    fprintf(f, "  \"gaze_horizon_ms_max\": %.4f,\n", gs.max_ms);
+    fprintf(f, "  \"states\": \"%s\"\n}\n", g_history);
     fclose(f);
 }
 
@@ -518,7 +530,9 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     bool shown = (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED) && !s->headless;
     int64_t t_comp = fv_xr_now_ns();
     if (shown && info->layerCount > 0) {
-        fv_result fr = fv_xr_compositor_frame(s->inst->comp, s, info);
+        double wait_ms = 0.0;
+        fv_result fr = fv_xr_compositor_frame(s->inst->comp, s, info, &wait_ms);
+        st->app_gpu_wait_ms_ema = ema(st->app_gpu_wait_ms_ema, wait_ms, st->composited + 1);
         if (fr == FV_ERR_DEVICE_LOST) {
             lose_display(s, "the compositor's GPU device was lost");
         } else if (fr != FV_OK) {
@@ -526,6 +540,8 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
             return XR_ERROR_RUNTIME_FAILURE;
         } else {
             st->composited++;
+            st->app_gpu_wait_ms_sum += wait_ms;
+            st->composite_ms_sum += (double)(fv_xr_now_ns() - t_comp) * MS_PER_NS;
         }
     }
     int64_t t_done = fv_xr_now_ns();
