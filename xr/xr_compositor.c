@@ -127,6 +127,14 @@ void fv_xr_compositor_device_uuid(const fv_xr_compositor *c, uint8_t out_uuid[VK
 {
     memcpy(out_uuid, c->uuid, VK_UUID_SIZE);
 }
+bool fv_xr_compositor_same_device(const fv_xr_compositor *c, VkPhysicalDevice phys)
+{
+    VkPhysicalDeviceIDProperties id = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &id};
+    vkGetPhysicalDeviceProperties2(phys, &p2);
+    return memcmp(c->uuid, id.deviceUUID, VK_UUID_SIZE) == 0;
+}
+
 uint32_t fv_xr_compositor_api_version(const fv_xr_compositor *c) { return c->vk->props.apiVersion; }
 uint32_t fv_xr_compositor_validation_messages(const fv_xr_compositor *c) { return fv_vk_validation_messages(c->vk); }
 

@@ -266,6 +266,8 @@ void fv_xr_compositor_destroy(fv_xr_compositor **c);
 VkPhysicalDevice fv_xr_compositor_phys(const fv_xr_compositor *c);
 void fv_xr_compositor_device_uuid(const fv_xr_compositor *c, uint8_t out_uuid[VK_UUID_SIZE]);
 uint32_t fv_xr_compositor_api_version(const fv_xr_compositor *c);
+/** Whether an app's physical device (of any instance on the same loader) is the compositor's (device UUID). */
+bool fv_xr_compositor_same_device(const fv_xr_compositor *c, VkPhysicalDevice phys);
 /** Formats the compositor can sample (colour) or hold (depth) and share with the app, preferred first. */
 bool fv_xr_format_is_depth(int64_t vk_format);
 uint32_t fv_xr_compositor_formats(fv_xr_compositor *c, int64_t *out, uint32_t cap);

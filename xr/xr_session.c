@@ -72,12 +72,7 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
         }
         if (vkb->physicalDevice != VK_NULL_HANDLE && vkb->device != VK_NULL_HANDLE && vkb->instance != VK_NULL_HANDLE) {
             /* the app's physical device must be the compositor's (images are shared by memory) */
-            VkPhysicalDeviceIDProperties id = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
-            VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &id};
-            vkGetPhysicalDeviceProperties2(vkb->physicalDevice, &p2);
-            uint8_t uuid[VK_UUID_SIZE];
-            fv_xr_compositor_device_uuid(inst->comp, uuid);
-            if (memcmp(uuid, id.deviceUUID, VK_UUID_SIZE) != 0) {
+            if (!fv_xr_compositor_same_device(inst->comp, vkb->physicalDevice)) {
                 FV_ERROR(FV_XR_LOG, "xrCreateSession: the app's Vulkan device is not the one "
                                     "xrGetVulkanGraphicsDeviceKHR named");
                 r = XR_ERROR_GRAPHICS_DEVICE_INVALID;

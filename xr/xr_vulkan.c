@@ -210,21 +210,15 @@ FV_XR_DECL(xrCreateVulkanDeviceKHR)(XrInstance instance, const XrVulkanDeviceCre
     pthread_mutex_unlock(&inst->lock);
     if (r != XR_SUCCESS) return r;
     /* the physical device must be the one xrGetVulkanGraphicsDevice2KHR named */
-    VkPhysicalDeviceIDProperties id = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
-    VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &id};
-    vkGetPhysicalDeviceProperties2(info->vulkanPhysicalDevice, &p2);
-    uint8_t uuid[VK_UUID_SIZE];
-    fv_xr_compositor_device_uuid(inst->comp, uuid);
-    if (memcmp(uuid, id.deviceUUID, VK_UUID_SIZE) != 0) return XR_ERROR_GRAPHICS_DEVICE_INVALID;
+    if (!fv_xr_compositor_same_device(inst->comp, info->vulkanPhysicalDevice)) return XR_ERROR_GRAPHICS_DEVICE_INVALID;
     /* vkCreateDevice is a physical-device-level command: the loader's trampoline dispatches it from any instance */
-    PFN_vkCreateDevice create = vkCreateDevice;
     VkDeviceCreateInfo ci = *info->vulkanCreateInfo;
     uint32_t n = 0;
     const char **exts = merge(ci.ppEnabledExtensionNames, ci.enabledExtensionCount, g_device_exts, N_DEVICE_EXTS, &n);
     if (!exts) return XR_ERROR_OUT_OF_MEMORY;
     ci.ppEnabledExtensionNames = exts;
     ci.enabledExtensionCount = n;
-    *out_result = create(info->vulkanPhysicalDevice, &ci, info->vulkanAllocator, out);
+    *out_result = vkCreateDevice(info->vulkanPhysicalDevice, &ci, info->vulkanAllocator, out);
     free(exts);
     return XR_SUCCESS;
 }
