@@ -25,6 +25,7 @@ int fv_cmd_reference(int argc, char **argv);
 int fv_cmd_knobs(int argc, char **argv);
 int fv_cmd_bench(int argc, char **argv);
 int fv_cmd_material(int argc, char **argv);
+int fv_cmd_xr(int argc, char **argv);
 
 /* Every command, in `fovea --help` order. */
 static const command g_commands[] = {
@@ -42,6 +43,7 @@ static const command g_commands[] = {
     {"bench", "sweep knobs: GPU time against error (vs exact and the CPU reference), Pareto plots", fv_cmd_bench},
     {"material", "a translucent material's dipole quantities and total diffuse reflectance (closed form, numeric)",
      fv_cmd_material},
+    {"xr", "fovea as an OpenXR runtime: 'fovea xr manifest' prints the runtime manifest's path", fv_cmd_xr},
     {NULL, NULL, NULL},
 };
 

@@ -1,0 +1,40 @@
+/* @brief A small OpenXR app through the loader (XR_RUNTIME_JSON = fovea's manifest), shared by test_xr_gaze and
+ * xr_gaze_app: a headless session (XR_MND_headless) with XR_EXT_eye_gaze_interaction, the gaze pose action bound to
+ * /user/eyes_ext/input/gaze_ext/pose, its action space and a VIEW space; the session begun and FOCUSED. Any failed
+ * call prints the call and its XrResult and exits (status 1). */
+#ifndef FV_XR_APP_H
+#define FV_XR_APP_H
+
+#include <stdbool.h>
+
+#include <openxr/openxr.h>
+
+typedef struct xr_app {
+    XrInstance inst;
+    XrSystemId system;
+    XrSession session;
+    XrActionSet set;
+    XrAction gaze;
+    XrSpace gaze_space, view_space;
+    bool supports_gaze; /* XrSystemEyeGazeInteractionPropertiesEXT */
+} xr_app;
+
+/** Open everything (gaze_uri: FOVEA_XR_GAZE, "" = none, NULL = the environment's; manifest: XR_RUNTIME_JSON, NULL = the environment's). */
+void xr_app_open(xr_app *a, const char *manifest, const char *gaze_uri);
+/** Request exit, end the session when STOPPING, destroy everything. */
+void xr_app_close(xr_app *a);
+/** CLOCK_MONOTONIC now as XrTime (fovea's XrTime). */
+XrTime xr_app_now(void);
+/** Sync the action set, then locate the gaze space in VIEW at t: the gaze direction (the pose's -z); the flags. */
+XrSpaceLocationFlags xr_app_locate(xr_app *a, XrTime t, double out_dir[3]);
+/** Angle between two directions, degrees. */
+double xr_app_angle_deg(const double a[3], const double b[3]);
+/** One headless frame: xrWaitFrame, xrBeginFrame, xrEndFrame with no layers; the predicted display time. */
+XrTime xr_app_frame(xr_app *a);
+
+#define XR_APP_ALL_BITS                                                                                                \
+    (XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |                                \
+     XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT)
+#define XR_APP_TRACKED_BITS (XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT)
+
+#endif

@@ -1,0 +1,58 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// @brief fovea's OpenXR compositor: every layer of both eyes into the display image (sRGB-encoded RGBA8), in layer
+// order, through each layer's homography (compose_interface.h).
+#include "compose_interface.h"
+
+layout(local_size_x = FV_XR_COMPOSE_GROUP, local_size_y = FV_XR_COMPOSE_GROUP) in;
+layout(set = 0, binding = FV_XR_COMPOSE_BINDING_SOURCES) uniform sampler2DArray sources[FV_XR_COMPOSE_MAX_SOURCES];
+layout(set = 0, binding = FV_XR_COMPOSE_BINDING_DISPLAY, rgba8) uniform writeonly image2DArray display;
+layout(set = 0, binding = FV_XR_COMPOSE_BINDING_LAYERS, std140) uniform Block { fv_xr_compose_block b; };
+
+// constant indices only (no dynamic indexing of sampler arrays needed)
+vec4 fetch(uint i, vec3 uvl)
+{
+    switch (i) {
+    case 0u: return textureLod(sources[0], uvl, 0.0);
+    case 1u: return textureLod(sources[1], uvl, 0.0);
+    case 2u: return textureLod(sources[2], uvl, 0.0);
+    case 3u: return textureLod(sources[3], uvl, 0.0);
+    case 4u: return textureLod(sources[4], uvl, 0.0);
+    case 5u: return textureLod(sources[5], uvl, 0.0);
+    case 6u: return textureLod(sources[6], uvl, 0.0);
+    default: return textureLod(sources[7], uvl, 0.0);
+    }
+}
+
+vec3 srgb_encode(vec3 c)
+{
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+void main()
+{
+    uint eye = gl_GlobalInvocationID.z;
+    uvec2 px = gl_GlobalInvocationID.xy;
+    if (px.x >= b.counts.z || px.y >= b.counts.w || eye > 1u) return;
+    vec4 t = b.tan[eye];
+    vec2 f = (vec2(px) + 0.5) / vec2(b.counts.zw);
+    vec3 ray = vec3(mix(t.x, t.y, f.x), mix(t.z, t.w, f.y), 1.0);
+    vec3 color = vec3(0.0);
+    uint n = eye == 0u ? b.counts.x : b.counts.y;
+    for (uint i = 0u; i < n && i < uint(FV_XR_COMPOSE_MAX_LAYERS); i++) {
+        fv_xr_compose_layer l = b.layer[eye * uint(FV_XR_COMPOSE_MAX_LAYERS) + i];
+        vec3 p = vec3(dot(l.h[0].xyz, ray), dot(l.h[1].xyz, ray), dot(l.h[2].xyz, ray));
+        if (!(p.z > 1e-6)) continue;
+        vec2 uv = p.xy / p.z;
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
+        vec4 c = fetch(l.info.x, vec3(l.uv_rect.xy + uv * l.uv_rect.zw, float(l.info.y)));
+        if ((l.info.z & FV_XR_LAYER_ALPHA) != 0u) {
+            vec3 src = (l.info.z & FV_XR_LAYER_UNPREMULTIPLIED) != 0u ? c.rgb * c.a : c.rgb;
+            color = src + color * (1.0 - clamp(c.a, 0.0, 1.0));
+        } else {
+            color = c.rgb;
+        }
+    }
+    imageStore(display, ivec3(px, eye), vec4(srgb_encode(color), 1.0));
+}

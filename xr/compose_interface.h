@@ -1,0 +1,50 @@
+/* @brief The compose pass of fovea's OpenXR compositor, shared by C and GLSL: bindings, workgroup size, the layer
+ * block (std140). Each layer maps a display pixel's view ray (tangent coordinates of the display eye) through a 3x3
+ * homography onto its source image's [0,1]^2 (projection layers: rotation re-projection into the layer view's
+ * frustum; quad layers: the ray's hit on the quad's plane), then blends in layer order. */
+#ifndef FV_XR_COMPOSE_INTERFACE_H
+#define FV_XR_COMPOSE_INTERFACE_H
+
+#define FV_XR_COMPOSE_GROUP 8
+#define FV_XR_COMPOSE_MAX_SOURCES 8  /* sampled images per frame: layers x eyes (a stereo projection uses 2) */
+#define FV_XR_COMPOSE_MAX_LAYERS 8   /* layers per eye */
+#define FV_XR_COMPOSE_BINDING_SOURCES 0
+#define FV_XR_COMPOSE_BINDING_DISPLAY 1
+#define FV_XR_COMPOSE_BINDING_LAYERS 2
+
+#define FV_XR_LAYER_ALPHA 1u         /* XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT */
+#define FV_XR_LAYER_UNPREMULTIPLIED 2u /* XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT */
+
+#ifdef __cplusplus
+#error C only
+#endif
+#ifdef GL_core_profile
+#define FV_XR_STRUCT(name) struct name
+#define FV_XR_VEC4 vec4
+#define FV_XR_UVEC4 uvec4
+#else
+#include <stdint.h>
+typedef struct fv_xr_vec4 { float x, y, z, w; } fv_xr_vec4;
+typedef struct fv_xr_uvec4 { uint32_t x, y, z, w; } fv_xr_uvec4;
+#define FV_XR_STRUCT(name) typedef struct name name; struct name
+#define FV_XR_VEC4 fv_xr_vec4
+#define FV_XR_UVEC4 fv_xr_uvec4
+#endif
+
+FV_XR_STRUCT(fv_xr_compose_layer) {
+    FV_XR_VEC4 h[3];     /* rows of the homography: (u w, v w, w) = h * (tan_x, tan_y, 1) */
+    FV_XR_VEC4 uv_rect;  /* source image rect in normalised coordinates: offset.xy, scale.zw */
+    FV_XR_UVEC4 info;    /* x: source index (binding array element), y: array layer, z: FV_XR_LAYER_* flags */
+};
+
+FV_XR_STRUCT(fv_xr_compose_block) {
+    FV_XR_UVEC4 counts;  /* x, y: layers of eye 0 / eye 1; z, w: display width, height per eye (px) */
+    FV_XR_VEC4 tan[2];   /* per eye: tangents of the display's left (negative), right, up, down (negative) edges */
+    fv_xr_compose_layer layer[2 * FV_XR_COMPOSE_MAX_LAYERS]; /* eye e, layer i at e * MAX_LAYERS + i */
+};
+
+#ifndef GL_core_profile
+_Static_assert(sizeof(fv_xr_compose_layer) == 80, "std140 layer");
+_Static_assert(sizeof(fv_xr_compose_block) == 48 + 2 * FV_XR_COMPOSE_MAX_LAYERS * 80, "std140 block");
+#endif
+#endif

@@ -1,0 +1,871 @@
+/* @brief fovea's OpenXR compositor: fovea's Vulkan core (fv_vk) owns the device; swapchain images are created on it
+ * with exportable memory (VK_KHR_external_memory_fd) and imported into the app's device, so both devices see one
+ * image. Hand-overs follow the Vulkan rules for a real GPU: ownership goes app queue family -> VK_QUEUE_FAMILY_EXTERNAL
+ * -> compositor family and back, each release paired with an acquire of the same layouts, and the app's release is
+ * fenced on its queue before the compositor's submit reads the image. A frame: the compose pass maps every layer onto
+ * the display image (fovea's FV_IMAGE_DISPLAY, sRGB-encoded), fovea's lens-distortion pass pre-distorts it for the
+ * HMD's lens, and a target shows it (headless; PNG files with FOVEA_XR_OUT). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <stdint.h>
+
+#include "compose_comp.spv.h"
+#include "compose_interface.h"
+#include "distort.h"
+#include "fv_images.h"
+#include "fv_math.h"
+#include "fv_pass.h"
+#include "fv_target.h"
+#include "fv_vk.h"
+#include "xr_internal.h"
+
+#define FV_XR_FENCE_TIMEOUT_NS 5000000000ull /* an app queue that does not finish a release in 5 s is hung */
+
+/* Where an image is: the app holds it, or a release to VK_QUEUE_FAMILY_EXTERNAL is in flight (by either side). */
+typedef enum image_owner { OWNER_UNINIT = 0, OWNER_APP, OWNER_EXTERNAL, OWNER_COMP } image_owner;
+
+struct fv_xr_swapchain_image {
+    VkImage comp_image;          /* fovea's device */
+    VkDeviceMemory comp_mem;
+    VkImageView comp_view;       /* 2D array view of every layer, sampled by the compose pass */
+    VkImage app_image;           /* the app's device: same memory */
+    VkDeviceMemory app_mem;
+    VkCommandBuffer app_cmd;     /* hand-over commands on the app's queue */
+    VkFence app_fence;           /* signalled when the last hand-over on the app's queue finished */
+    image_owner owner;
+    VkImageLayout ext_old, ext_new; /* the layouts of the release in flight (OWNER_EXTERNAL) */
+    VkImageLayout layout;        /* the current layout on the owning side */
+};
+
+struct fv_xr_compositor {
+    fv_vk *vk;
+    PFN_vkGetMemoryFdKHR get_memory_fd;
+    uint8_t uuid[VK_UUID_SIZE];
+    /* the output of a session */
+    bool active;
+    uint32_t width, height;
+    fv_images images;
+    bool images_ready;
+    void *distort;
+    fv_plan_entry distort_plan;
+    fv_target *target;
+    char out_dir[1024];
+    fv_vk_compute cs;
+    VkSampler sampler;
+    fv_vk_buffer block;          /* fv_xr_compose_block, host-visible */
+    VkCommandBuffer cmd;
+    VkFence fence;
+    VkSemaphore sem_ready, sem_done; /* the target hand-over semaphores (unused by headless and files targets) */
+    fv_frame_input input;        /* eye frusta and the lens for the distortion pass */
+    uint64_t frame_id;
+    fv_vk_timer timer;           /* GPU time of the compose and distortion passes */
+    bool timer_ready;
+    double gpu_ms_sum[2];        /* compose, distort: summed over frames */
+    uint64_t gpu_frames;
+};
+
+/* ---- device ------------------------------------------------------------------------------------------------ */
+static const char *const g_optional_exts[] = {VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME};
+
+fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **out)
+{
+    fv_xr_compositor *c = calloc(1, sizeof *c);
+    if (!c) return FV_ERR_NO_MEMORY;
+    fv_vk_desc d = {.app_name = "fovea OpenXR compositor",
+                    .optional_device_extensions = g_optional_exts,
+                    .optional_device_extension_count = 1};
+    fv_result res = fv_vk_create(&d, &c->vk);
+    if (res != FV_OK) {
+        free(c);
+        return res;
+    }
+    if (!fv_vk_optional_enabled(c->vk, VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME)) {
+        FV_ERROR(FV_XR_LOG, "the Vulkan device '%s' lacks VK_KHR_external_memory_fd: swapchain images cannot be shared "
+                            "with the application", c->vk->info.name);
+        fv_vk_destroy(&c->vk);
+        free(c);
+        return FV_ERR_UNSUPPORTED;
+    }
+    c->get_memory_fd = (PFN_vkGetMemoryFdKHR)vkGetDeviceProcAddr(c->vk->device, "vkGetMemoryFdKHR");
+    VkPhysicalDeviceIDProperties id = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &id};
+    vkGetPhysicalDeviceProperties2(c->vk->phys, &p2);
+    memcpy(c->uuid, id.deviceUUID, VK_UUID_SIZE);
+    c->input.quality = fv_quality_default();
+    c->input.quality.distort.lens = inst->hmd.lens;
+    const char *dist = getenv("FOVEA_XR_DISTORT");
+    c->input.quality.distort.enabled = !(dist && !strcmp(dist, "0"));
+    /* the display eye frusta: the HMD profile's */
+    float fov[8];
+    for (int e = 0; e < 2; e++) {
+        fov[4 * e + 0] = inst->hmd.fov[e].tan_left;
+        fov[4 * e + 1] = inst->hmd.fov[e].tan_right;
+        fov[4 * e + 2] = inst->hmd.fov[e].tan_up;
+        fov[4 * e + 3] = inst->hmd.fov[e].tan_down;
+    }
+    fv_eye_views_build_fov(NULL, 0.05f, 100.0f, fov, c->input.eye);
+    *out = c;
+    return FV_OK;
+}
+
+void fv_xr_compositor_destroy(fv_xr_compositor **pc)
+{
+    if (!pc || !*pc) return;
+    fv_xr_compositor *c = *pc;
+    fv_xr_compositor_session_end(c);
+    fv_vk_destroy(&c->vk);
+    free(c);
+    *pc = NULL;
+}
+
+VkPhysicalDevice fv_xr_compositor_phys(const fv_xr_compositor *c) { return c->vk->phys; }
+void fv_xr_compositor_device_uuid(const fv_xr_compositor *c, uint8_t out_uuid[VK_UUID_SIZE])
+{
+    memcpy(out_uuid, c->uuid, VK_UUID_SIZE);
+}
+bool fv_xr_compositor_same_device(const fv_xr_compositor *c, VkPhysicalDevice phys)
+{
+    VkPhysicalDeviceIDProperties id = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &id};
+    vkGetPhysicalDeviceProperties2(phys, &p2);
+    return memcmp(c->uuid, id.deviceUUID, VK_UUID_SIZE) == 0;
+}
+
+uint32_t fv_xr_compositor_api_version(const fv_xr_compositor *c) { return c->vk->props.apiVersion; }
+uint32_t fv_xr_compositor_validation_messages(const fv_xr_compositor *c) { return fv_vk_validation_messages(c->vk); }
+
+/* ---- formats ------------------------------------------------------------------------------------------------- */
+bool fv_xr_format_is_depth(int64_t f)
+{
+    return f == VK_FORMAT_D16_UNORM || f == VK_FORMAT_D32_SFLOAT || f == VK_FORMAT_D24_UNORM_S8_UINT ||
+           f == VK_FORMAT_D32_SFLOAT_S8_UINT;
+}
+
+/* Whether an image of this format and usage can be created exportable (opaque fd) on fovea's device. */
+static bool shareable(fv_xr_compositor *c, VkFormat f, VkImageUsageFlags usage)
+{
+    VkPhysicalDeviceExternalImageFormatInfo ext = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_IMAGE_FORMAT_INFO,
+                                                   .handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
+    VkPhysicalDeviceImageFormatInfo2 fi = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_IMAGE_FORMAT_INFO_2,
+                                           .pNext = &ext,
+                                           .format = f,
+                                           .type = VK_IMAGE_TYPE_2D,
+                                           .tiling = VK_IMAGE_TILING_OPTIMAL,
+                                           .usage = usage};
+    VkExternalImageFormatProperties ep = {.sType = VK_STRUCTURE_TYPE_EXTERNAL_IMAGE_FORMAT_PROPERTIES};
+    VkImageFormatProperties2 fp = {.sType = VK_STRUCTURE_TYPE_IMAGE_FORMAT_PROPERTIES_2, .pNext = &ep};
+    if (vkGetPhysicalDeviceImageFormatProperties2(c->vk->phys, &fi, &fp) != VK_SUCCESS) return false;
+    VkExternalMemoryFeatureFlags need =
+        VK_EXTERNAL_MEMORY_FEATURE_EXPORTABLE_BIT | VK_EXTERNAL_MEMORY_FEATURE_IMPORTABLE_BIT;
+    return (ep.externalMemoryProperties.externalMemoryFeatures & need) == need;
+}
+
+uint32_t fv_xr_compositor_formats(fv_xr_compositor *c, int64_t *out, uint32_t cap)
+{
+    /* colour formats first, sRGB preferred (the spec's recommendation); then depth for depth layers */
+    static const VkFormat colour[] = {VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R8G8B8A8_UNORM,
+                                      VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R16G16B16A16_SFLOAT,
+                                      VK_FORMAT_A2B10G10R10_UNORM_PACK32};
+    static const VkFormat depth[] = {VK_FORMAT_D32_SFLOAT, VK_FORMAT_D16_UNORM, VK_FORMAT_D24_UNORM_S8_UINT,
+                                     VK_FORMAT_D32_SFLOAT_S8_UINT};
+    uint32_t n = 0;
+    for (size_t i = 0; i < sizeof colour / sizeof colour[0]; i++) {
+        VkImageUsageFlags u = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                              VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        if (!fv_vk_format_supports(c->vk, colour[i], VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT |
+                                                         VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
+            continue;
+        if (!shareable(c, colour[i], u)) continue;
+        if (out && n < cap) out[n] = colour[i];
+        n++;
+    }
+    for (size_t i = 0; i < sizeof depth / sizeof depth[0]; i++) {
+        if (!fv_vk_format_supports(c->vk, depth[i], VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT)) continue;
+        if (out && n < cap) out[n] = depth[i];
+        n++;
+    }
+    return n;
+}
+
+/* ---- swapchain images ------------------------------------------------------------------------------------------ */
+static VkImageUsageFlags usage_of(XrSwapchainUsageFlags u, bool depth)
+{
+    VkImageUsageFlags v = 0;
+    if (u & XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT) v |= VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    if (u & XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT) v |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    if (u & XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT) v |= VK_IMAGE_USAGE_STORAGE_BIT;
+    if (u & XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT) v |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    if (u & XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT) v |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    if (u & XR_SWAPCHAIN_USAGE_SAMPLED_BIT) v |= VK_IMAGE_USAGE_SAMPLED_BIT;
+    if (u & XR_SWAPCHAIN_USAGE_INPUT_ATTACHMENT_BIT_MND) v |= VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT;
+    if (!depth) v |= VK_IMAGE_USAGE_SAMPLED_BIT; /* the compositor samples every colour image */
+    return v;
+}
+
+static uint32_t memory_type(const VkPhysicalDeviceMemoryProperties *mp, uint32_t bits, VkMemoryPropertyFlags want)
+{
+    for (uint32_t i = 0; i < mp->memoryTypeCount; i++)
+        if ((bits & (1u << i)) && (mp->memoryTypes[i].propertyFlags & want) == want) return i;
+    for (uint32_t i = 0; i < mp->memoryTypeCount; i++)
+        if (bits & (1u << i)) return i;
+    return UINT32_MAX;
+}
+
+static void image_fini(fv_xr_compositor *c, struct XrSession_T *s, fv_xr_swapchain_image *im)
+{
+    VkDevice ad = s->vk.device;
+    if (im->app_fence) {
+        vkWaitForFences(ad, 1, &im->app_fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS);
+        vkDestroyFence(ad, im->app_fence, NULL);
+    }
+    if (im->app_cmd) vkFreeCommandBuffers(ad, s->vk.pool, 1, &im->app_cmd);
+    if (im->app_image) vkDestroyImage(ad, im->app_image, NULL);
+    if (im->app_mem) vkFreeMemory(ad, im->app_mem, NULL);
+    if (im->comp_view) vkDestroyImageView(c->vk->device, im->comp_view, NULL);
+    if (im->comp_image) vkDestroyImage(c->vk->device, im->comp_image, NULL);
+    if (im->comp_mem) vkFreeMemory(c->vk->device, im->comp_mem, NULL);
+    memset(im, 0, sizeof *im);
+}
+
+/* One image: on fovea's device (exportable, dedicated), then the same on the app's device from the exported fd. */
+static XrResult image_init(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, fv_xr_swapchain_image *im)
+{
+    struct XrSession_T *s = sc->session;
+    VkDevice ad = s->vk.device, cd = c->vk->device;
+    const XrSwapchainCreateInfo *ci = &sc->info;
+    VkExternalMemoryImageCreateInfo ext = {.sType = VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_IMAGE_CREATE_INFO,
+                                           .handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
+    VkImageCreateInfo ic = {.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
+                            .pNext = sc->depth ? NULL : &ext,
+                            .flags = (ci->usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT)
+                                         ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT
+                                         : 0,
+                            .imageType = VK_IMAGE_TYPE_2D,
+                            .format = sc->format,
+                            .extent = {ci->width, ci->height, 1},
+                            .mipLevels = ci->mipCount,
+                            .arrayLayers = ci->arraySize * ci->faceCount,
+                            .samples = VK_SAMPLE_COUNT_1_BIT,
+                            .tiling = VK_IMAGE_TILING_OPTIMAL,
+                            .usage = usage_of(ci->usageFlags, sc->depth),
+                            .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+                            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED};
+    if (ci->faceCount == 6) ic.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+    VkMemoryRequirements req;
+    if (sc->depth) {
+        /* depth images stay on the app's side: the compositor does not read depth */
+        if (vkCreateImage(ad, &ic, NULL, &im->app_image) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+        vkGetImageMemoryRequirements(ad, im->app_image, &req);
+        VkPhysicalDeviceMemoryProperties mp;
+        vkGetPhysicalDeviceMemoryProperties(s->vk.phys, &mp);
+        VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                                   .allocationSize = req.size,
+                                   .memoryTypeIndex = memory_type(&mp, req.memoryTypeBits,
+                                                                  VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)};
+        if (vkAllocateMemory(ad, &ai, NULL, &im->app_mem) != VK_SUCCESS) return XR_ERROR_OUT_OF_MEMORY;
+        if (vkBindImageMemory(ad, im->app_image, im->app_mem, 0) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+    } else {
+        if (vkCreateImage(cd, &ic, NULL, &im->comp_image) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+        FV_VK_NAME(c->vk, VK_OBJECT_TYPE_IMAGE, im->comp_image, "xr swapchain %p image %u", (void *)sc, index);
+        vkGetImageMemoryRequirements(cd, im->comp_image, &req);
+        uint32_t type = memory_type(&c->vk->mem_props, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        VkMemoryDedicatedAllocateInfo ded = {.sType = VK_STRUCTURE_TYPE_MEMORY_DEDICATED_ALLOCATE_INFO,
+                                             .image = im->comp_image};
+        VkExportMemoryAllocateInfo exp = {.sType = VK_STRUCTURE_TYPE_EXPORT_MEMORY_ALLOCATE_INFO,
+                                          .pNext = &ded,
+                                          .handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
+        VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                                   .pNext = &exp,
+                                   .allocationSize = req.size,
+                                   .memoryTypeIndex = type};
+        if (type == UINT32_MAX || vkAllocateMemory(cd, &ai, NULL, &im->comp_mem) != VK_SUCCESS)
+            return XR_ERROR_OUT_OF_MEMORY;
+        if (vkBindImageMemory(cd, im->comp_image, im->comp_mem, 0) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+        VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
+                                    .image = im->comp_image,
+                                    .viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                                    .format = sc->format,
+                                    .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, ic.arrayLayers}};
+        if (vkCreateImageView(cd, &vi, NULL, &im->comp_view) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+        int fd = -1;
+        VkMemoryGetFdInfoKHR gi = {.sType = VK_STRUCTURE_TYPE_MEMORY_GET_FD_INFO_KHR,
+                                   .memory = im->comp_mem,
+                                   .handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
+        if (c->get_memory_fd(cd, &gi, &fd) != VK_SUCCESS || fd < 0) return XR_ERROR_RUNTIME_FAILURE;
+        if (vkCreateImage(ad, &ic, NULL, &im->app_image) != VK_SUCCESS) {
+            close(fd);
+            return XR_ERROR_RUNTIME_FAILURE;
+        }
+        VkMemoryRequirements areq;
+        vkGetImageMemoryRequirements(ad, im->app_image, &areq);
+        if (!(areq.memoryTypeBits & (1u << type)) || areq.size > req.size) {
+            FV_ERROR(FV_XR_LOG, "the app's device cannot import the swapchain memory (type %u, %llu bytes)", type,
+                     (unsigned long long)req.size);
+            close(fd);
+            return XR_ERROR_RUNTIME_FAILURE;
+        }
+        VkMemoryDedicatedAllocateInfo aded = {.sType = VK_STRUCTURE_TYPE_MEMORY_DEDICATED_ALLOCATE_INFO,
+                                              .image = im->app_image};
+        VkImportMemoryFdInfoKHR imp = {.sType = VK_STRUCTURE_TYPE_IMPORT_MEMORY_FD_INFO_KHR,
+                                       .pNext = &aded,
+                                       .handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT,
+                                       .fd = fd};
+        VkMemoryAllocateInfo aai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                                    .pNext = &imp,
+                                    .allocationSize = req.size,
+                                    .memoryTypeIndex = type};
+        if (vkAllocateMemory(ad, &aai, NULL, &im->app_mem) != VK_SUCCESS) {
+            close(fd); /* a failed import leaves the fd with us */
+            return XR_ERROR_OUT_OF_MEMORY;
+        }
+        if (vkBindImageMemory(ad, im->app_image, im->app_mem, 0) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+    }
+    VkCommandBufferAllocateInfo cai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                       .commandPool = s->vk.pool,
+                                       .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                       .commandBufferCount = 1};
+    if (vkAllocateCommandBuffers(ad, &cai, &im->app_cmd) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO, .flags = VK_FENCE_CREATE_SIGNALED_BIT};
+    if (vkCreateFence(ad, &fci, NULL, &im->app_fence) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+    im->owner = OWNER_UNINIT;
+    return XR_SUCCESS;
+}
+
+XrResult fv_xr_swapchain_images_create(fv_xr_compositor *c, struct XrSwapchain_T *sc)
+{
+    sc->images = calloc(sc->image_count, sizeof *sc->images);
+    if (!sc->images) return XR_ERROR_OUT_OF_MEMORY;
+    for (uint32_t i = 0; i < sc->image_count; i++) {
+        XrResult r = image_init(c, sc, i, &sc->images[i]);
+        if (r != XR_SUCCESS) {
+            fv_xr_swapchain_images_destroy(c, sc);
+            return r;
+        }
+    }
+    return XR_SUCCESS;
+}
+
+void fv_xr_swapchain_images_destroy(fv_xr_compositor *c, struct XrSwapchain_T *sc)
+{
+    if (!sc->images) return;
+    vkDeviceWaitIdle(c->vk->device); /* nothing of the compositor may still read them */
+    for (uint32_t i = 0; i < sc->image_count; i++) image_fini(c, sc->session, &sc->images[i]);
+    free(sc->images);
+    sc->images = NULL;
+}
+
+VkImage fv_xr_swapchain_app_image(struct XrSwapchain_T *sc, uint32_t index) { return sc->images[index].app_image; }
+
+static VkImageLayout app_layout(const struct XrSwapchain_T *sc)
+{
+    return sc->depth ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+}
+
+static VkImageMemoryBarrier barrier(const struct XrSwapchain_T *sc, VkImage image, VkImageLayout from, VkImageLayout to,
+                                    uint32_t src_family, uint32_t dst_family, VkAccessFlags src, VkAccessFlags dst)
+{
+    VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
+    if (sc->depth) {
+        aspect = VK_IMAGE_ASPECT_DEPTH_BIT;
+        if (sc->format == VK_FORMAT_D24_UNORM_S8_UINT || sc->format == VK_FORMAT_D32_SFLOAT_S8_UINT)
+            aspect |= VK_IMAGE_ASPECT_STENCIL_BIT;
+    }
+    return (VkImageMemoryBarrier){.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                                  .srcAccessMask = src,
+                                  .dstAccessMask = dst,
+                                  .oldLayout = from,
+                                  .newLayout = to,
+                                  .srcQueueFamilyIndex = src_family,
+                                  .dstQueueFamilyIndex = dst_family,
+                                  .image = image,
+                                  .subresourceRange = {aspect, 0, VK_REMAINING_MIP_LEVELS, 0,
+                                                       VK_REMAINING_ARRAY_LAYERS}};
+}
+
+/* Record and submit one hand-over on the app's queue, fenced. The fence's previous use has finished. */
+static XrResult app_submit(struct XrSession_T *s, fv_xr_swapchain_image *im, const VkImageMemoryBarrier *b,
+                           uint32_t count, VkPipelineStageFlags src, VkPipelineStageFlags dst)
+{
+    VkDevice ad = s->vk.device;
+    if (vkWaitForFences(ad, 1, &im->app_fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS) != VK_SUCCESS)
+        return XR_ERROR_RUNTIME_FAILURE;
+    vkResetFences(ad, 1, &im->app_fence);
+    vkResetCommandBuffer(im->app_cmd, 0);
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    if (vkBeginCommandBuffer(im->app_cmd, &bi) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+    vkCmdPipelineBarrier(im->app_cmd, src, dst, 0, 0, NULL, 0, NULL, count, b);
+    if (vkEndCommandBuffer(im->app_cmd) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &im->app_cmd};
+    VkResult vr = vkQueueSubmit(s->vk.queue, 1, &si, im->app_fence);
+    if (vr == VK_ERROR_DEVICE_LOST) return XR_ERROR_SESSION_LOST;
+    return vr == VK_SUCCESS ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
+}
+
+XrResult fv_xr_swapchain_image_acquire(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index)
+{
+    (void)c;
+    fv_xr_swapchain_image *im = &sc->images[index];
+    uint32_t fam = sc->session->vk.queue_family;
+    VkImageLayout want = app_layout(sc);
+    VkAccessFlags use = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    VkImageMemoryBarrier b[2];
+    uint32_t n = 0;
+    if (im->owner == OWNER_UNINIT) {
+        b[n++] = barrier(sc, im->app_image, VK_IMAGE_LAYOUT_UNDEFINED, want, VK_QUEUE_FAMILY_IGNORED,
+                         VK_QUEUE_FAMILY_IGNORED, 0, use);
+    } else if (im->owner == OWNER_EXTERNAL) {
+        /* take it from the external owner with the layouts of the release in flight, then into the app's layout */
+        b[n++] = barrier(sc, im->app_image, im->ext_old, im->ext_new, VK_QUEUE_FAMILY_EXTERNAL, fam, 0, use);
+        if (im->ext_new != want)
+            b[n++] = barrier(sc, im->app_image, im->ext_new, want, VK_QUEUE_FAMILY_IGNORED, VK_QUEUE_FAMILY_IGNORED,
+                             use, use);
+    } else {
+        return XR_SUCCESS; /* the app holds it already in its layout (depth images never leave) */
+    }
+    XrResult r = app_submit(sc->session, im, b, n, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                            VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+    if (r == XR_SUCCESS) {
+        im->owner = OWNER_APP;
+        im->layout = want;
+    }
+    return r;
+}
+
+XrResult fv_xr_swapchain_image_wait(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, XrDuration timeout)
+{
+    (void)c;
+    /* the image is the app's once its acquire hand-over has run on the app's queue: queue order already puts the
+     * app's later work after it, so waiting here only bounds how far the CPU runs ahead */
+    fv_xr_swapchain_image *im = &sc->images[index];
+    uint64_t t = timeout < 0 ? 0 : (uint64_t)timeout;
+    VkResult vr = vkWaitForFences(sc->session->vk.device, 1, &im->app_fence, VK_TRUE, t);
+    if (vr == VK_TIMEOUT) return XR_TIMEOUT_EXPIRED;
+    return vr == VK_SUCCESS ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
+}
+
+XrResult fv_xr_swapchain_image_release(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index)
+{
+    (void)c;
+    fv_xr_swapchain_image *im = &sc->images[index];
+    if (sc->depth) return XR_SUCCESS; /* stays with the app */
+    uint32_t fam = sc->session->vk.queue_family;
+    /* release to the external owner (fovea's device), moving to the layout the compose pass samples */
+    VkImageMemoryBarrier b = barrier(sc, im->app_image, im->layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, fam,
+                                     VK_QUEUE_FAMILY_EXTERNAL, VK_ACCESS_MEMORY_WRITE_BIT, 0);
+    XrResult r = app_submit(sc->session, im, &b, 1, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                            VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    if (r == XR_SUCCESS) {
+        im->owner = OWNER_EXTERNAL;
+        im->ext_old = im->layout;
+        im->ext_new = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    }
+    return r;
+}
+
+/* ---- the session's output ---------------------------------------------------------------------------------- */
+static const VkDescriptorSetLayoutBinding g_bindings[] = {
+    {FV_XR_COMPOSE_BINDING_SOURCES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, FV_XR_COMPOSE_MAX_SOURCES,
+     VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+    {FV_XR_COMPOSE_BINDING_DISPLAY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+    {FV_XR_COMPOSE_BINDING_LAYERS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+};
+
+fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, uint32_t height)
+{
+    if (c->active) return FV_ERR_STATE;
+    c->width = width;
+    c->height = height;
+    fv_result res = fv_images_init(&c->images, c->vk, width, height);
+    if (res != FV_OK) return res;
+    c->images_ready = true;
+    const fv_vk_image *display = NULL;
+    res = fv_images_get(&c->images, FV_IMAGE_DISPLAY, &display);
+    fv_vk_compute_desc cd = {.name = "xr compose",
+                             .code = fv_spv_compose_comp,
+                             .code_size = sizeof fv_spv_compose_comp,
+                             .bindings = g_bindings,
+                             .binding_count = 3,
+                             .set_count = 1};
+    if (res == FV_OK) res = fv_vk_compute_init(c->vk, &cd, &c->cs);
+    if (res == FV_OK) res = fv_vk_sampler_create(c->vk, true, false, "xr compose sampler (linear, clamp)", &c->sampler);
+    if (res == FV_OK)
+        res = fv_vk_buffer_create(c->vk, sizeof(fv_xr_compose_block), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                  FV_VK_MEM_UPLOAD, "xr compose layers", &c->block);
+    if (res == FV_OK) {
+        fv_vk_write_image(c->vk, c->cs.sets[0], FV_XR_COMPOSE_BINDING_DISPLAY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                          display->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_buffer(c->vk, c->cs.sets[0], FV_XR_COMPOSE_BINDING_LAYERS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                           c->block.buffer, 0, sizeof(fv_xr_compose_block));
+        VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                          .commandPool = c->vk->pool,
+                                          .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                          .commandBufferCount = 1};
+        FV_VK_CHECK_GOTO(vkAllocateCommandBuffers(c->vk->device, &ai, &c->cmd), res, done);
+        VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        FV_VK_CHECK_GOTO(vkCreateFence(c->vk->device, &fci, NULL, &c->fence), res, done);
+        VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+        FV_VK_CHECK_GOTO(vkCreateSemaphore(c->vk->device, &sci, NULL, &c->sem_ready), res, done);
+        FV_VK_CHECK_GOTO(vkCreateSemaphore(c->vk->device, &sci, NULL, &c->sem_done), res, done);
+    }
+    if (res == FV_OK) {
+        res = fv_vk_timer_init(&c->timer, c->vk, 1);
+        c->timer_ready = res == FV_OK;
+    }
+    /* fovea's lens-distortion pass, planned like the renderer plans it (on when the HMD has a lens) */
+    if (res == FV_OK) {
+        fv_plan_context pc = {.quality = &c->input.quality, .target = "headless"};
+        fv_distort_pass.plan(&pc, &c->distort_plan);
+        if (c->distort_plan.enabled) {
+            fv_pass_env env = {.vk = c->vk, .images = &c->images, .width = width, .height = height, .slots = 1,
+                               .plan = &c->distort_plan};
+            res = fv_distort_pass.init(&env, &c->distort);
+        }
+        FV_INFO(FV_XR_LOG, "distort: %s", c->distort_plan.reason);
+    }
+    /* the target: PNG files of the last frame with FOVEA_XR_OUT=dir, else headless */
+    const char *out = getenv("FOVEA_XR_OUT");
+    if (res == FV_OK && out && *out) {
+        snprintf(c->out_dir, sizeof c->out_dir, "%s", out);
+        fv_target_files_desc fd = {.dir = c->out_dir, .side_by_side = true, .save = FV_TARGET_SAVE_LAST};
+        res = fv_target_files_create(&fd, &c->target);
+    } else if (res == FV_OK) {
+        c->target = fv_target_headless();
+    }
+done:
+    if (res != FV_OK) {
+        c->active = true;
+        fv_xr_compositor_session_end(c);
+        return res;
+    }
+    c->active = true;
+    c->frame_id = 0;
+    return FV_OK;
+}
+
+void fv_xr_compositor_session_end(fv_xr_compositor *c)
+{
+    if (!c || !c->active) return;
+    vkDeviceWaitIdle(c->vk->device);
+    fv_target_destroy(&c->target);
+    if (c->distort) fv_distort_pass.fini(c->distort);
+    c->distort = NULL;
+    if (c->sem_ready) vkDestroySemaphore(c->vk->device, c->sem_ready, NULL);
+    if (c->sem_done) vkDestroySemaphore(c->vk->device, c->sem_done, NULL);
+    if (c->fence) vkDestroyFence(c->vk->device, c->fence, NULL);
+    if (c->cmd) vkFreeCommandBuffers(c->vk->device, c->vk->pool, 1, &c->cmd);
+    c->sem_ready = c->sem_done = VK_NULL_HANDLE;
+    c->fence = VK_NULL_HANDLE;
+    c->cmd = VK_NULL_HANDLE;
+    fv_vk_buffer_destroy(c->vk, &c->block);
+    if (c->timer_ready) fv_vk_timer_fini(&c->timer, c->vk);
+    c->timer_ready = false;
+    if (c->sampler) vkDestroySampler(c->vk->device, c->sampler, NULL);
+    c->sampler = VK_NULL_HANDLE;
+    fv_vk_compute_fini(c->vk, &c->cs);
+    if (c->images_ready) fv_images_fini(&c->images);
+    c->images_ready = false;
+    c->active = false;
+}
+
+void fv_xr_compositor_flush(fv_xr_compositor *c)
+{
+    if (!c || !c->active || !c->target || c->frame_id == 0 || !fv_target_files_dir(c->target)) return;
+    if (fv_target_files_flush(c->target) != FV_OK) FV_ERROR(FV_XR_LOG, "FOVEA_XR_OUT: the last frame was not written");
+}
+
+/* ---- one frame ----------------------------------------------------------------------------------------------- */
+typedef struct mat3 {
+    float m[3][3];
+} mat3;
+
+static mat3 mat3_mul(mat3 a, mat3 b)
+{
+    mat3 r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) r.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
+    return r;
+}
+
+/* rotation matrix of a unit quaternion (rows) */
+static mat3 mat3_rot(fv_quat q)
+{
+    float x = q.x, y = q.y, z = q.z, w = q.w;
+    return (mat3){{{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                   {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                   {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}}};
+}
+
+static mat3 mat3_transpose(mat3 a)
+{
+    mat3 r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) r.m[i][j] = a.m[j][i];
+    return r;
+}
+
+static fv_quat qx(XrQuaternionf q) { return (fv_quat){q.x, q.y, q.z, q.w}; }
+
+/* a display-eye ray in tangent coordinates (x_t, y_t, 1) as a view-space direction (x_t, y_t, -1) */
+static const mat3 RAY_TO_DIR = {{{1, 0, 0}, {0, 1, 0}, {0, 0, -1}}};
+
+/* Projection view: rotate the display eye's ray into the layer view's frame, project into its frustum. */
+static mat3 projection_homography(const XrPosef *eye_local, const XrPosef *view_local, const XrFovf *fov)
+{
+    float tl = tanf(fov->angleLeft), tr = tanf(fov->angleRight), tu = tanf(fov->angleUp), td = tanf(fov->angleDown);
+    mat3 k = {{{1.0f / (tr - tl), 0, tl / (tr - tl)}, {0, -1.0f / (tu - td), -tu / (tu - td)}, {0, 0, -1}}};
+    mat3 r = mat3_mul(mat3_transpose(mat3_rot(qx(view_local->orientation))), mat3_rot(qx(eye_local->orientation)));
+    return mat3_mul(mat3_mul(k, r), RAY_TO_DIR);
+}
+
+/* Quad: the display eye's ray hits the quad's plane (z = 0 in the quad's frame, facing +z), in [0,1]^2 of its size. */
+static bool quad_homography(const XrPosef *eye_local, const XrPosef *quad_local, XrExtent2Df size, mat3 *out)
+{
+    if (!(size.width > 0) || !(size.height > 0)) return false;
+    fv_quat qi = {-quad_local->orientation.x, -quad_local->orientation.y, -quad_local->orientation.z,
+                  quad_local->orientation.w};
+    fv_vec3 d = {eye_local->position.x - quad_local->position.x, eye_local->position.y - quad_local->position.y,
+                 eye_local->position.z - quad_local->position.z};
+    fv_vec3 o = fv_quat_rotate(qi, d); /* the eye in the quad's frame */
+    if (fabsf(o.z) < 1e-6f) return false; /* the eye is in the quad's plane: it is seen edge-on */
+    mat3 m = mat3_mul(mat3_mul(mat3_transpose(mat3_rot(qx(quad_local->orientation))),
+                               mat3_rot(qx(eye_local->orientation))),
+                      RAY_TO_DIR);
+    float sgn = o.z > 0 ? -1.0f : 1.0f; /* w = t's sign: the hit is in front of the eye */
+    for (int j = 0; j < 3; j++) {
+        float rx = o.x * m.m[2][j] - o.z * m.m[0][j];
+        float ry = o.y * m.m[2][j] - o.z * m.m[1][j];
+        float rz = m.m[2][j];
+        out->m[0][j] = sgn * (rx / size.width + 0.5f * rz);
+        out->m[1][j] = sgn * (0.5f * rz - ry / size.height);
+        out->m[2][j] = sgn * rz;
+    }
+    return true;
+}
+
+static XrPosef pose_mul(XrPosef a, XrPosef b)
+{
+    fv_quat qa = qx(a.orientation);
+    fv_quat q = fv_quat_normalize(fv_quat_mul(qa, qx(b.orientation)));
+    fv_vec3 p = fv_v3_add((fv_vec3){a.position.x, a.position.y, a.position.z},
+                          fv_quat_rotate(qa, (fv_vec3){b.position.x, b.position.y, b.position.z}));
+    return (XrPosef){{q.x, q.y, q.z, q.w}, {p.x, p.y, p.z}};
+}
+
+typedef struct source_ref {
+    struct XrSwapchain_T *sc;
+    uint32_t index;
+} source_ref;
+
+/* The source slot of a swapchain's released image in this frame's binding array (added on first use). */
+static int source_slot(source_ref *src, uint32_t *count, struct XrSwapchain_T *sc)
+{
+    for (uint32_t i = 0; i < *count; i++)
+        if (src[i].sc == sc) return (int)i;
+    if (*count == FV_XR_COMPOSE_MAX_SOURCES) return -1;
+    src[*count] = (source_ref){sc, (uint32_t)sc->last_released};
+    return (int)(*count)++;
+}
+
+static void set_layer(fv_xr_compose_layer *l, const mat3 *h, const XrSwapchainSubImage *si, uint32_t slot,
+                      XrCompositionLayerFlags flags)
+{
+    const struct XrSwapchain_T *sc = si->swapchain;
+    for (int r = 0; r < 3; r++) l->h[r] = (fv_xr_vec4){h->m[r][0], h->m[r][1], h->m[r][2], 0};
+    float w = (float)sc->info.width, hh = (float)sc->info.height;
+    l->uv_rect = (fv_xr_vec4){(float)si->imageRect.offset.x / w, (float)si->imageRect.offset.y / hh,
+                              (float)si->imageRect.extent.width / w, (float)si->imageRect.extent.height / hh};
+    uint32_t f = 0;
+    if (flags & XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT) f |= FV_XR_LAYER_ALPHA;
+    if (flags & XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT) f |= FV_XR_LAYER_UNPREMULTIPLIED;
+    l->info = (fv_xr_uvec4){slot, si->imageArrayIndex, f, 0};
+}
+
+fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info,
+                                 double *out_app_wait_ms)
+{
+    *out_app_wait_ms = 0.0;
+    if (!c->active) return FV_ERR_STATE;
+    fv_vk *vk = c->vk;
+    fv_xr_compose_block *blk = c->block.mapped;
+    memset(blk, 0, sizeof *blk);
+    blk->counts.z = c->width;
+    blk->counts.w = c->height;
+    /* the display eyes in LOCAL at the frame's display time */
+    XrPosef head;
+    fv_xr_head_pose(s->inst, info->displayTime, &head);
+    XrPosef eye_local[2];
+    for (int e = 0; e < 2; e++) {
+        const fv_eye_view *v = &c->input.eye[e];
+        blk->tan[e] = (fv_xr_vec4){v->tan_left, v->tan_right, v->tan_up, v->tan_down};
+        XrPosef off = {{0, 0, 0, 1}, {(e == 0 ? -0.5f : 0.5f) * 0.063f, 0, 0}};
+        eye_local[e] = pose_mul(head, off);
+    }
+    source_ref src[FV_XR_COMPOSE_MAX_SOURCES];
+    uint32_t nsrc = 0;
+    uint32_t nl[2] = {0, 0};
+    for (uint32_t i = 0; i < info->layerCount; i++) {
+        const XrCompositionLayerBaseHeader *lh = info->layers[i];
+        XrPosef space_local;
+        XrSpaceLocationFlags sf = fv_xr_space_pose(lh->space, info->displayTime, &space_local, NULL);
+        if (!(sf & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT)) continue; /* its space is not located: not shown */
+        for (int e = 0; e < 2; e++) {
+            if (nl[e] == FV_XR_COMPOSE_MAX_LAYERS) continue;
+            const XrSwapchainSubImage *si;
+            mat3 h;
+            if (lh->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
+                const XrCompositionLayerProjectionView *pv = &((const XrCompositionLayerProjection *)lh)->views[e];
+                XrPosef view_local = pose_mul(space_local, pv->pose);
+                h = projection_homography(&eye_local[e], &view_local, &pv->fov);
+                si = &pv->subImage;
+            } else {
+                const XrCompositionLayerQuad *q = (const void *)lh;
+                if ((q->eyeVisibility == XR_EYE_VISIBILITY_LEFT && e != 0) ||
+                    (q->eyeVisibility == XR_EYE_VISIBILITY_RIGHT && e != 1))
+                    continue;
+                XrPosef quad_local = pose_mul(space_local, q->pose);
+                if (!quad_homography(&eye_local[e], &quad_local, q->size, &h)) continue;
+                si = &q->subImage;
+            }
+            int slot = source_slot(src, &nsrc, si->swapchain);
+            if (slot < 0) continue; /* more distinct swapchains than the pass binds: the layer is dropped */
+            set_layer(&blk->layer[e * FV_XR_COMPOSE_MAX_LAYERS + nl[e]], &h, si, (uint32_t)slot, lh->layerFlags);
+            nl[e]++;
+        }
+    }
+    blk->counts.x = nl[0];
+    blk->counts.y = nl[1];
+    fv_result res = fv_vk_buffer_flush(vk, &c->block);
+    if (res != FV_OK) return res;
+    /* the app's releases must have run before fovea's device reads the images */
+    int64_t t_wait = fv_xr_now_ns();
+    for (uint32_t i = 0; i < nsrc; i++) {
+        fv_xr_swapchain_image *im = &src[i].sc->images[src[i].index];
+        VkResult vr = vkWaitForFences(s->vk.device, 1, &im->app_fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS);
+        if (vr != VK_SUCCESS) {
+            FV_ERROR(FV_XR_LOG, "the app's queue did not finish a swapchain release: %s", fv_vk_result_str(vr));
+            return vr == VK_ERROR_DEVICE_LOST ? FV_ERR_DEVICE_LOST : FV_ERR_VULKAN;
+        }
+    }
+    *out_app_wait_ms = (double)(fv_xr_now_ns() - t_wait) * 1e-6;
+    for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
+        /* unused slots repeat the first source (every element of the array must be valid) */
+        VkImageView v = nsrc ? src[i < nsrc ? i : 0].sc->images[src[i < nsrc ? i : 0].index].comp_view : VK_NULL_HANDLE;
+        if (!v) break;
+        VkDescriptorImageInfo ii = {c->sampler, v, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        VkWriteDescriptorSet w = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                  .dstSet = c->cs.sets[0],
+                                  .dstBinding = FV_XR_COMPOSE_BINDING_SOURCES,
+                                  .dstArrayElement = i,
+                                  .descriptorCount = 1,
+                                  .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                  .pImageInfo = &ii};
+        vkUpdateDescriptorSets(vk->device, 1, &w, 0, NULL);
+    }
+    if (nsrc == 0) return FV_OK; /* nothing to show (no located layer) */
+
+    VkCommandBuffer cmd = c->cmd;
+    FV_VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    FV_VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
+    fv_vk_label_begin(vk, cmd, "xr composite");
+    fv_vk_timer_reset(&c->timer, cmd, 0);
+    int tp_compose = fv_vk_timer_begin(&c->timer, cmd, 0, "compose");
+    /* acquire every source from the external owner (the app's release), in the layout the pass samples */
+    VkImageMemoryBarrier acq[FV_XR_COMPOSE_MAX_SOURCES], rel[FV_XR_COMPOSE_MAX_SOURCES];
+    uint32_t nacq = 0;
+    for (uint32_t i = 0; i < nsrc; i++) {
+        struct XrSwapchain_T *sc = src[i].sc;
+        fv_xr_swapchain_image *im = &sc->images[src[i].index];
+        if (im->owner == OWNER_EXTERNAL) {
+            acq[nacq++] = barrier(sc, im->comp_image, im->ext_old, im->ext_new, VK_QUEUE_FAMILY_EXTERNAL,
+                                  vk->queue_family, 0, VK_ACCESS_SHADER_READ_BIT);
+            if (im->ext_new != VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)
+                acq[nacq++] = barrier(sc, im->comp_image, im->ext_new, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                      VK_QUEUE_FAMILY_IGNORED, VK_QUEUE_FAMILY_IGNORED, 0, VK_ACCESS_SHADER_READ_BIT);
+        }
+    }
+    if (nacq)
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL,
+                             0, NULL, nacq, acq);
+    fv_images_use(&c->images, cmd, FV_IMAGE_DISPLAY,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                    VK_ACCESS_SHADER_WRITE_BIT});
+    fv_vk_compute_bind(&c->cs, cmd, 0, NULL, 0, 0, NULL);
+    vkCmdDispatch(cmd, (c->width + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP,
+                  (c->height + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP, 2);
+    fv_vk_timer_end(&c->timer, cmd, 0, tp_compose);
+    /* give every source back to the external owner, in the layout the app renders in */
+    uint32_t nrel = 0;
+    for (uint32_t i = 0; i < nsrc; i++) {
+        struct XrSwapchain_T *sc = src[i].sc;
+        fv_xr_swapchain_image *im = &sc->images[src[i].index];
+        if (im->owner != OWNER_EXTERNAL) continue;
+        rel[nrel++] = barrier(sc, im->comp_image, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                              VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, vk->queue_family, VK_QUEUE_FAMILY_EXTERNAL,
+                              0, 0);
+    }
+    if (nrel)
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
+                             NULL, 0, NULL, nrel, rel);
+    /* fovea's lens pre-distortion, then the target's hand-over */
+    fv_pass_counters counters = {0};
+    c->input.frame_id = c->frame_id;
+    c->input.t_photon_ns = info->displayTime;
+    fv_pass_frame pf = {.cmd = cmd, .slot = 0, .input = &c->input, .images = &c->images, .counters = &counters};
+    if (c->distort) {
+        int tp = fv_vk_timer_begin(&c->timer, cmd, 0, "distort");
+        fv_distort_pass.record(c->distort, &pf);
+        fv_vk_timer_end(&c->timer, cmd, 0, tp);
+    }
+    fv_target_frame tf = {.vk = vk, .images = &c->images, .width = c->width, .height = c->height, .slot = 0,
+                          .frame_id = c->frame_id, .cmd = cmd, .image_ready = c->sem_ready,
+                          .frame_done = c->sem_done};
+    bool wait_ready = false, signal_done = false;
+    if (c->target->ops->begin && (res = c->target->ops->begin(c->target, &tf, &wait_ready, &signal_done)) != FV_OK)
+        return res;
+    if (c->target->ops->record) c->target->ops->record(c->target, &tf);
+    fv_vk_label_end(vk, cmd);
+    FV_VK_CHECK(vkEndCommandBuffer(cmd));
+    VkPipelineStageFlags ws = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                       .waitSemaphoreCount = wait_ready ? 1 : 0,
+                       .pWaitSemaphores = &c->sem_ready,
+                       .pWaitDstStageMask = &ws,
+                       .commandBufferCount = 1,
+                       .pCommandBuffers = &cmd,
+                       .signalSemaphoreCount = signal_done ? 1 : 0,
+                       .pSignalSemaphores = &c->sem_done};
+    FV_VK_CHECK(vkQueueSubmit(vk->queue, 1, &si, c->fence));
+    FV_VK_CHECK(vkWaitForFences(vk->device, 1, &c->fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS));
+    FV_VK_CHECK(vkResetFences(vk->device, 1, &c->fence));
+    double ms[2] = {0, 0}, total = 0;
+    char names[2][FV_VK_TIMER_NAME_MAX];
+    if (fv_vk_timer_collect(&c->timer, vk, 0, ms, names, 2, &total) > 0) {
+        c->gpu_ms_sum[0] += ms[0];
+        c->gpu_ms_sum[1] += c->distort ? ms[1] : 0.0;
+        c->gpu_frames++;
+    }
+    for (uint32_t i = 0; i < nsrc; i++) {
+        fv_xr_swapchain_image *im = &src[i].sc->images[src[i].index];
+        if (im->owner != OWNER_EXTERNAL) continue;
+        im->ext_old = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL; /* the compositor's release is now the one in flight */
+        im->ext_new = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    }
+    if (c->target->ops->end && (res = c->target->ops->end(c->target, &tf)) != FV_OK) return res;
+    fv_images_next_frame(&c->images);
+    c->frame_id++;
+    return FV_OK;
+}
+
+void fv_xr_compositor_gpu_ms(const fv_xr_compositor *c, double *out_compose_ms, double *out_distort_ms)
+{
+    double n = c && c->gpu_frames ? (double)c->gpu_frames : 0.0;
+    *out_compose_ms = n > 0 ? c->gpu_ms_sum[0] / n : 0.0;
+    *out_distort_ms = n > 0 ? c->gpu_ms_sum[1] / n : 0.0;
+}

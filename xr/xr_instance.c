@@ -1,0 +1,326 @@
+/* @brief Instance and system: extensions, API version checks, the HMD system (stereo; properties from fovea's HMD
+ * profile, FOVEA_XR_HMD), view configurations, blend modes, result and structure names, time conversion. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <openxr/openxr_reflection.h>
+
+#include "xr_internal.h"
+
+/* Every instance extension fovea implements. */
+static const XrExtensionProperties g_extensions[] = {
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME, XR_KHR_vulkan_enable_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_KHR_vulkan_enable2_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_MND_HEADLESS_EXTENSION_NAME, XR_MND_headless_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME,
+     XR_EXT_eye_gaze_interaction_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME,
+     XR_KHR_convert_timespec_time_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_EXT_LOCAL_FLOOR_EXTENSION_NAME, XR_EXT_local_floor_SPEC_VERSION},
+};
+#define EXTENSION_COUNT (uint32_t)(sizeof g_extensions / sizeof g_extensions[0])
+
+FV_XR_DECL(xrEnumerateInstanceExtensionProperties)(const char *layer, uint32_t cap, uint32_t *count,
+                                                   XrExtensionProperties *props)
+{
+    if (layer && layer[0]) return XR_ERROR_API_LAYER_NOT_PRESENT; /* the runtime has no layers of its own */
+    if (!count || (cap && !props)) return XR_ERROR_VALIDATION_FAILURE;
+    *count = EXTENSION_COUNT;
+    if (cap == 0) return XR_SUCCESS;
+    if (cap < EXTENSION_COUNT) return XR_ERROR_SIZE_INSUFFICIENT;
+    for (uint32_t i = 0; i < EXTENSION_COUNT; i++) {
+        if (props[i].type != XR_TYPE_EXTENSION_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
+        void *next = props[i].next;
+        props[i] = g_extensions[i];
+        props[i].next = next;
+    }
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrEnumerateApiLayerProperties)(uint32_t cap, uint32_t *count, XrApiLayerProperties *props)
+{
+    if (!count) return XR_ERROR_VALIDATION_FAILURE;
+    *count = 0; /* the loader lists layers; the runtime has none */
+    return XR_SUCCESS;
+}
+
+/* A positive float from the environment, or def; a bad value is reported and ignored. */
+static float env_float(const char *name, float def, float lo, float hi)
+{
+    const char *s = getenv(name);
+    if (!s || !*s) return def;
+    char *end = NULL;
+    double v = strtod(s, &end);
+    if (!end || *end || !isfinite(v) || v < lo || v > hi) {
+        FV_ERROR(FV_XR_LOG, "%s='%s': expected a number in [%g, %g]; using %g", name, s, (double)lo, (double)hi,
+                 (double)def);
+        return def;
+    }
+    return (float)v;
+}
+
+FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
+{
+    if (!info || !out || info->type != XR_TYPE_INSTANCE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info->createFlags != 0) return XR_ERROR_VALIDATION_FAILURE;
+    const XrApplicationInfo *app = &info->applicationInfo;
+    if (!memchr(app->applicationName, 0, sizeof app->applicationName) || app->applicationName[0] == 0)
+        return XR_ERROR_NAME_INVALID;
+    if (!memchr(app->engineName, 0, sizeof app->engineName)) return XR_ERROR_NAME_INVALID;
+    /* OpenXR 1.0 (any patch): a 1.x with x > 0 or another major is a version this runtime does not implement. */
+    if (XR_VERSION_MAJOR(app->apiVersion) != 1 || XR_VERSION_MINOR(app->apiVersion) != 0) {
+        FV_ERROR(FV_XR_LOG, "application asks for OpenXR %u.%u.%u; fovea implements 1.0",
+                 (unsigned)XR_VERSION_MAJOR(app->apiVersion), (unsigned)XR_VERSION_MINOR(app->apiVersion),
+                 (unsigned)XR_VERSION_PATCH(app->apiVersion));
+        return XR_ERROR_API_VERSION_UNSUPPORTED;
+    }
+    if (info->enabledApiLayerCount > 0) return XR_ERROR_API_LAYER_NOT_PRESENT; /* the loader strips them */
+    if (info->enabledExtensionCount && !info->enabledExtensionNames) return XR_ERROR_VALIDATION_FAILURE;
+    fv_xr_exts ext = {0};
+    for (uint32_t i = 0; i < info->enabledExtensionCount; i++) {
+        const char *n = info->enabledExtensionNames[i];
+        if (!n) return XR_ERROR_VALIDATION_FAILURE;
+        if (!strcmp(n, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME)) ext.vulkan = true;
+        else if (!strcmp(n, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) ext.vulkan2 = true;
+        else if (!strcmp(n, XR_MND_HEADLESS_EXTENSION_NAME)) ext.headless = true;
+        else if (!strcmp(n, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME)) ext.eye_gaze = true;
+        else if (!strcmp(n, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME)) ext.convert_timespec = true;
+        else if (!strcmp(n, XR_EXT_LOCAL_FLOOR_EXTENSION_NAME)) ext.local_floor = true;
+        else {
+            FV_ERROR(FV_XR_LOG, "extension %s is not supported by fovea", n);
+            return XR_ERROR_EXTENSION_NOT_PRESENT;
+        }
+    }
+    struct XrInstance_T *inst = calloc(1, sizeof *inst);
+    if (!inst) return XR_ERROR_OUT_OF_MEMORY;
+    inst->magic = FV_XR_MAGIC_INSTANCE;
+    pthread_mutex_init(&inst->lock, NULL);
+    snprintf(inst->app_name, sizeof inst->app_name, "%s", app->applicationName);
+    inst->api_version = app->apiVersion;
+    inst->ext = ext;
+    /* The HMD: fovea's profile (FOVEA_XR_HMD: a built-in name or a JSON file; default generic). */
+    const char *hmd = getenv("FOVEA_XR_HMD");
+    char err[256];
+    if (fv_hmd_profile_load(hmd && *hmd ? hmd : "generic", &inst->hmd, err, sizeof err) != FV_OK) {
+        FV_ERROR(FV_XR_LOG, "FOVEA_XR_HMD: %s", err);
+        pthread_mutex_destroy(&inst->lock);
+        free(inst);
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
+    inst->render_scale = env_float("FOVEA_XR_SCALE", 1.0f, 0.02f, 2.0f);
+    float w = (float)inst->hmd.panel_width_px * 0.5f * inst->render_scale;
+    float h = (float)inst->hmd.panel_height_px * inst->render_scale;
+    inst->view_w = w < 16.0f ? 16u : (uint32_t)lroundf(w);
+    inst->view_h = h < 16.0f ? 16u : (uint32_t)lroundf(h);
+    XrResult r = fv_xr_input_instance_init(inst);
+    if (r != XR_SUCCESS) {
+        pthread_mutex_destroy(&inst->lock);
+        free(inst);
+        return r;
+    }
+    /* Eye gaze: fovea's gaze pipeline on the source named by FOVEA_XR_GAZE (any --gaze URI). A source that fails to
+     * open is reported; the system then says it has no eye-gaze interaction. */
+    const char *gaze = getenv("FOVEA_XR_GAZE");
+    if (gaze && *gaze && fv_xr_gaze_create(gaze, &inst->gaze) != FV_OK)
+        FV_ERROR(FV_XR_LOG, "FOVEA_XR_GAZE='%s' could not be opened: no eye gaze", gaze);
+    fv_xr_handle_add(inst);
+    if (!fv_xr_handle_live(inst, FV_XR_MAGIC_INSTANCE)) {
+        fv_xr_gaze_destroy(&inst->gaze);
+        fv_xr_input_instance_fini(inst);
+        free(inst);
+        return XR_ERROR_OUT_OF_MEMORY;
+    }
+    FV_INFO(FV_XR_LOG, "instance for '%s': HMD %s, %ux%u per eye, gaze %s", inst->app_name, inst->hmd.name,
+            inst->view_w, inst->view_h, inst->gaze ? gaze : "none");
+    *out = inst;
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrDestroyInstance)(XrInstance instance)
+{
+    struct XrInstance_T *inst = fv_xr_instance_check(instance);
+    if (!inst) return XR_ERROR_HANDLE_INVALID;
+    if (inst->session) fv_xrDestroySession(inst->session); /* child handles go with their parent */
+    fv_xr_handle_remove(inst);
+    fv_xr_compositor_destroy(&inst->comp);
+    fv_xr_gaze_destroy(&inst->gaze);
+    fv_xr_input_instance_fini(inst);
+    inst->magic = 0;
+    pthread_mutex_destroy(&inst->lock);
+    free(inst);
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrGetInstanceProperties)(XrInstance instance, XrInstanceProperties *props)
+{
+    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    if (!props || props->type != XR_TYPE_INSTANCE_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
+    props->runtimeVersion = XR_MAKE_VERSION(0, 1, 0);
+    snprintf(props->runtimeName, sizeof props->runtimeName, "fovea");
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrResultToString)(XrInstance instance, XrResult value, char buffer[XR_MAX_RESULT_STRING_SIZE])
+{
+    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    if (!buffer) return XR_ERROR_VALIDATION_FAILURE;
+#define CASE(name, val)                                                                                                \
+    case name: snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "%s", #name); return XR_SUCCESS;
+    switch (value) {
+        XR_LIST_ENUM_XrResult(CASE) default : break;
+    }
+#undef CASE
+    snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_%s_%d", value >= 0 ? "SUCCESS" : "FAILURE", (int)value);
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrStructureTypeToString)(XrInstance instance, XrStructureType value,
+                                    char buffer[XR_MAX_STRUCTURE_NAME_SIZE])
+{
+    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    if (!buffer) return XR_ERROR_VALIDATION_FAILURE;
+#define CASE(name, val)                                                                                                \
+    case name: snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "%s", #name); return XR_SUCCESS;
+    switch (value) {
+        XR_LIST_ENUM_XrStructureType(CASE) default : break;
+    }
+#undef CASE
+    snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "XR_UNKNOWN_STRUCTURE_TYPE_%d", (int)value);
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrGetSystem)(XrInstance instance, const XrSystemGetInfo *info, XrSystemId *out)
+{
+    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    if (!info || !out || info->type != XR_TYPE_SYSTEM_GET_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info->formFactor != XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY && info->formFactor != XR_FORM_FACTOR_HANDHELD_DISPLAY)
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (info->formFactor != XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY) return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
+    *out = FV_XR_SYSTEM_ID;
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrGetSystemProperties)(XrInstance instance, XrSystemId system, XrSystemProperties *props)
+{
+    struct XrInstance_T *inst = fv_xr_instance_check(instance);
+    if (!inst) return XR_ERROR_HANDLE_INVALID;
+    if (system != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
+    if (!props || props->type != XR_TYPE_SYSTEM_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
+    props->systemId = system;
+    props->vendorId = 0;
+    snprintf(props->systemName, sizeof props->systemName, "fovea (%s)", inst->hmd.name);
+    props->graphicsProperties.maxSwapchainImageWidth = 4096;
+    props->graphicsProperties.maxSwapchainImageHeight = 4096;
+    props->graphicsProperties.maxLayerCount = FV_XR_MAX_LAYERS;
+    /* No head tracker in fovea today: the head pose is given (static), not tracked. */
+    props->trackingProperties.orientationTracking = XR_FALSE;
+    props->trackingProperties.positionTracking = XR_FALSE;
+    for (XrBaseOutStructure *b = props->next; b; b = b->next)
+        if (b->type == XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT) {
+            if (!inst->ext.eye_gaze) return XR_ERROR_VALIDATION_FAILURE;
+            ((XrSystemEyeGazeInteractionPropertiesEXT *)b)->supportsEyeGazeInteraction =
+                inst->gaze && fv_xr_gaze_present(inst->gaze) ? XR_TRUE : XR_FALSE;
+        }
+    return XR_SUCCESS;
+}
+
+XrResult fv_xr_check_view_config(struct XrInstance_T *inst, XrViewConfigurationType type, uint32_t *out_views)
+{
+    if (type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) {
+        if (out_views) *out_views = 2;
+        return XR_SUCCESS;
+    }
+    if (type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO || type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO ||
+        type == XR_VIEW_CONFIGURATION_TYPE_SECONDARY_MONO_FIRST_PERSON_OBSERVER_MSFT)
+        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    return XR_ERROR_VALIDATION_FAILURE;
+}
+
+FV_XR_DECL(xrEnumerateViewConfigurations)(XrInstance instance, XrSystemId system, uint32_t cap, uint32_t *count,
+                                          XrViewConfigurationType *types)
+{
+    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    if (system != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
+    if (!count || (cap && !types)) return XR_ERROR_VALIDATION_FAILURE;
+    *count = 1;
+    if (cap == 0) return XR_SUCCESS;
+    types[0] = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrGetViewConfigurationProperties)(XrInstance instance, XrSystemId system, XrViewConfigurationType type,
+                                             XrViewConfigurationProperties *props)
+{
+    struct XrInstance_T *inst = fv_xr_instance_check(instance);
+    if (!inst) return XR_ERROR_HANDLE_INVALID;
+    if (system != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
+    if (!props || props->type != XR_TYPE_VIEW_CONFIGURATION_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
+    XrResult r = fv_xr_check_view_config(inst, type, NULL);
+    if (r != XR_SUCCESS) return r;
+    props->viewConfigurationType = type;
+    props->fovMutable = XR_TRUE; /* the compositor maps each layer's own fov onto the display's */
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrEnumerateViewConfigurationViews)(XrInstance instance, XrSystemId system, XrViewConfigurationType type,
+                                              uint32_t cap, uint32_t *count, XrViewConfigurationView *views)
+{
+    struct XrInstance_T *inst = fv_xr_instance_check(instance);
+    if (!inst) return XR_ERROR_HANDLE_INVALID;
+    if (system != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
+    if (!count || (cap && !views)) return XR_ERROR_VALIDATION_FAILURE;
+    uint32_t n = 0;
+    XrResult r = fv_xr_check_view_config(inst, type, &n);
+    if (r != XR_SUCCESS) return r;
+    *count = n;
+    if (cap == 0) return XR_SUCCESS;
+    if (cap < n) return XR_ERROR_SIZE_INSUFFICIENT;
+    for (uint32_t i = 0; i < n; i++) {
+        if (views[i].type != XR_TYPE_VIEW_CONFIGURATION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+        views[i].recommendedImageRectWidth = inst->view_w;
+        views[i].recommendedImageRectHeight = inst->view_h;
+        views[i].maxImageRectWidth = 4096;
+        views[i].maxImageRectHeight = 4096;
+        views[i].recommendedSwapchainSampleCount = 1;
+        views[i].maxSwapchainSampleCount = 1;
+    }
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrEnumerateEnvironmentBlendModes)(XrInstance instance, XrSystemId system, XrViewConfigurationType type,
+                                             uint32_t cap, uint32_t *count, XrEnvironmentBlendMode *modes)
+{
+    struct XrInstance_T *inst = fv_xr_instance_check(instance);
+    if (!inst) return XR_ERROR_HANDLE_INVALID;
+    if (system != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
+    if (!count || (cap && !modes)) return XR_ERROR_VALIDATION_FAILURE;
+    XrResult r = fv_xr_check_view_config(inst, type, NULL);
+    if (r != XR_SUCCESS) return r;
+    *count = 1;
+    if (cap == 0) return XR_SUCCESS;
+    modes[0] = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrConvertTimespecTimeToTimeKHR)(XrInstance instance, const struct timespec *ts, XrTime *out)
+{
+    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    if (!ts || !out) return XR_ERROR_VALIDATION_FAILURE;
+    if (ts->tv_sec < 0 || ts->tv_nsec < 0 || ts->tv_nsec >= 1000000000 || ts->tv_sec > INT64_MAX / 1000000000 - 1)
+        return XR_ERROR_TIME_INVALID;
+    *out = (XrTime)ts->tv_sec * 1000000000 + ts->tv_nsec; /* XrTime is CLOCK_MONOTONIC in ns */
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrConvertTimeToTimespecTimeKHR)(XrInstance instance, XrTime t, struct timespec *out)
+{
+    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    if (!out) return XR_ERROR_VALIDATION_FAILURE;
+    if (t <= 0) return XR_ERROR_TIME_INVALID;
+    out->tv_sec = (time_t)(t / 1000000000);
+    out->tv_nsec = (long)(t % 1000000000);
+    return XR_SUCCESS;
+}

@@ -1,0 +1,314 @@
+/* @brief fovea's OpenXR runtime, internal: the handle objects (instance, session, space, swapchain), the event queue,
+ * the compositor, and the entry points each file implements. One mutex per instance serialises every call but
+ * xrWaitFrame's sleep. XrTime is CLOCK_MONOTONIC in ns (fovea's host clock). */
+#ifndef FV_XR_INTERNAL_H
+#define FV_XR_INTERNAL_H
+
+#include <pthread.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fv_openxr.h"
+#include "fv_hmd.h"
+#include "fv_log.h"
+#include "fovea/fv_display.h"
+
+#if FV_XR_HAVE_INPUT
+#include "fv_xr_input.h"
+#endif
+
+#define FV_XR_LOG "xr"
+#define FV_XR_SYSTEM_ID ((XrSystemId)1)
+#define FV_XR_MAX_LAYERS 8         /* composition layers per frame (xrGetSystemProperties maxLayerCount) */
+#define FV_XR_MAX_SWAPCHAIN_IMAGES 3
+#define FV_XR_EVENT_CAP 64
+#define FV_XR_MAX_VIEWS 4          /* stereo, or quad views (XR_VARJO_quad_views) */
+
+typedef struct fv_xr_compositor fv_xr_compositor;
+typedef struct fv_xr_gaze fv_xr_gaze;
+
+enum { FV_XR_MAGIC_INSTANCE = 0x78696e73, FV_XR_MAGIC_SESSION = 0x78736573, FV_XR_MAGIC_SPACE = 0x78737063,
+       FV_XR_MAGIC_SWAPCHAIN = 0x78737763 };
+
+/** Which extensions the application enabled. */
+typedef struct fv_xr_exts {
+    bool vulkan, vulkan2, headless, eye_gaze, quad_views, foveated, local_floor, convert_timespec;
+} fv_xr_exts;
+
+struct XrInstance_T {
+    uint32_t magic;
+    pthread_mutex_t lock;
+    char app_name[XR_MAX_APPLICATION_NAME_SIZE];
+    XrVersion api_version;
+    fv_xr_exts ext;
+    fv_hmd_profile hmd;
+    float render_scale;        /* FOVEA_XR_SCALE: recommended image size = the HMD's per-eye panel x this */
+    uint32_t view_w, view_h;   /* recommended per-eye image size */
+    bool graphics_requirements_queried;
+    fv_xr_compositor *comp;    /* the compositor's device (fovea's fv_vk), created on first graphics call */
+    fv_xr_gaze *gaze;          /* FOVEA_XR_GAZE: fovea's gaze pipeline; NULL when no source is open */
+    struct XrSession_T *session; /* the one session (a second one: XR_ERROR_LIMIT_REACHED) */
+#if FV_XR_HAVE_INPUT
+    fv_xr_input *input;
+#endif
+    /* the event queue (xrPollEvent) */
+    XrEventDataBuffer events[FV_XR_EVENT_CAP];
+    uint32_t event_head, event_count;
+    uint64_t events_dropped;
+};
+
+/** Graphics binding of a session. */
+typedef struct fv_xr_vk_binding {
+    VkInstance instance;
+    VkPhysicalDevice phys;
+    VkDevice device;
+    uint32_t queue_family, queue_index;
+    VkQueue queue;
+    VkCommandPool pool;
+} fv_xr_vk_binding;
+
+/** Frame-timing statistics of a session (FOVEA_XR_STATS writes them). */
+typedef struct fv_xr_frame_stats {
+    uint64_t waited, begun, ended, discarded, composited, missed;
+    double app_ms_ema;         /* xrBeginFrame -> xrEndFrame (the app's frame work as the runtime sees it) */
+    double composite_ms_ema;   /* compositing + present, CPU wall time including the GPU wait */
+    double app_gpu_wait_ms_ema; /* of composite_ms: waiting for the app's queue to finish its released images */
+    double composite_ms_sum, app_gpu_wait_ms_sum; /* over composited frames (means in the statistics) */
+    double oversleep_ms_ema;   /* how late xrWaitFrame's sleep wakes (the OS scheduler's share of the pipeline) */
+    double overhead_ms_sum;    /* runtime time inside xrWaitFrame (not sleeping), xrBeginFrame, xrEndFrame */
+    uint64_t overhead_frames;
+    int64_t predicted_minus_photon_ns_max; /* |predicted display time - photon time of the vsync shown| */
+    double predicted_error_ms_sum;         /* the same, summed over presented frames (mean = sum / presented) */
+    uint64_t presented;
+} fv_xr_frame_stats;
+
+struct XrSession_T {
+    uint32_t magic;
+    struct XrInstance_T *inst;
+    bool headless;                 /* XR_MND_headless without a graphics binding: no compositor, no frames shown */
+    fv_xr_vk_binding vk;
+    XrSessionState state;
+    bool running;                  /* between xrBeginSession and xrEndSession */
+    bool exit_requested;
+    bool loss_pending;
+    XrViewConfigurationType view_config;
+    uint32_t view_count;
+    /* frame loop */
+    pthread_mutex_t frame_lock;    /* guards the counters below for xrWaitFrame's wait */
+    pthread_cond_t frame_cond;
+    uint64_t frames_waited, frames_begun, frames_ended;
+    bool frame_open;               /* between xrBeginFrame and xrEndFrame */
+    int64_t begin_ns;              /* when the open frame began */
+    int64_t wait_return_ns;        /* when the last xrWaitFrame returned: the app's frame starts there */
+    fv_display *display;           /* the display clock: the simulated display (headless) */
+    uint64_t target_vsync;         /* the vsync the last xrWaitFrame planned for */
+    int64_t predicted_ns;          /* its predictedDisplayTime */
+    fv_xr_frame_stats stats;
+    uint32_t visible_after;        /* frames ended before the session becomes VISIBLE/FOCUSED */
+    uint64_t exit_after_frames;    /* FOVEA_XR_FRAMES: the runtime ends the session after this many frames (0 = never) */
+    uint64_t lose_after_frames;    /* FOVEA_XR_LOSE_DISPLAY_AFTER: the simulated display goes away (0 = never) */
+    struct fv_xr_space_list *spaces;
+    struct XrSwapchain_T *swapchains;
+#if FV_XR_HAVE_INPUT
+    fv_xr_input_session *input;
+#endif
+    bool input_focused_once;
+};
+
+typedef enum fv_xr_space_kind { FV_XR_SPACE_REFERENCE = 0, FV_XR_SPACE_ACTION = 1 } fv_xr_space_kind;
+
+struct XrSpace_T {
+    uint32_t magic;
+    struct XrSession_T *session;
+    fv_xr_space_kind kind;
+    XrReferenceSpaceType ref_type;
+    XrAction action;
+    XrPath subaction_path;
+    XrPosef offset; /* poseInReferenceSpace / poseInActionSpace */
+    struct XrSpace_T *next;
+};
+
+typedef struct fv_xr_swapchain_image fv_xr_swapchain_image;
+
+struct XrSwapchain_T {
+    uint32_t magic;
+    struct XrSession_T *session;
+    XrSwapchainCreateInfo info;
+    VkFormat format;
+    bool depth;
+    uint32_t image_count;
+    fv_xr_swapchain_image *images;
+    /* acquire / wait / release order (a FIFO of acquired indices) */
+    uint32_t next_acquire;
+    uint32_t acquired[FV_XR_MAX_SWAPCHAIN_IMAGES];
+    uint32_t acquired_count;
+    bool waited;                 /* the oldest acquired image was waited on */
+    int32_t last_released;       /* -1 before the first release */
+    bool static_used;            /* XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT: acquired once already */
+    struct XrSwapchain_T *next;
+};
+
+/* ---- handles and errors ---------------------------------------------------------------------------------------- */
+void fv_xr_handle_add(void *h);
+void fv_xr_handle_remove(void *h);
+bool fv_xr_handle_live(const void *h, uint32_t magic);
+XrInstance fv_xr_instance_check(XrInstance instance);
+XrSession fv_xr_session_check(XrSession session);
+int64_t fv_xr_now_ns(void);
+/** A struct of the given type at the head of `p` (its type field), or NULL. */
+const void *fv_xr_find_next(const void *next, XrStructureType type);
+/** Queue an event (the oldest is dropped and counted when the queue is full). Instance lock held. */
+void fv_xr_event_push(struct XrInstance_T *inst, const void *event, size_t size);
+/** Set a session's state and queue XrEventDataSessionStateChanged. Instance lock held. */
+void fv_xr_session_set_state(struct XrSession_T *s, XrSessionState state);
+bool fv_xr_pose_valid(const XrPosef *p);
+
+/* ---- entry points, per file -------------------------------------------------------------------------------------- */
+#define FV_XR_DECL(name) XRAPI_ATTR XrResult XRAPI_CALL fv_##name
+/* xr_instance.c */
+FV_XR_DECL(xrEnumerateInstanceExtensionProperties)(const char *layer, uint32_t cap, uint32_t *count,
+                                                   XrExtensionProperties *props);
+FV_XR_DECL(xrEnumerateApiLayerProperties)(uint32_t cap, uint32_t *count, XrApiLayerProperties *props);
+FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out);
+FV_XR_DECL(xrDestroyInstance)(XrInstance instance);
+FV_XR_DECL(xrGetInstanceProperties)(XrInstance instance, XrInstanceProperties *props);
+FV_XR_DECL(xrPollEvent)(XrInstance instance, XrEventDataBuffer *event);
+FV_XR_DECL(xrResultToString)(XrInstance instance, XrResult value, char buffer[XR_MAX_RESULT_STRING_SIZE]);
+FV_XR_DECL(xrStructureTypeToString)(XrInstance instance, XrStructureType value,
+                                    char buffer[XR_MAX_STRUCTURE_NAME_SIZE]);
+FV_XR_DECL(xrGetSystem)(XrInstance instance, const XrSystemGetInfo *info, XrSystemId *out);
+FV_XR_DECL(xrGetSystemProperties)(XrInstance instance, XrSystemId system, XrSystemProperties *props);
+FV_XR_DECL(xrEnumerateEnvironmentBlendModes)(XrInstance instance, XrSystemId system, XrViewConfigurationType type,
+                                             uint32_t cap, uint32_t *count, XrEnvironmentBlendMode *modes);
+FV_XR_DECL(xrEnumerateViewConfigurations)(XrInstance instance, XrSystemId system, uint32_t cap, uint32_t *count,
+                                          XrViewConfigurationType *types);
+FV_XR_DECL(xrGetViewConfigurationProperties)(XrInstance instance, XrSystemId system, XrViewConfigurationType type,
+                                             XrViewConfigurationProperties *props);
+FV_XR_DECL(xrEnumerateViewConfigurationViews)(XrInstance instance, XrSystemId system, XrViewConfigurationType type,
+                                              uint32_t cap, uint32_t *count, XrViewConfigurationView *views);
+FV_XR_DECL(xrConvertTimespecTimeToTimeKHR)(XrInstance instance, const struct timespec *ts, XrTime *out);
+FV_XR_DECL(xrConvertTimeToTimespecTimeKHR)(XrInstance instance, XrTime t, struct timespec *out);
+/** Check a system id and view configuration type (XR_ERROR_SYSTEM_INVALID, XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED). */
+XrResult fv_xr_check_view_config(struct XrInstance_T *inst, XrViewConfigurationType type, uint32_t *out_views);
+
+/* xr_session.c */
+FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info, XrSession *out);
+FV_XR_DECL(xrDestroySession)(XrSession session);
+FV_XR_DECL(xrBeginSession)(XrSession session, const XrSessionBeginInfo *info);
+FV_XR_DECL(xrEndSession)(XrSession session);
+FV_XR_DECL(xrRequestExitSession)(XrSession session);
+FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameState *state);
+FV_XR_DECL(xrBeginFrame)(XrSession session, const XrFrameBeginInfo *info);
+FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info);
+
+/* xr_space.c */
+FV_XR_DECL(xrEnumerateReferenceSpaces)(XrSession session, uint32_t cap, uint32_t *count, XrReferenceSpaceType *types);
+FV_XR_DECL(xrCreateReferenceSpace)(XrSession session, const XrReferenceSpaceCreateInfo *info, XrSpace *out);
+FV_XR_DECL(xrGetReferenceSpaceBoundsRect)(XrSession session, XrReferenceSpaceType type, XrExtent2Df *bounds);
+FV_XR_DECL(xrCreateActionSpace)(XrSession session, const XrActionSpaceCreateInfo *info, XrSpace *out);
+FV_XR_DECL(xrLocateSpace)(XrSpace space, XrSpace base, XrTime time, XrSpaceLocation *location);
+FV_XR_DECL(xrDestroySpace)(XrSpace space);
+FV_XR_DECL(xrLocateViews)(XrSession session, const XrViewLocateInfo *info, XrViewState *state, uint32_t cap,
+                          uint32_t *count, XrView *views);
+void fv_xr_spaces_destroy_all(struct XrSession_T *s);
+/** The pose of a space in the session's LOCAL space at time t (head, gaze or reference); flags as in
+ *  XrSpaceLocation. */
+XrSpaceLocationFlags fv_xr_space_pose(struct XrSpace_T *sp, XrTime t, XrPosef *out, bool *out_on_head);
+/** Space a located in space b at time t; flags of the relation (the head's own tracking only where one end rides on
+ *  the head and the other does not). */
+XrSpaceLocationFlags fv_xr_space_relate(struct XrSpace_T *a, struct XrSpace_T *b, XrTime t, XrPosef *out_a_in_b);
+/** The head (VIEW space) in LOCAL at time t. */
+void fv_xr_head_pose(struct XrInstance_T *inst, XrTime t, XrPosef *out);
+
+/* xr_swapchain.c */
+FV_XR_DECL(xrEnumerateSwapchainFormats)(XrSession session, uint32_t cap, uint32_t *count, int64_t *formats);
+FV_XR_DECL(xrCreateSwapchain)(XrSession session, const XrSwapchainCreateInfo *info, XrSwapchain *out);
+FV_XR_DECL(xrDestroySwapchain)(XrSwapchain swapchain);
+FV_XR_DECL(xrEnumerateSwapchainImages)(XrSwapchain swapchain, uint32_t cap, uint32_t *count,
+                                       XrSwapchainImageBaseHeader *images);
+FV_XR_DECL(xrAcquireSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageAcquireInfo *info, uint32_t *index);
+FV_XR_DECL(xrWaitSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageWaitInfo *info);
+FV_XR_DECL(xrReleaseSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo *info);
+XrSwapchain fv_xr_swapchain_check(XrSwapchain sc);
+void fv_xr_swapchains_destroy_all(struct XrSession_T *s);
+
+/* xr_vulkan.c */
+FV_XR_DECL(xrGetVulkanInstanceExtensionsKHR)(XrInstance instance, XrSystemId system, uint32_t cap, uint32_t *count,
+                                             char *buffer);
+FV_XR_DECL(xrGetVulkanDeviceExtensionsKHR)(XrInstance instance, XrSystemId system, uint32_t cap, uint32_t *count,
+                                           char *buffer);
+FV_XR_DECL(xrGetVulkanGraphicsDeviceKHR)(XrInstance instance, XrSystemId system, VkInstance vk_instance,
+                                         VkPhysicalDevice *out);
+FV_XR_DECL(xrGetVulkanGraphicsRequirementsKHR)(XrInstance instance, XrSystemId system,
+                                               XrGraphicsRequirementsVulkanKHR *req);
+FV_XR_DECL(xrCreateVulkanInstanceKHR)(XrInstance instance, const XrVulkanInstanceCreateInfoKHR *info,
+                                      VkInstance *out, VkResult *out_result);
+FV_XR_DECL(xrCreateVulkanDeviceKHR)(XrInstance instance, const XrVulkanDeviceCreateInfoKHR *info, VkDevice *out,
+                                    VkResult *out_result);
+FV_XR_DECL(xrGetVulkanGraphicsDevice2KHR)(XrInstance instance, const XrVulkanGraphicsDeviceGetInfoKHR *info,
+                                          VkPhysicalDevice *out);
+
+/* xr_input_entry.c: the action system's entry points (xr/input behind fv_xr_input.h) */
+PFN_xrVoidFunction fv_xr_input_proc(const char *name);
+XrResult fv_xr_input_instance_init(struct XrInstance_T *inst);
+void fv_xr_input_instance_fini(struct XrInstance_T *inst);
+XrResult fv_xr_input_session_init(struct XrSession_T *s);
+void fv_xr_input_session_fini(struct XrSession_T *s);
+/** The session became FOCUSED (or the devices changed): update profiles, queue the profile-changed event. */
+void fv_xr_input_focus(struct XrSession_T *s);
+/** What the action space's action is bound to now (FV_XR_POSE_NONE = 0 when unbound or no input library). */
+int fv_xr_input_space_source(struct XrSpace_T *sp);
+XrResult fv_xr_input_check_space(struct XrSession_T *s, const XrActionSpaceCreateInfo *info);
+
+/* xr_compositor.c: fovea's fv_vk device, images shared with the app, compositing into the presenter */
+fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **out);
+void fv_xr_compositor_destroy(fv_xr_compositor **c);
+VkPhysicalDevice fv_xr_compositor_phys(const fv_xr_compositor *c);
+void fv_xr_compositor_device_uuid(const fv_xr_compositor *c, uint8_t out_uuid[VK_UUID_SIZE]);
+uint32_t fv_xr_compositor_api_version(const fv_xr_compositor *c);
+/** Whether an app's physical device (of any instance on the same loader) is the compositor's (device UUID). */
+bool fv_xr_compositor_same_device(const fv_xr_compositor *c, VkPhysicalDevice phys);
+/** Formats the compositor can sample (colour) or hold (depth) and share with the app, preferred first. */
+bool fv_xr_format_is_depth(int64_t vk_format);
+uint32_t fv_xr_compositor_formats(fv_xr_compositor *c, int64_t *out, uint32_t cap);
+/** Start presenting for a session (the output target and the images, sized per eye). */
+fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, uint32_t height);
+void fv_xr_compositor_session_end(fv_xr_compositor *c);
+/** Swapchain images: created on fovea's device with exportable memory and imported into the app's device. */
+XrResult fv_xr_swapchain_images_create(fv_xr_compositor *c, struct XrSwapchain_T *sc);
+void fv_xr_swapchain_images_destroy(fv_xr_compositor *c, struct XrSwapchain_T *sc);
+VkImage fv_xr_swapchain_app_image(struct XrSwapchain_T *sc, uint32_t index);
+/** App-side hand-overs on the app's queue: acquire (the image comes back to the app in its layout) and release
+ *  (to the compositor, signalling the image's fence). */
+XrResult fv_xr_swapchain_image_acquire(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index);
+XrResult fv_xr_swapchain_image_release(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index);
+XrResult fv_xr_swapchain_image_wait(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, XrDuration timeout);
+/** Composite one frame's layers (already validated) for the head at display_time; shows it on the target. */
+fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info,
+                                 double *out_app_wait_ms);
+/** Write the last composited frame (FOVEA_XR_OUT) and the statistics. */
+void fv_xr_compositor_flush(fv_xr_compositor *c);
+uint32_t fv_xr_compositor_validation_messages(const fv_xr_compositor *c);
+/** Mean GPU time per composited frame of the compose pass and of the distortion pass (0 without timestamps). */
+void fv_xr_compositor_gpu_ms(const fv_xr_compositor *c, double *out_compose_ms, double *out_distort_ms);
+
+/* xr_gaze.c: fovea's gaze pipeline from FOVEA_XR_GAZE */
+fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out);
+void fv_xr_gaze_destroy(fv_xr_gaze **g);
+/** Feed the pipeline with what the source has now (any thread; locks itself). */
+void fv_xr_gaze_update(fv_xr_gaze *g);
+/** The predicted combined gaze at t (ns, host clock), in the head frame: origin (m) and unit direction; false when
+ *  not tracked (blink, lost, no samples yet). */
+bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3]);
+bool fv_xr_gaze_present(fv_xr_gaze *g);
+/** Whether the gaze is tracked at t (not counted in the statistics: the runtime's own question). */
+bool fv_xr_gaze_tracked(fv_xr_gaze *g, int64_t t_ns);
+/** The prediction horizons the app asked for while tracked: requested time minus the newest sample's host time (the
+ *  gaze-to-photon latency when the app asks for its frame's predicted display time). */
+typedef struct fv_xr_gaze_stats {
+    uint64_t count;
+    double sum_ms, max_ms;
+} fv_xr_gaze_stats;
+void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out);
+
+#endif

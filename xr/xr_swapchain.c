@@ -1,0 +1,212 @@
+/* @brief Swapchains: formats fovea's device can share with the app, creation rules, the acquire -> wait -> release
+ * order (XR_ERROR_CALL_ORDER_INVALID when broken), static images, and the hand-overs of each image (xr_compositor.c). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "xr_internal.h"
+
+XrSwapchain fv_xr_swapchain_check(XrSwapchain sc)
+{
+    return fv_xr_handle_live(sc, FV_XR_MAGIC_SWAPCHAIN) ? sc : XR_NULL_HANDLE;
+}
+
+FV_XR_DECL(xrEnumerateSwapchainFormats)(XrSession session, uint32_t cap, uint32_t *count, int64_t *formats)
+{
+    struct XrSession_T *s = fv_xr_session_check(session);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!count || (cap && !formats)) return XR_ERROR_VALIDATION_FAILURE;
+    if (s->headless) {
+        *count = 0; /* XR_MND_headless: no swapchains */
+        return XR_SUCCESS;
+    }
+    pthread_mutex_lock(&s->inst->lock);
+    uint32_t n = fv_xr_compositor_formats(s->inst->comp, NULL, 0);
+    *count = n;
+    XrResult r = XR_SUCCESS;
+    if (cap > 0 && cap < n) r = XR_ERROR_SIZE_INSUFFICIENT;
+    else if (cap > 0) fv_xr_compositor_formats(s->inst->comp, formats, cap);
+    pthread_mutex_unlock(&s->inst->lock);
+    return r;
+}
+
+FV_XR_DECL(xrCreateSwapchain)(XrSession session, const XrSwapchainCreateInfo *info, XrSwapchain *out)
+{
+    struct XrSession_T *s = fv_xr_session_check(session);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!info || !out || info->type != XR_TYPE_SWAPCHAIN_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (s->headless) return XR_ERROR_FEATURE_UNSUPPORTED; /* XR_MND_headless sessions have no swapchains */
+    if (info->createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT) return XR_ERROR_FEATURE_UNSUPPORTED;
+    if (info->createFlags & ~(XrSwapchainCreateFlags)(XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT |
+                                                       XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT))
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (info->faceCount != 1 || info->arraySize == 0 || info->mipCount == 0 || info->width == 0 ||
+        info->height == 0 || info->sampleCount != 1)
+        return info->sampleCount > 1 || info->faceCount == 6 ? XR_ERROR_FEATURE_UNSUPPORTED
+                                                             : XR_ERROR_VALIDATION_FAILURE;
+    if (info->width > 4096 || info->height > 4096 || info->arraySize > 16) return XR_ERROR_SIZE_INSUFFICIENT;
+    pthread_mutex_lock(&s->inst->lock);
+    XrResult r = XR_SUCCESS;
+    struct XrSwapchain_T *sc = NULL;
+    int64_t formats[16];
+    uint32_t n = fv_xr_compositor_formats(s->inst->comp, formats, 16);
+    bool ok = false;
+    for (uint32_t i = 0; i < n && i < 16; i++) ok |= formats[i] == info->format;
+    if (!ok) {
+        r = XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
+        goto done;
+    }
+    sc = calloc(1, sizeof *sc);
+    if (!sc) {
+        r = XR_ERROR_OUT_OF_MEMORY;
+        goto done;
+    }
+    sc->magic = FV_XR_MAGIC_SWAPCHAIN;
+    sc->session = s;
+    sc->info = *info;
+    sc->info.next = NULL;
+    sc->format = (VkFormat)info->format;
+    sc->depth = fv_xr_format_is_depth(info->format);
+    if (sc->depth && (info->usageFlags & XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT)) {
+        r = XR_ERROR_VALIDATION_FAILURE;
+        goto done;
+    }
+    sc->image_count = (info->createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) ? 1 : FV_XR_MAX_SWAPCHAIN_IMAGES;
+    sc->last_released = -1;
+    r = fv_xr_swapchain_images_create(s->inst->comp, sc);
+    if (r != XR_SUCCESS) goto done;
+    fv_xr_handle_add(sc);
+    if (!fv_xr_handle_live(sc, FV_XR_MAGIC_SWAPCHAIN)) {
+        fv_xr_swapchain_images_destroy(s->inst->comp, sc);
+        r = XR_ERROR_OUT_OF_MEMORY;
+        goto done;
+    }
+    sc->next = s->swapchains;
+    s->swapchains = sc;
+    *out = sc;
+    sc = NULL;
+done:
+    free(sc);
+    pthread_mutex_unlock(&s->inst->lock);
+    return r;
+}
+
+static void unlink_swapchain(struct XrSession_T *s, struct XrSwapchain_T *sc)
+{
+    struct XrSwapchain_T **pp = &s->swapchains;
+    while (*pp && *pp != sc) pp = &(*pp)->next;
+    if (*pp) *pp = sc->next;
+}
+
+static void swapchain_free(struct XrSwapchain_T *sc)
+{
+    fv_xr_handle_remove(sc);
+    fv_xr_swapchain_images_destroy(sc->session->inst->comp, sc);
+    sc->magic = 0;
+    free(sc);
+}
+
+FV_XR_DECL(xrDestroySwapchain)(XrSwapchain swapchain)
+{
+    struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    struct XrSession_T *s = sc->session;
+    pthread_mutex_lock(&s->inst->lock);
+    unlink_swapchain(s, sc);
+    swapchain_free(sc);
+    pthread_mutex_unlock(&s->inst->lock);
+    return XR_SUCCESS;
+}
+
+void fv_xr_swapchains_destroy_all(struct XrSession_T *s)
+{
+    while (s->swapchains) {
+        struct XrSwapchain_T *sc = s->swapchains;
+        s->swapchains = sc->next;
+        swapchain_free(sc);
+    }
+}
+
+FV_XR_DECL(xrEnumerateSwapchainImages)(XrSwapchain swapchain, uint32_t cap, uint32_t *count,
+                                       XrSwapchainImageBaseHeader *images)
+{
+    struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if (!count || (cap && !images)) return XR_ERROR_VALIDATION_FAILURE;
+    *count = sc->image_count;
+    if (cap == 0) return XR_SUCCESS;
+    if (cap < sc->image_count) return XR_ERROR_SIZE_INSUFFICIENT;
+    XrSwapchainImageVulkanKHR *vi = (XrSwapchainImageVulkanKHR *)images;
+    for (uint32_t i = 0; i < sc->image_count; i++) {
+        if (vi[i].type != XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR) return XR_ERROR_VALIDATION_FAILURE;
+        vi[i].image = fv_xr_swapchain_app_image(sc, i);
+    }
+    return XR_SUCCESS;
+}
+
+FV_XR_DECL(xrAcquireSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageAcquireInfo *info, uint32_t *index)
+{
+    struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if ((info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO) || !index) return XR_ERROR_VALIDATION_FAILURE;
+    struct XrSession_T *s = sc->session;
+    pthread_mutex_lock(&s->inst->lock);
+    XrResult r = XR_SUCCESS;
+    if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
+    else if (sc->acquired_count == sc->image_count) r = XR_ERROR_CALL_ORDER_INVALID; /* every image is acquired */
+    else if ((sc->info.createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) && sc->static_used)
+        r = XR_ERROR_CALL_ORDER_INVALID; /* a static image is acquired once */
+    if (r == XR_SUCCESS) {
+        uint32_t i = sc->next_acquire;
+        r = fv_xr_swapchain_image_acquire(s->inst->comp, sc, i);
+        if (r == XR_SUCCESS) {
+            sc->acquired[sc->acquired_count++] = i;
+            sc->next_acquire = (i + 1) % sc->image_count;
+            sc->static_used = true;
+            *index = i;
+        }
+    }
+    pthread_mutex_unlock(&s->inst->lock);
+    return r;
+}
+
+FV_XR_DECL(xrWaitSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageWaitInfo *info)
+{
+    struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if (!info || info->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    struct XrSession_T *s = sc->session;
+    pthread_mutex_lock(&s->inst->lock);
+    XrResult r = XR_SUCCESS;
+    if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
+    else if (sc->acquired_count == 0 || sc->waited) r = XR_ERROR_CALL_ORDER_INVALID; /* nothing acquired to wait on */
+    else {
+        r = fv_xr_swapchain_image_wait(s->inst->comp, sc, sc->acquired[0], info->timeout);
+        if (r == XR_SUCCESS) sc->waited = true;
+    }
+    pthread_mutex_unlock(&s->inst->lock);
+    return r;
+}
+
+FV_XR_DECL(xrReleaseSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo *info)
+{
+    struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if (info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    struct XrSession_T *s = sc->session;
+    pthread_mutex_lock(&s->inst->lock);
+    XrResult r = XR_SUCCESS;
+    if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
+    else if (sc->acquired_count == 0 || !sc->waited) r = XR_ERROR_CALL_ORDER_INVALID; /* not waited on */
+    else {
+        uint32_t i = sc->acquired[0];
+        r = fv_xr_swapchain_image_release(s->inst->comp, sc, i);
+        if (r == XR_SUCCESS) {
+            memmove(sc->acquired, sc->acquired + 1, (sc->acquired_count - 1) * sizeof sc->acquired[0]);
+            sc->acquired_count--;
+            sc->waited = false;
+            sc->last_released = (int32_t)i;
+        }
+    }
+    pthread_mutex_unlock(&s->inst->lock);
+    return r;
+}
