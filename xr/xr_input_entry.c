@@ -90,7 +90,6 @@ static XRAPI_ATTR XrResult XRAPI_CALL create_action_set(XrInstance instance, con
 }
 
 /* Action sets and actions: the input library validates the handles; every live instance is asked (one today). */
-static struct XrInstance_T *instance_of_session_less(void);
 
 static XRAPI_ATTR XrResult XRAPI_CALL suggest_bindings(XrInstance instance, const XrInteractionProfileSuggestedBinding *b)
 {
@@ -170,34 +169,59 @@ static XRAPI_ATTR XrResult XRAPI_CALL stop_haptic(XrSession session, const XrHap
 }
 
 /* xrCreateAction / xrDestroyAction / xrDestroyActionSet take no instance: the action set / action handle belongs
- * to one instance's input library, which validates it (a foreign handle is XR_ERROR_HANDLE_INVALID there). */
+ * to one instance's input library, which validates it. The instances that made action sets are remembered here, and
+ * a handle goes to the live one whose library owns it (none: XR_ERROR_HANDLE_INVALID). Returns with that instance's
+ * lock held. */
+#define MAX_INPUT_INSTANCES 16
 static pthread_mutex_t g_any_lock = PTHREAD_MUTEX_INITIALIZER;
-static struct XrInstance_T *g_last_instance;
+static struct XrInstance_T *g_instances[MAX_INPUT_INSTANCES];
 
-static struct XrInstance_T *instance_of_session_less(void)
+static struct XrInstance_T *lock_instance_owning(uint64_t handle)
 {
     pthread_mutex_lock(&g_any_lock);
-    struct XrInstance_T *i = g_last_instance && fv_xr_handle_live(g_last_instance, FV_XR_MAGIC_INSTANCE)
-                                 ? g_last_instance
-                                 : NULL;
+    struct XrInstance_T *found = NULL;
+    for (int i = 0; i < MAX_INPUT_INSTANCES && !found; i++) {
+        struct XrInstance_T *inst = g_instances[i];
+        if (!inst) continue;
+        if (!fv_xr_handle_live(inst, FV_XR_MAGIC_INSTANCE)) { /* destroyed since: forget it */
+            g_instances[i] = NULL;
+            continue;
+        }
+        pthread_mutex_lock(&inst->lock);
+        if (fv_xr_input_owns_handle(inst->input, handle)) found = inst; /* keeps its lock */
+        else pthread_mutex_unlock(&inst->lock);
+    }
     pthread_mutex_unlock(&g_any_lock);
-    return i;
+    return found;
 }
 
 static XRAPI_ATTR XrResult XRAPI_CALL create_action_set_tracked(XrInstance instance, const XrActionSetCreateInfo *info,
                                                                 XrActionSet *out)
 {
-    pthread_mutex_lock(&g_any_lock);
-    g_last_instance = fv_xr_instance_check(instance);
-    pthread_mutex_unlock(&g_any_lock);
+    struct XrInstance_T *inst = fv_xr_instance_check(instance);
+    if (inst) {
+        pthread_mutex_lock(&g_any_lock);
+        int free_slot = -1, have = 0;
+        for (int i = 0; i < MAX_INPUT_INSTANCES; i++) {
+            if (g_instances[i] == inst) have = 1;
+            else if (g_instances[i] && !fv_xr_handle_live(g_instances[i], FV_XR_MAGIC_INSTANCE)) g_instances[i] = NULL;
+            if (!g_instances[i] && free_slot < 0) free_slot = i;
+        }
+        bool full = !have && free_slot < 0;
+        if (!have && free_slot >= 0) g_instances[free_slot] = inst;
+        pthread_mutex_unlock(&g_any_lock);
+        if (full) {
+            FV_WARN(FV_XR_LOG, "xrCreateActionSet: more than %d instances with action sets at once", MAX_INPUT_INSTANCES);
+            return XR_ERROR_LIMIT_REACHED;
+        }
+    }
     return create_action_set(instance, info, out);
 }
 
 static XRAPI_ATTR XrResult XRAPI_CALL destroy_action_set(XrActionSet set)
 {
-    struct XrInstance_T *inst = instance_of_session_less();
+    struct XrInstance_T *inst = lock_instance_owning((uint64_t)(uintptr_t)set);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
-    pthread_mutex_lock(&inst->lock);
     XrResult r = fv_xr_input_destroy_action_set(inst->input, set);
     pthread_mutex_unlock(&inst->lock);
     return r;
@@ -205,9 +229,8 @@ static XRAPI_ATTR XrResult XRAPI_CALL destroy_action_set(XrActionSet set)
 
 static XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set, const XrActionCreateInfo *info, XrAction *out)
 {
-    struct XrInstance_T *inst = instance_of_session_less();
+    struct XrInstance_T *inst = lock_instance_owning((uint64_t)(uintptr_t)set);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
-    pthread_mutex_lock(&inst->lock);
     XrResult r = fv_xr_input_create_action(inst->input, set, info, out);
     pthread_mutex_unlock(&inst->lock);
     return r;
@@ -215,9 +238,8 @@ static XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set, const XrAct
 
 static XRAPI_ATTR XrResult XRAPI_CALL destroy_action(XrAction action)
 {
-    struct XrInstance_T *inst = instance_of_session_less();
+    struct XrInstance_T *inst = lock_instance_owning((uint64_t)(uintptr_t)action);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
-    pthread_mutex_lock(&inst->lock);
     XrResult r = fv_xr_input_destroy_action(inst->input, action);
     pthread_mutex_unlock(&inst->lock);
     return r;

@@ -308,6 +308,8 @@ FV_XR_DECL(xrEndSession)(XrSession session)
     else if (s->state != XR_SESSION_STATE_STOPPING) r = XR_ERROR_SESSION_NOT_STOPPING;
     else {
         s->running = false;
+        /* the spec: while the session is not running, every action reads inactive */
+        if (s->input) fv_xr_input_deactivate(s->input);
         pthread_mutex_lock(&s->frame_lock);
         s->frame_open = false;
         pthread_cond_broadcast(&s->frame_cond);
@@ -327,6 +329,7 @@ static void lose_display(struct XrSession_T *s, const char *why)
     if (s->loss_pending) return;
     FV_WARN(FV_XR_LOG, "the display went away (%s): session LOSS_PENDING", why);
     s->loss_pending = true;
+    if (s->input) fv_xr_input_deactivate(s->input);
     set_state(s, XR_SESSION_STATE_LOSS_PENDING);
     pthread_mutex_lock(&s->frame_lock);
     pthread_cond_broadcast(&s->frame_cond);

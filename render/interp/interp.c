@@ -40,7 +40,17 @@ static bool plan_off(const fv_plan_context *ctx, fv_plan_entry *out)
     const fv_quality_interp *q = &ctx->quality->interp;
     out->enabled = q->enabled;
     out->variant = 0;
-    if (!out->enabled) snprintf(out->reason, sizeof out->reason, "off — interp.enabled is false");
+    if (!out->enabled) {
+        snprintf(out->reason, sizeof out->reason, "off — interp.enabled is false");
+    } else if (ctx->quality->fovea.enabled) {
+        /* Foveation's reconstruction (and temporal reuse) take every pixel outside foveation's sample mask as
+         * unknown, so they would replace the interpolated pixels and the corners only interpolation shaded: the
+         * work would be wasted. Until interpolation marks its pixels in that mask, foveation takes precedence. */
+        out->enabled = false;
+        snprintf(out->reason, sizeof out->reason,
+                 "off — fovea.enabled is on, and foveation's reconstruction would replace interpolated pixels "
+                 "(composition not finished)");
+    }
     return !out->enabled;
 }
 
@@ -50,9 +60,8 @@ static void interp_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     const fv_quality_interp *q = &ctx->quality->interp;
     uint32_t s = 1u << (q->start_level <= FV_INTERP_MAX_LEVEL ? q->start_level : FV_INTERP_MAX_LEVEL);
     snprintf(out->reason, sizeof out->reason,
-             "coherent regions (τ %g%s) shaded at their corners, %ux%u px down to 2x2, the rest per pixel%s",
-             (double)q->threshold, q->light ? ", light" : "", s, s,
-             ctx->quality->fovea.enabled ? "; thinned by foveation" : "");
+             "coherent regions (τ %g%s) shaded at their corners, %ux%u px down to 2x2, the rest per pixel",
+             (double)q->threshold, q->light ? ", light" : "", s, s);
 }
 
 static void fill_plan(const fv_plan_context *ctx, fv_plan_entry *out)

@@ -197,7 +197,7 @@ static const fv_knob g_knobs[] = {
     /* interp.*: hierarchical screen-space interpolation (render/interp; Ki & Oh, ../shared/papers/README.md
      * section 4). Level k: regions of 2^k x 2^k px. */
     {.name = "interp.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(interp.enabled),
-     .fast = B(true), .high = B(false), .exact = B(false),
+     .fast = B(false), .high = B(false), .exact = B(false),
      .doc = "shade coherent screen regions at their corners and interpolate the rest (off: every pixel shaded)",
      .exact_note = "interpolated pixels are approximations; every pixel is shaded"},
     {.name = "interp.threshold", .type = FV_KNOB_FLOAT, .min = 0, .max = 1000, .unit = "", AT(interp.threshold),
