@@ -11,7 +11,7 @@
 
 #include "fv_reference.h"
 #include "fv_test.h"
-#include "gpu_test.h"
+#include "gpu_test_reference.h"
 
 #define W 64
 #define H 64
@@ -42,40 +42,12 @@ FV_GPU_TEST_GROUP(W, H)
 
 static uint64_t g_frame = 1;
 
-static fv_scene *load(const char *name)
-{
-    fv_scene *s = NULL;
-    assert_int_equal(fv_scene_load(name, &s), FV_OK);
-    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
-    return s;
-}
+static fv_scene *load(const char *name) { return fv_gpu_test_load_scene(g_r, name); }
 
-static fv_frame_input frame_input(const fv_quality *q)
-{
-    fv_frame_input in;
-    assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame++, 0.0, &in), FV_OK);
-    in.quality = *q;
-    in.quality.fovea.enabled = false;
-    return in;
-}
+static fv_frame_input frame_input(const fv_quality *q) { return fv_gpu_test_frame_input(g_r, &g_frame, q); }
 
-/* Draw and read both eyes' linear colour (RGB, eye 0 then eye 1). */
-static void draw(const fv_frame_input *in, float *out_rgb)
-{
-    assert_int_equal(fv_renderer_draw(g_r, in), FV_OK);
-    float *rgba = malloc(NPIX * 4 * sizeof *rgba);
-    assert_non_null(rgba);
-    for (int eye = 0; eye < 2; eye++) {
-        assert_int_equal(fv_renderer_read_linear(g_r, eye, rgba, NPIX * 4), FV_OK);
-        for (size_t i = 0; i < NPIX; i++)
-            for (int c = 0; c < 3; c++) {
-                float v = rgba[i * 4 + c];
-                if (!isfinite(v)) fail_msg("eye %d pixel %zu channel %d is %g", eye, i, c, (double)v);
-                out_rgb[((size_t)eye * NPIX + i) * 3 + c] = v;
-            }
-    }
-    free(rgba);
-}
+/* Draw and read both eyes' linear colour (RGB, side by side). */
+static void draw(const fv_frame_input *in, float *out_rgb) { fv_gpu_test_draw_sbs(g_r, in, W, H, out_rgb); }
 
 static fv_quality sss_quality(fv_sss_mode mode, uint32_t limit, float distance_scale)
 {
@@ -137,8 +109,7 @@ static void gpu_exact_matches_the_reference_exact_sum(void **state)
     const fv_plan_entry *e = fv_frame_plan_find(fv_renderer_plan(g_r), "sss");
     assert_non_null(e);
     assert_true(e->enabled);
-    fv_reference_desc d = {.mode = FV_REFERENCE_MODEL, .eye_width = W, .eye_height = H};
-    assert_int_equal(fv_reference_render(s, &in, &d, ref, ref + NPIX * 3, NULL), FV_OK);
+    fv_gpu_test_reference_sbs(s, &in, FV_REFERENCE_VIEW_COLOR, W, H, ref);
     double rel = mean_rel(gpu, ref, mask);
     double sum_g = 0, sum_r = 0, worst = 0;
     for (size_t i = 0; i < 2 * NPIX; i++)
