@@ -298,6 +298,55 @@ static void an_opaque_scene_plans_and_runs_no_sss_work(void **state)
     fv_scene_destroy(&s);
 }
 
+/* The marble sphere given extreme coefficients (the scene loader refuses some of them; the GPU must still stay
+ * finite): no reduced scattering, no absorption (sigma_tr = 0, the profile's tail falls as zr/r^3), eta = 1 (no
+ * Fresnel), huge coefficients (a point-like profile: 1/zr^2 at float's edge), tiny ones (a profile far wider than
+ * the scene), a mixture per channel; both modes; r = 0 occurs at every sample under its own pixel. */
+static void extreme_materials_stay_finite(void **state)
+{
+    (void)state;
+    NEED_GPU();
+    static const struct {
+        const char *what;
+        float sa[3], sp[3], eta;
+    } cases[] = {
+        {"sigma_s' = 0", {0.01f, 0.01f, 0.01f}, {0.0f, 0.0f, 0.0f}, 1.5f},
+        {"sigma_a = 0", {0.0f, 0.0f, 0.0f}, {2.0f, 2.0f, 2.0f}, 1.5f},
+        {"eta = 1", {0.0021f, 0.0041f, 0.0071f}, {2.19f, 2.62f, 3.0f}, 1.0f},
+        {"huge", {1e30f, 1e30f, 1e30f}, {1e30f, 1e30f, 1e30f}, 1.5f},
+        {"tiny", {1e-30f, 1e-30f, 1e-30f}, {1e-30f, 1e-30f, 1e-30f}, 1.5f},
+        {"mixed", {0.0f, 1e30f, 1e-30f}, {1e30f, 0.0f, 2.0f}, 1e3f},
+    };
+    float *img = malloc(2 * NPIX * 3 * sizeof *img);
+    assert_non_null(img);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        fv_scene *s = NULL;
+        assert_int_equal(fv_scene_load("cornell-translucent", &s), FV_OK);
+        uint32_t marble = UINT32_MAX;
+        for (uint32_t m = 0; m < s->material_count; m++)
+            if (s->materials[m].translucency.enabled) marble = m;
+        assert_true(marble != UINT32_MAX);
+        fv_translucency *t = &s->materials[marble].translucency;
+        memcpy(t->sigma_a_per_mm, cases[k].sa, sizeof t->sigma_a_per_mm);
+        memcpy(t->sigma_s_prime_per_mm, cases[k].sp, sizeof t->sigma_s_prime_per_mm);
+        t->eta = cases[k].eta;
+        assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+        for (int mode = 0; mode < 2; mode++) {
+            fv_quality q = sss_quality(mode ? FV_SSS_MODE_EXACT : FV_SSS_MODE_HIERARCHY, 9,
+                                       fv_quality_default().sss.distance_scale);
+            q.sss.cutoff = fv_quality_default().sss.cutoff;
+            for (int view = 0; view < 2; view++) {
+                q.debug_view = view ? FV_DEBUG_VIEW_SSS : FV_DEBUG_VIEW_NONE;
+                fv_frame_input in = frame_input(&q);
+                draw(&in, img); /* fails on any NaN or Inf */
+            }
+        }
+        print_message("%s: finite in both modes, colour and --view sss\n", cases[k].what);
+        fv_scene_destroy(&s);
+    }
+    free(img);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -305,6 +354,7 @@ int main(void)
         cmocka_unit_test(light_bleeds_into_the_side_the_light_does_not_reach),
         cmocka_unit_test(gpu_exact_matches_the_reference_exact_sum),
         cmocka_unit_test(hierarchy_error_falls_as_the_limit_level_rises),
+        cmocka_unit_test(extreme_materials_stay_finite),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
