@@ -10,6 +10,7 @@
 // slot's zero dummy: one load, then nothing.
 #ifndef FV_SSS_GATHER_GLSL
 #define FV_SSS_GATHER_GLSL
+#extension GL_EXT_control_flow_attributes : require // [[unroll]] below
 
 #include "fv_sss_interface.h"
 
@@ -178,12 +179,19 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
         uint leaf = min(layer.info.w, 9u);
         uint base = layer.info.z;
         if (sss_header.counts.y == FV_SSS_GPU_MODE_EXACT) {
+            // 16 samples per iteration, the inner loop unrolled: llvmpipe ends a shader's loops after 65535
+            // iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop), and a 512 px map has 262144
+            // samples (at most 16384 iterations here).
             uint first = base + ((1u << (2u * leaf)) - 1u) / 3u, n = 1u << (2u * leaf);
-            for (uint i = 0u; i < n && first + i < total; i++) {
-                fv_gpu_sss_node node = sss_nodes[first + i];
-                if (!(node.pos_area.w > 0.0)) continue;
-                sum += fv_sss_node_light(d, node, x);
-                count++;
+            for (uint i = 0u; i < n; i += 16u) {
+                [[unroll]] for (uint j = 0u; j < 16u; j++) {
+                    uint at = first + i + j;
+                    if (at >= total) break;
+                    fv_gpu_sss_node node = sss_nodes[at];
+                    if (!(node.pos_area.w > 0.0)) continue;
+                    sum += fv_sss_node_light(d, node, x);
+                    count++;
+                }
             }
             continue;
         }
