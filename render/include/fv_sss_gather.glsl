@@ -4,11 +4,13 @@
 // soft footprint (render/sss/fv_dipole.h's fv_dipole_kernel, whose double version the CPU reference and the tests
 // use). Exact mode sums every sample; hierarchy mode walks each map's
 // quad-tree from the start level, accepting a cluster of radius r at distance d when r <= distance_scale x eye
-// distance x similarity x d, or at the limit level (Ki & Oh). Requires fv_gpu.h, fv_common.glsl, the scene set and
+// distance x similarity x d, or at the limit level (Ki & Oh), and dropping every node wholly beyond the material's
+// cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light). Requires fv_gpu.h, fv_common.glsl, the scene set and
 // fv_gbuffer_decode.glsl; declares the SSS slot of the shading inputs (set 1). With no SSS pass the header is the
 // slot's zero dummy: one load, then nothing.
 #ifndef FV_SSS_GATHER_GLSL
 #define FV_SSS_GATHER_GLSL
+#extension GL_EXT_control_flow_attributes : require // [[unroll]] below
 
 #include "fv_sss_interface.h"
 
@@ -177,15 +179,23 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
         uint leaf = min(layer.info.w, 9u);
         uint base = layer.info.z;
         if (sss_header.counts.y == FV_SSS_GPU_MODE_EXACT) {
+            // 16 samples per iteration, the inner loop unrolled: llvmpipe ends a shader's loops after 65535
+            // iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop), and a 512 px map has 262144
+            // samples (at most 16384 iterations here).
             uint first = base + ((1u << (2u * leaf)) - 1u) / 3u, n = 1u << (2u * leaf);
-            for (uint i = 0u; i < n && first + i < total; i++) {
-                fv_gpu_sss_node node = sss_nodes[first + i];
-                if (!(node.pos_area.w > 0.0)) continue;
-                sum += fv_sss_node_light(d, node, x);
-                count++;
+            for (uint i = 0u; i < n; i += 16u) {
+                [[unroll]] for (uint j = 0u; j < 16u; j++) {
+                    uint at = first + i + j;
+                    if (at >= total) break;
+                    fv_gpu_sss_node node = sss_nodes[at];
+                    if (!(node.pos_area.w > 0.0)) continue;
+                    sum += fv_sss_node_light(d, node, x);
+                    count++;
+                }
             }
             continue;
         }
+        float cutoff = layer.view.z; // clusters wholly beyond it are dropped (fv_sss_cutoff_radius_m)
         uint limit = min(sss_header.counts.w, leaf);
         uint start = min(sss_header.counts.z, limit);
         uint starts = 1u << (2u * start);
@@ -202,6 +212,7 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 float area = node.pos_area.w;
                 if (!(area > 0.0)) continue;
                 float dist = length(node.pos_area.xyz - x);
+                if (cutoff > 0.0 && dist - node.extent.x > cutoff) continue;
                 float radius = sqrt(area * (1.0 / FV_PI));
                 bool accept = k >= limit || (node.flux_sim.w > 0.0 && radius <= theta * node.flux_sim.w * dist);
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {

@@ -14,12 +14,14 @@
 #define FV_SSS_GPU_MODE_HIERARCHY 0u
 #define FV_SSS_GPU_MODE_EXACT 1u
 #define FV_SSS_GPU_MIN_COS 0.1 /* = FV_SSS_MIN_COS */
+#define FV_SSS_FOOTPRINT_MAX 1.7 /* = FV_DIPOLE_FOOTPRINT_2: the soft footprint's largest disk, in radii */
 #define FV_SSS_STACK 32        /* traversal stack entries per pixel: 3 per level below the start, plus one */
 
 /** One light-view map. */
 struct fv_gpu_sss_layer {
     FV_UVEC4 info; /* x material index, y light index, z first node (of its level 0), w leaf level L (2^L texels) */
-    FV_VEC4 view;  /* x 1 = perspective, y texel side m (orthographic) or tan(half-angle), z, w 0 */
+    FV_VEC4 view;  /* x 1 = perspective, y texel side m (orthographic) or tan(half-angle), z the material's cutoff
+                    * radius (m, fv_sss_cutoff_radius_m; 0 = none), w 0 */
 };
 
 /** The header (binding FV_SSS_BINDING_HEADER); all zero = no subsurface light (the slot's dummy). */
@@ -39,6 +41,8 @@ struct fv_gpu_sss_node {
     FV_VEC4 pos_area;    /* xyz area-weighted centroid (world m), w surface area (m^2; 0 = empty) */
     FV_VEC4 flux_sim;    /* rgb flux entering the surface, E * area (W), w similarity (leaves 1, 0..1) */
     FV_VEC4 normal_depth; /* xyz area-weighted mean normal, w mean depth along the light (m) */
+    FV_VEC4 extent;       /* x bounding radius around the centroid (m): how far the footprints of its samples reach
+                           * (a leaf: the kernel's largest disk, FV_SSS_FOOTPRINT_MAX x sqrt(area / pi)); yzw 0 */
 };
 
 /** The map pass's push constants (vertex and fragment stages): the scene's {draw, view} then ours. */
@@ -88,7 +92,7 @@ typedef struct fv_gpu_sss fv_gpu_sss;
 typedef struct fv_gpu_sss_node fv_gpu_sss_node;
 _Static_assert(sizeof(fv_gpu_sss_layer) == 32, "fv_gpu_sss_layer layout");
 _Static_assert(sizeof(fv_gpu_sss) <= 256, "the SSS header fits the shading inputs' dummy buffer");
-_Static_assert(sizeof(fv_gpu_sss_node) == 48, "fv_gpu_sss_node layout");
+_Static_assert(sizeof(fv_gpu_sss_node) == 64, "fv_gpu_sss_node layout");
 _Static_assert(sizeof(struct fv_sss_map_push) == 128, "fv_sss_map_push layout");
 _Static_assert(sizeof(struct fv_sss_build_push) == 16, "fv_sss_build_push layout");
 #endif

@@ -179,8 +179,9 @@ static const fv_knob g_knobs[] = {
      .doc = "side of each light-view sample map (one per light and translucent material): map_size^2 samples",
      .exact_note = "the exact sum is over every sample, so its cost grows with map_size^2; 128 keeps it measurable"},
     {.name = "sss.start_level", .type = FV_KNOB_INT, .min = 0, .max = 9, .unit = "", AT(sss.start_level),
-     .fast = I(3), .high = I(3), .exact = I(3),
-     .doc = "the level the per-pixel cut starts from (3: 8 x 8 clusters, as the paper)"},
+     .fast = I(0), .high = I(0), .exact = I(0),
+     .doc = "the level the per-pixel cut starts from (the paper's 3 = 8 x 8 clusters; 0, the root, lets the cutoff "
+            "drop far halves whole: 1.5x faster, the same image, see BENCHMARKS.md)"},
     {.name = "sss.limit_level", .type = FV_KNOB_INT, .min = 0, .max = 9, .unit = "", AT(sss.limit_level),
      .fast = I(5), .high = I(8), .exact = I(9),
      .doc = "the finest level the cut reaches; its clusters are always accepted (the paper's 4 = 16 x 16 bounds the "
@@ -194,6 +195,10 @@ static const fv_knob g_knobs[] = {
      .choice_count = 2, AT(sss.mode), .fast = I(FV_SSS_MODE_HIERARCHY), .high = I(FV_SSS_MODE_HIERARCHY),
      .exact = I(FV_SSS_MODE_EXACT),
      .doc = "hierarchy: a cut through the quad-tree per pixel; exact: every sample (brute force)"},
+    {.name = "sss.cutoff", .type = FV_KNOB_FLOAT, .min = 0, .max = 0.5, .unit = "", AT(sss.cutoff),
+     .fast = F(0.01f), .high = F(0.001f), .exact = F(0.0f),
+     .doc = "the hierarchy skips clusters wholly beyond the radius outside which this fraction of a point source's "
+            "diffuse reflectance leaves (on a uniformly lit plane: the fraction of subsurface light dropped); 0: none"},
     /* interp.*: hierarchical screen-space interpolation (render/interp; Ki & Oh, ../shared/papers/README.md
      * section 4). Level k: regions of 2^k x 2^k px. */
     {.name = "interp.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(interp.enabled),

@@ -13,8 +13,6 @@
 #include "fv_sss_math.h"
 #include "reference_internal.h"
 
-static double per_m(float per_mm) { return isfinite(per_mm) && per_mm > 0.0f ? (double)(per_mm * 1000.0f) : 0.0; }
-
 /* The samples of one map: a ray through each texel centre; what sss_map.frag stores there. */
 static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light *L, const fv_sss_view *v, double eta)
 {
@@ -71,10 +69,7 @@ fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_scene *scene, co
         fv_vec3 dir = fv_v3((float)L->direction.x, (float)L->direction.y, (float)L->direction.z);
         fv_sss_view v;
         if (!fv_sss_light_view(L->type, pos, dir, omin, omax, smin, smax, size, &v)) continue;
-        const fv_translucency *t = &scene->materials[m->material].translucency;
-        double eta = isfinite(t->eta) && t->eta > 0.0f ? (double)t->eta : 1.0;
-        for (int c = 0; c < 3; c++)
-            m->dipole[c] = fv_dipole_make(per_m(t->sigma_a_per_mm[c]), per_m(t->sigma_s_prime_per_mm[c]), eta);
+        double eta = fv_sss_material_dipoles(&scene->materials[m->material].translucency, m->dipole);
         m->eta = eta;
         FV_TRY(map_samples(m, w, L, &v, eta));
     }

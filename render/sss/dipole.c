@@ -66,6 +66,34 @@ double fv_dipole_rd_disk(const fv_dipole *d, double radius)
     return fmin(fmax(v, 0.0), 1.0);
 }
 
+double fv_dipole_rd_tail(const fv_dipole *d, double radius)
+{
+    if (!d || !(d->alpha_prime > 0.0) || !(radius >= 0.0) || !isfinite(radius)) return 0.0;
+    double dr = hypot(radius, d->zr), dv = hypot(radius, d->zv);
+    double v = 0.5 * d->alpha_prime * (d->zr / dr * exp(-d->sigma_tr * dr) + d->zv / dv * exp(-d->sigma_tr * dv));
+    return isfinite(v) ? fmin(fmax(v, 0.0), 1.0) : 0.0;
+}
+
+double fv_dipole_cutoff_radius(const fv_dipole *d, double fraction)
+{
+    if (!d || !(d->alpha_prime > 0.0) || !(fraction > 0.0 && fraction < 1.0)) return 0.0;
+    double want = fraction * fv_dipole_rd_tail(d, 0.0);
+    if (!(want > 0.0)) return 0.0;
+    /* The tail falls monotonically from its value at 0; bracket the radius in powers of two of zr, then bisect. */
+    double lo = 0.0, hi = d->zr > 0.0 ? d->zr : 1.0;
+    while (fv_dipole_rd_tail(d, hi) > want) {
+        lo = hi;
+        hi *= 2.0;
+        if (hi >= FV_DIPOLE_CUTOFF_MAX) return FV_DIPOLE_CUTOFF_MAX;
+    }
+    for (int k = 0; k < 200 && hi - lo > 1e-9 * hi; k++) {
+        double mid = 0.5 * (lo + hi);
+        if (fv_dipole_rd_tail(d, mid) > want) lo = mid;
+        else hi = mid;
+    }
+    return hi;
+}
+
 double fv_dipole_rd_total(const fv_dipole *d)
 {
     if (!d || !(d->alpha_prime > 0.0)) return 0.0;

@@ -46,6 +46,19 @@ double fv_dipole_rd_disk(const fv_dipole *d, double radius);
  *  (Jensen et al. 2001, eq. 6 integrated; the limit of fv_dipole_rd_disk). */
 double fv_dipole_rd_total(const fv_dipole *d);
 
+/** The part of a point source's total diffuse reflectance that leaves the surface farther than `radius` from it:
+ *  alpha'/2 [zr e^(-sigma_tr dr(R)) / dr(R) + zv e^(-sigma_tr dv(R)) / dv(R)] (the disk integral's complement, in
+ *  closed form without cancellation). In [0, 1]; 0 for an infinite radius. */
+double fv_dipole_rd_tail(const fv_dipole *d, double radius);
+
+/** The radius beyond which at most `fraction` (in (0, 1)) of a point source's diffuse reflectance leaves:
+ *  the smallest R with fv_dipole_rd_tail(R) <= fraction * (fv_dipole_rd_tail(0)), to 1e-9 relative by bisection
+ *  in log R. Light entering farther than R from a receiver is dropped by the hierarchy's cutoff: on a uniformly lit
+ *  plane that drops exactly `fraction` of the subsurface light. 0 when there is no scattering (alpha' = 0) or the
+ *  fraction is out of range; at most FV_DIPOLE_CUTOFF_MAX units. */
+#define FV_DIPOLE_CUTOFF_MAX 1e30
+double fv_dipole_cutoff_radius(const fv_dipole *d, double fraction);
+
 /** The same, by integrating 2 pi r Rd(r) dr over [0, inf) numerically: adaptive Gauss-Kronrod (7-15) in
  *  t = r / (r + zr), to a relative tolerance of 1e-12. */
 double fv_dipole_rd_total_numeric(const fv_dipole *d);

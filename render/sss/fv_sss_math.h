@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "fv_dipole.h"
 #include "fv_math.h"
 #include "fv_scene.h"
 
@@ -31,6 +32,16 @@ uint32_t fv_sss_translucent_materials(const fv_scene *s, uint32_t *out, uint32_t
 uint32_t fv_sss_pairs(const fv_scene *s, fv_sss_pair out[FV_SSS_MAX_LAYERS], uint32_t *out_wanted);
 /** World bounds at t_s of the drawn nodes whose mesh uses `material`; false when there are none. */
 bool fv_sss_material_bounds(const fv_scene *s, uint32_t material, double t_s, fv_vec3 *out_min, fv_vec3 *out_max);
+
+/** A translucent material's dipole per RGB channel in the renderer's units (metres: the coefficients' mm^-1 times
+ *  1000; non-finite or negative coefficients count as 0, eta outside (0, inf) as 1), as the GPU's fv_sss_dipole_of
+ *  derives it in float. Returns eta as used. */
+double fv_sss_material_dipoles(const fv_translucency *t, fv_dipole out[3]);
+
+/** The cutoff radius of a material (m, knob sss.cutoff): the largest of its channels' fv_dipole_cutoff_radius(
+ *  fraction); clusters wholly farther than it from a receiver are skipped. 0 = none (no scattering, or fraction
+ *  outside (0, 1)). */
+double fv_sss_cutoff_radius_m(const fv_translucency *t, double fraction);
 
 /** One light-view map. */
 typedef struct fv_sss_view {

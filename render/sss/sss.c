@@ -42,6 +42,8 @@ typedef struct sss {
     VkSampler nearest;
     fv_vk_buffer nodes, header;
     layer_view views[FV_MAX_FRAMES_IN_FLIGHT][FV_SSS_MAX_LAYERS];
+    float cutoff_fraction;              /* sss.cutoff the radii below were derived for (< 0: none yet) */
+    float cutoff_m[FV_SSS_MAX_LAYERS];  /* each map's material's cutoff radius (m; 0 = none) */
     fv_gpu_sss blk[FV_MAX_FRAMES_IN_FLIGHT];
 } sss;
 
@@ -227,6 +229,7 @@ static fv_result sss_init(const fv_pass_env *env, void **out_state)
     p->leaf = v & 15u;
     p->size = 1u << p->leaf;
     p->count = fv_sss_pairs(p->model, p->pair, NULL);
+    p->cutoff_fraction = -1.0f;
     p->nodes_per_map = (uint32_t)(((1ull << (2 * (p->leaf + 1))) - 1) / 3);
     fv_result res = p->count && p->leaf >= 4 && p->leaf <= 9 ? FV_OK : FV_ERR_INVALID_ARG;
     static const char *const names[3] = {"sss map positions+area", "sss map flux+depth", "sss map normals"};
@@ -284,6 +287,13 @@ static void sss_prepare(void *state, const fv_pass_frame *f)
                                  start, limit};
     float ds = q->distance_scale;
     blk->params = (fv_gpu_vec4){isfinite(ds) && ds > 0.0f ? ds : 0.0f, 0, 0, 0};
+    float cut = isfinite(q->cutoff) && q->cutoff > 0.0f && q->cutoff < 1.0f ? q->cutoff : 0.0f;
+    if (cut != p->cutoff_fraction) { /* a bisection per channel: only when the knob changes */
+        for (uint32_t l = 0; l < p->count; l++)
+            p->cutoff_m[l] = (float)fmin(fv_sss_cutoff_radius_m(&p->model->materials[p->pair[l].material].translucency,
+                                                                cut), 1e30);
+        p->cutoff_fraction = cut;
+    }
     for (uint32_t l = 0; l < p->count; l++) {
         const fv_sss_pair *pr = &p->pair[l];
         fv_gpu_sss_layer *g = &blk->layer[l];
@@ -298,7 +308,8 @@ static void sss_prepare(void *state, const fv_pass_frame *f)
         fv_vec3 dir = fv_v3(L->direction_type.x, L->direction_type.y, L->direction_type.z);
         lv[l].valid = fv_sss_light_view(type, pos, dir, omin, omax, smin, smax, p->size, &lv[l].view);
         const fv_sss_view *vw = &lv[l].view;
-        g->view = (fv_gpu_vec4){vw->perspective ? 1.0f : 0.0f, (float)(vw->perspective ? vw->tan_half : vw->texel_m), 0, 0};
+        g->view = (fv_gpu_vec4){vw->perspective ? 1.0f : 0.0f, (float)(vw->perspective ? vw->tan_half : vw->texel_m),
+                                p->cutoff_m[l], 0};
     }
 }
 

@@ -3,7 +3,8 @@
 // Morton order, then each coarser level from its four children: areas and fluxes summed, centroid, normal and
 // depth area-weighted, and a similarity in [0, 1] (leaves 1): the smallest of the children's, times how alike the
 // children's normals are (the smallest cosine to the mean normal) and how flat they lie (1 - the largest depth
-// offset from the mean over the cluster's size sqrt(area)). One dispatch per level; empty children are left out.
+// offset from the mean over the cluster's size sqrt(area)); and its extent, the radius around the centroid that
+// holds every child's extent (a leaf's: its footprint's largest disk). One dispatch per level; empty children are left out.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_common.glsl"
@@ -45,6 +46,7 @@ void main()
         o.pos_area = ok ? p : vec4(0.0);
         o.flux_sim = ok ? vec4(f.rgb, 1.0) : vec4(0.0);
         o.normal_depth = ok ? vec4(n.xyz, f.w) : vec4(0.0);
+        o.extent = vec4(ok ? float(FV_SSS_FOOTPRINT_MAX) * sqrt(p.w * (1.0 / FV_PI)) : 0.0, 0.0, 0.0, 0.0);
         nodes[at] = o;
         return;
     }
@@ -64,7 +66,7 @@ void main()
         sim = min(sim, k.flux_sim.w);
     }
     if (!(area > 0.0)) {
-        nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0));
+        nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
         return;
     }
     pos /= area;
@@ -72,7 +74,7 @@ void main()
     depth /= area;
     vec3 mean_n = length(nrm) > 1e-20 ? normalize(nrm) : vec3(0.0);
     float size = sqrt(area);
-    float alike = 1.0, flat_ = 1.0;
+    float alike = 1.0, flat_ = 1.0, reach = 0.0;
     for (uint c = 0u; c < 4u; c++) {
         fv_gpu_sss_node k = nodes[child + c];
         if (!(k.pos_area.w > 0.0)) continue;
@@ -80,9 +82,11 @@ void main()
         float kl = length(kn);
         alike = min(alike, kl > 1e-20 ? max(dot(kn / kl, mean_n), 0.0) : 0.0);
         flat_ = min(flat_, clamp(1.0 - abs(k.normal_depth.w - depth) / max(size, 1e-30), 0.0, 1.0));
+        reach = max(reach, length(k.pos_area.xyz - pos) + k.extent.x);
     }
     o.pos_area = vec4(pos, area);
     o.flux_sim = vec4(flux, sim * alike * flat_);
     o.normal_depth = vec4(nrm, depth);
+    o.extent = vec4(reach, 0.0, 0.0, 0.0);
     nodes[at] = o;
 }

@@ -129,3 +129,22 @@ double fv_sss_texel_area(const fv_sss_view *v, fv_vec3 p, double cos_i)
     double side = 2.0 * v->tan_half / v->size;
     return side * side * cos_axis * cos_axis * cos_axis * dist2 / c;
 }
+
+static double per_m(float per_mm) { return isfinite(per_mm) && per_mm > 0.0f ? (double)per_mm * 1000.0 : 0.0; }
+
+double fv_sss_material_dipoles(const fv_translucency *t, fv_dipole out[3])
+{
+    double eta = isfinite(t->eta) && t->eta > 0.0f ? (double)t->eta : 1.0;
+    for (int c = 0; c < 3; c++)
+        out[c] = fv_dipole_make(per_m(t->sigma_a_per_mm[c]), per_m(t->sigma_s_prime_per_mm[c]), eta);
+    return eta;
+}
+
+double fv_sss_cutoff_radius_m(const fv_translucency *t, double fraction)
+{
+    fv_dipole d[3];
+    fv_sss_material_dipoles(t, d);
+    double r = 0.0;
+    for (int c = 0; c < 3; c++) r = fmax(r, fv_dipole_cutoff_radius(&d[c], fraction));
+    return r;
+}

@@ -1,9 +1,12 @@
 /* @brief Shared setup of the GPU tests (see gpu_test.h). */
 #include "gpu_test.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "fv_test.h"
 
 int fv_gpu_test_setup(uint32_t w, uint32_t h, fv_renderer **r)
 {
@@ -52,4 +55,40 @@ fv_mesh fv_gpu_test_square_mesh(const char *name, double half, uint32_t material
     m.bounds_min = fv_v3(-h, 0, -h);
     m.bounds_max = fv_v3(h, 0, h);
     return m;
+}
+
+fv_scene *fv_gpu_test_load_scene(fv_renderer *r, const char *name_or_path)
+{
+    fv_scene *s = NULL;
+    assert_int_equal(fv_scene_load(name_or_path, &s), FV_OK);
+    assert_int_equal(fv_renderer_load_scene(r, s), FV_OK);
+    return s;
+}
+
+fv_frame_input fv_gpu_test_frame_input(fv_renderer *r, uint64_t *frame, const fv_quality *q)
+{
+    fv_frame_input in;
+    assert_int_equal(fv_renderer_frame_input(r, NULL, (*frame)++, 0.0, &in), FV_OK);
+    in.quality = *q;
+    in.quality.fovea.enabled = false;
+    return in;
+}
+
+void fv_gpu_test_draw_sbs(fv_renderer *r, const fv_frame_input *in, uint32_t w, uint32_t h, float *out_sbs)
+{
+    assert_int_equal(fv_renderer_draw(r, in), FV_OK);
+    size_t npix = (size_t)w * h, w2 = 2 * (size_t)w;
+    float *rgba = malloc(npix * 4 * sizeof *rgba);
+    assert_non_null(rgba);
+    for (uint32_t eye = 0; eye < 2; eye++) {
+        assert_int_equal(fv_renderer_read_linear(r, eye, rgba, npix * 4), FV_OK);
+        for (size_t y = 0; y < h; y++)
+            for (size_t x = 0; x < w; x++)
+                for (int c = 0; c < 3; c++) {
+                    float v = rgba[(y * w + x) * 4 + c];
+                    if (!isfinite(v)) fail_msg("GPU eye %u pixel (%zu, %zu) channel %d is %g", eye, x, y, c, (double)v);
+                    out_sbs[(y * w2 + (size_t)eye * w + x) * 3 + c] = v;
+                }
+    }
+    free(rgba);
 }

@@ -18,6 +18,17 @@ int fv_gpu_test_teardown(fv_renderer **r);
  *  fv_scene_add_mesh takes them). */
 fv_mesh fv_gpu_test_square_mesh(const char *name, double half, uint32_t material);
 
+/** Load a scene (built-in name or file) and hand it to r; fails the test on error. The caller destroys it. */
+fv_scene *fv_gpu_test_load_scene(fv_renderer *r, const char *name_or_path);
+
+/** The frame input r draws for its scene's head with quality q, at frame id *frame (then incremented: ids rise over
+ *  a run) and scene time 0; foveation off (full resolution, as the CPU reference shades every pixel). */
+fv_frame_input fv_gpu_test_frame_input(fv_renderer *r, uint64_t *frame, const fv_quality *q);
+
+/** Draw `in` and read both eyes' linear colour as one 2w x h RGB image, the eyes side by side (as fv_metrics
+ *  compares them); fails the test on any NaN or Inf, naming the pixel. */
+void fv_gpu_test_draw_sbs(fv_renderer *r, const fv_frame_input *in, uint32_t w, uint32_t h, float *out_sbs);
+
 /** Define `static fv_renderer *g_r` and the cmocka group `setup` / `teardown` that create it at w x h per eye with
  *  validation on and destroy it (failing on any validation message). */
 #define FV_GPU_TEST_GROUP(w, h)                                                                                        \

@@ -14,7 +14,7 @@
 #include "fv_metrics.h"
 #include "fv_reference.h"
 #include "fv_test.h"
-#include "gpu_test.h"
+#include "gpu_test_reference.h"
 
 /* Small enough for `make test` on 2 cores (the whole file takes a few seconds on lavapipe). */
 #define W 160
@@ -80,22 +80,13 @@ static float *sbs_alloc(void)
     return p;
 }
 
-static fv_scene *load(const char *name_or_path)
-{
-    fv_scene *s = NULL;
-    assert_int_equal(fv_scene_load(name_or_path, &s), FV_OK);
-    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
-    return s;
-}
+static fv_scene *load(const char *name_or_path) { return fv_gpu_test_load_scene(g_r, name_or_path); }
 
 /* The frame input the renderer draws for the loaded scene's head, with these settings. */
 static fv_frame_input frame_input(const fv_quality *q)
 {
-    fv_frame_input in;
-    assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame++, 0.0, &in), FV_OK);
-    in.quality = *q;
     /* Full resolution: the reference shades every pixel (foveation, on by default, would fill the periphery). */
-    in.quality.fovea.enabled = false;
+    fv_frame_input in = fv_gpu_test_frame_input(g_r, &g_frame, q);
     /* Direct light: these bounds are about visibility (shadow maps against rays); the GI gather against the
      * reference's exact VPL sum is tests/gi's. */
     in.quality.gi.enabled = false;
@@ -103,23 +94,7 @@ static fv_frame_input frame_input(const fv_quality *q)
 }
 
 /* Draw `in` and read both eyes' linear colour into out_sbs. */
-static void gpu_draw(const fv_frame_input *in, float *out_sbs)
-{
-    assert_int_equal(fv_renderer_draw(g_r, in), FV_OK);
-    float *rgba = malloc(NPIX * 4 * sizeof *rgba);
-    assert_non_null(rgba);
-    for (int eye = 0; eye < 2; eye++) {
-        assert_int_equal(fv_renderer_read_linear(g_r, eye, rgba, NPIX * 4), FV_OK);
-        for (size_t y = 0; y < H; y++)
-            for (size_t x = 0; x < W; x++)
-                for (int c = 0; c < 3; c++) {
-                    float v = rgba[(y * W + x) * 4 + c];
-                    if (!isfinite(v)) fail_msg("GPU eye %d pixel (%zu, %zu) channel %d is %g", eye, x, y, c, (double)v);
-                    out_sbs[(y * W2 + (size_t)eye * W + x) * 3 + c] = v;
-                }
-    }
-    free(rgba);
-}
+static void gpu_draw(const fv_frame_input *in, float *out_sbs) { fv_gpu_test_draw_sbs(g_r, in, W, H, out_sbs); }
 
 /* Draw q with one debug view into out_sbs. */
 static void gpu_view(const fv_frame_input *in, fv_debug_view view, float *out_sbs)
@@ -133,17 +108,7 @@ static void gpu_view(const fv_frame_input *in, fv_debug_view view, float *out_sb
 /* The reference's view of the same frame into out_sbs. */
 static void ref_render(const fv_scene *s, const fv_frame_input *in, fv_reference_view view, float *out_sbs)
 {
-    fv_reference_desc d = {.mode = FV_REFERENCE_MODEL, .view = view, .eye_width = W, .eye_height = H};
-    float *eye[2] = {malloc(NPIX * 3 * sizeof(float)), malloc(NPIX * 3 * sizeof(float))};
-    assert_true(eye[0] && eye[1]);
-    fv_reference_stats st;
-    assert_int_equal(fv_reference_render(s, in, &d, eye[0], eye[1], &st), FV_OK);
-    assert_int_equal(st.nonfinite_samples, 0);
-    for (int e = 0; e < 2; e++)
-        for (size_t y = 0; y < H; y++)
-            memcpy(&out_sbs[(y * W2 + (size_t)e * W) * 3], &eye[e][y * W * 3], W * 3 * sizeof(float));
-    free(eye[0]);
-    free(eye[1]);
+    fv_gpu_test_reference_sbs(s, in, view, W, H, out_sbs);
 }
 
 /* FV_VS_REF_DUMP=DIR: write the image as DIR/<name>.pfm (spaces and commas become '_'). */

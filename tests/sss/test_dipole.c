@@ -233,6 +233,65 @@ static void fresnel_transmittance_at_its_limits(void **state)
     assert_true(isfinite(fv_fresnel_transmittance(NAN, NAN)) && isfinite(fv_fresnel_transmittance(INFINITY, 0.5)));
 }
 
+/* The tail beyond R is the disk integral's complement; the cutoff radius drops exactly the fraction asked, for every
+ * Jensen material and eta, and grows as the fraction shrinks; extremes give 0 or a finite radius, never NaN/Inf. */
+static void tail_and_cutoff_radius_drop_the_fraction_asked(void **state)
+{
+    (void)state;
+    row rows[32];
+    int n = read_materials(rows, 32);
+    assert_int_equal(n, 12);
+    const double etas[] = {1.0, 1.3, 1.5};
+    const double fractions[] = {0.1, 0.01, 0.005, 0.001, 1e-6};
+    double worst = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int e = 0; e < 3; e++)
+            for (int c = 0; c < 3; c++) {
+                fv_dipole d = fv_dipole_make(rows[i].sa[c], rows[i].sp[c], etas[e]);
+                double total = fv_dipole_rd_total(&d);
+                if (fabs(fv_dipole_rd_tail(&d, 0.0) - total) > 1e-12 * total)
+                    fail_msg("%s eta %g: tail(0) %.15g, total %.15g", rows[i].name, etas[e], fv_dipole_rd_tail(&d, 0.0),
+                             total);
+                for (double r = 0.01; r < 100.0; r *= 3.0)
+                    if (fabs(fv_dipole_rd_tail(&d, r) + fv_dipole_rd_disk(&d, r) - total) > 1e-12)
+                        fail_msg("%s: tail + disk at %g mm is not the total", rows[i].name, r);
+                double prev = 0.0;
+                for (int f = 0; f < 5; f++) {
+                    double R = fv_dipole_cutoff_radius(&d, fractions[f]);
+                    assert_true(isfinite(R) && R > prev);
+                    double got = fv_dipole_rd_tail(&d, R) / total;
+                    double rel = fabs(got - fractions[f]) / fractions[f];
+                    if (rel > worst) worst = rel;
+                    if (rel > 1e-6) fail_msg("%s eta %g ch %d: cutoff %.6g mm drops %.9g, not %g", rows[i].name,
+                                             etas[e], c, R, got, fractions[f]);
+                    prev = R;
+                }
+            }
+    print_message("cutoff radius: worst relative error of the dropped fraction %.3g\n", worst);
+    /* Marble (red, mm): 0.5% of the light leaves beyond a few diffusion lengths 1/sigma_tr = 8.5 mm. */
+    fv_dipole m = fv_dipole_make(0.0021, 2.19, 1.5);
+    double R = fv_dipole_cutoff_radius(&m, 0.005);
+    print_message("marble red: 0.5%% beyond %.2f mm (1/sigma_tr = %.2f mm)\n", R, 1.0 / m.sigma_tr);
+    assert_true(R > 1.0 / m.sigma_tr && R < 10.0 / m.sigma_tr);
+    /* Extremes: no absorption (sigma_tr = 0: the tail falls as zr/R), huge coefficients, no scattering, bad
+     * fractions. */
+    fv_dipole z = fv_dipole_make(0.0, 1.0, 1.3);
+    R = fv_dipole_cutoff_radius(&z, 0.01);
+    assert_true(isfinite(R) && R > 0.0 && fabs(fv_dipole_rd_tail(&z, R) / fv_dipole_rd_total(&z) - 0.01) < 1e-6);
+    fv_dipole h = fv_dipole_make(1e300, 1e300, 1.5);
+    R = fv_dipole_cutoff_radius(&h, 0.01);
+    assert_true(isfinite(R) && R >= 0.0);
+    fv_dipole none = fv_dipole_make(1.0, 0.0, 1.5);
+    assert_true(fv_dipole_cutoff_radius(&none, 0.01) == 0.0 && fv_dipole_rd_tail(&none, 1.0) == 0.0);
+    const double bad[] = {0.0, 1.0, -0.5, 2.0, NAN, INFINITY};
+    for (int k = 0; k < 6; k++) assert_true(fv_dipole_cutoff_radius(&m, bad[k]) == 0.0);
+    assert_true(fv_dipole_rd_tail(&m, INFINITY) == 0.0 && fv_dipole_rd_tail(&m, NAN) == 0.0 &&
+                fv_dipole_rd_tail(&m, -1.0) == 0.0 && fv_dipole_rd_tail(NULL, 1.0) == 0.0);
+    assert_true(fv_dipole_cutoff_radius(NULL, 0.01) == 0.0);
+    fv_dipole eta1 = fv_dipole_make(0.0021, 2.19, 1.0);
+    assert_true(isfinite(fv_dipole_cutoff_radius(&eta1, 1e-12)));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -242,6 +301,7 @@ int main(void)
         cmocka_unit_test(disk_integral_matches_numeric_integration),
         cmocka_unit_test(kernel_is_rd_far_away_and_the_disk_integral_on_top),
         cmocka_unit_test(fresnel_transmittance_at_its_limits),
+        cmocka_unit_test(tail_and_cutoff_radius_drop_the_fraction_asked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -191,12 +191,15 @@ typedef enum fv_sss_mode {
 typedef struct fv_quality_sss {
     bool enabled;           /* "sss.enabled": subsurface light on translucent materials (off: shaded as opaque) */
     uint32_t map_size_px;   /* "sss.map_size": side of each light-view sample map, a power of two in 16..512 */
-    uint32_t start_level;   /* "sss.start_level": the level the cut starts from, 0..9 (3 = 8 x 8 clusters) */
+    uint32_t start_level;   /* "sss.start_level": the level the cut starts from, 0..9 (0 = the root; 3 = 8 x 8) */
     uint32_t limit_level;   /* "sss.limit_level": the finest level the cut reaches (its clusters are always
                              * accepted), 0..9, clamped to the leaves */
     float distance_scale;   /* "sss.distance_scale": a cluster of radius r at distance d from the pixel is accepted
                              * when r <= distance_scale * (eye distance, m) * similarity * d; per metre, 0..100 */
     fv_sss_mode mode;       /* "sss.mode": hierarchy | exact */
+    float cutoff;           /* "sss.cutoff": the hierarchy drops clusters wholly farther from the pixel than the radius
+                             * outside which this fraction of a point source's diffuse reflectance leaves; 0..0.5,
+                             * 0 = no cutoff */
 } fv_quality_sss;
 
 /** The hierarchical screen-space interpolation knobs (render/interp/: Ki & Oh, papers/README.md section 4): coherent
@@ -271,10 +274,11 @@ static inline fv_quality fv_quality_default(void)
                            .refine = 0.0f},
                     .sss = {.enabled = true,
                             .map_size_px = 128,
-                            .start_level = 3,
+                            .start_level = 0,
                             .limit_level = 7,
                             .distance_scale = 1.5f,
-                            .mode = FV_SSS_MODE_HIERARCHY},
+                            .mode = FV_SSS_MODE_HIERARCHY,
+                            .cutoff = 0.005f},
                     .interp = {.enabled = false, .threshold = 0.2f, .start_level = 2, .light = true}};
     return q;
 }
