@@ -214,6 +214,13 @@ static void fixed_gaze_insets_land_at_the_fixed_direction(void **state)
             print_message("frame %d: the located inset's centre %.3f, %.3f deg, the fixed gaze %.3f, %.3f deg\n", f->n,
                           cx * 180 / M_PI, cy * 180 / M_PI, atan(tx) * 180 / M_PI, atan(ty) * 180 / M_PI);
             assert_true(fabs(cx - atan(tx)) < 0.05 * M_PI / 180 && fabs(cy - atan(ty)) < 0.05 * M_PI / 180);
+            /* its radius from the MAR model: the generic HMD's centre pixel is 0.0832 deg, the wide views at half
+             * density 0.1665 deg, resolved from e_w = (0.1665 - 1/48) / 0.022 = 6.62 deg; plus the uncertainty
+             * (0.5..10 deg), over 1 - 1/4 for the blend band: 9.49..22.2 deg */
+            double rx = 0.5 * (f->inset[1] - f->inset[0]) * 180 / M_PI;
+            double ry = 0.5 * (f->inset[2] - f->inset[3]) * 180 / M_PI;
+            print_message("frame %d: inset radius %.2f x %.2f deg\n", f->n, rx, ry);
+            assert_true(fabs(rx - ry) < 1e-3 && rx > 9.45 && rx < 22.25);
             for (int eye = 0; eye < 2; eye++) {
                 inset_seen s = find_inset(px, w, h, eye);
                 /* ... and the composite shows it there: its centre in the display's tangent space */

@@ -7,8 +7,9 @@
  * view ray's angles, period 10 deg) in blue for the wide views and red for the insets, written from the CPU into the
  * swapchain image (a buffer copy), so the composite shows where the runtime put each inset and how it blends.
  * Prints one CSV line per frame: `frame,N,composited,C,tracked,T,gaze_tx,X,gaze_ty,Y,inset_left,L,R,U,D,wide_left,
- * L,R,U,D,wide_right,L,R,U,D` (the gaze as tangents in VIEW, the left inset's and the wide views' fov in radians; composited: the
- * frame was ended while the session was VISIBLE or FOCUSED, so fovea composited it), and `vk_validation_messages,N` at the end (exit 1 when N > 0).
+ * L,R,U,D,wide_right,L,R,U,D` (the gaze as tangents in VIEW, the left inset's and the wide views' fov in radians;
+ * composited: the frame was ended while the session was VISIBLE or FOCUSED, so fovea composited it), and
+ * `vk_validation_messages,N` at the end (exit 1 when N > 0).
  *   xr_quad_app [--frames N] [--stereo-only]
  * --stereo-only: enable neither Varjo extension and check that only PRIMARY_STEREO is offered (prints
  * `view_configs,STEREO` and exits). */
@@ -171,7 +172,8 @@ static void create_vulkan(app *a)
                             .apiVersion = VK_API_VERSION_1_1};
     VkDebugUtilsMessengerCreateInfoEXT mi = {
         .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
-        .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+        .messageSeverity =
+            VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
         .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                        VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT,
         .pfnUserCallback = on_vk_message};
