@@ -8,6 +8,8 @@
  *    on the gaze predicted to the frame's display time, and it moves with the gaze across frames;
  *  - the blend band: from the inset's inside to the wide view the red share falls over several pixels, without a
  *    step (a hard edge would jump in one pixel);
+ *  - no gaze source: supportsFoveatedRendering is false, the wide views are at the display's density (twice the
+ *    foveated ones'), and the insets sit at the centre of the field of view;
  *  - an app that enables neither extension is offered stereo only.
  * Zero validation messages from either layer or the compositor's device. argv[1] = xr_quad_app, argv[2] = manifest. */
 #include <fcntl.h>
@@ -67,7 +69,8 @@ static int run_app(run *r, const char *name, const char *gaze, int frames, bool 
         setenv("FOVEA_XR_OUT", r->dir, 1);
         setenv("FOVEA_XR_OUT_ALL", "1", 1);
         setenv("FOVEA_XR_STATS", stats, 1);
-        setenv("FOVEA_XR_GAZE", gaze, 1);
+        if (*gaze) setenv("FOVEA_XR_GAZE", gaze, 1);
+        else unsetenv("FOVEA_XR_GAZE");
         unsetenv("FOVEA_XR_FRAMES");
         unsetenv("DISPLAY");
         if (stereo_only) execl(g_app, g_app, "--stereo-only", (char *)NULL);
@@ -293,6 +296,61 @@ static void sim_gaze_insets_follow_the_predicted_gaze(void **state)
     free(r.log);
 }
 
+/* The view sizes the app was given (the log's `view,V,WxH`). */
+static void view_size(const run *r, int v, int *w, int *h)
+{
+    char key[32];
+    snprintf(key, sizeof key, "\nview,%d,", v);
+    const char *p = strstr(r->log, key);
+    if (!p || sscanf(p + strlen(key), "%dx%d", w, h) != 2) fail_msg("no view %d size in the log:\n%s", v, r->log);
+}
+
+static void no_gaze_source_centred_insets_full_density_wide_views(void **state)
+{
+    (void)state;
+    run r;
+    int rc = run_app(&r, "quad_no_gaze", "", 5, false);
+    if (rc != 0) fail_msg("xr_quad_app exited %d:\n%s", rc, r.log);
+    assert_clean(&r);
+    fv_assert_contains(r.log, "supports_foveated_rendering,0");
+    /* the wide views at the display's density (the foveated run's are at half of it), the insets as before */
+    int ww, wh, iw, ih;
+    view_size(&r, 0, &ww, &wh);
+    view_size(&r, 2, &iw, &ih);
+    print_message("no gaze: wide %dx%d, inset %dx%d\n", ww, wh, iw, ih);
+    assert_int_equal(ww, 288);
+    assert_int_equal(wh, 291);
+    run f;
+    rc = run_app(&f, "quad_fixed_sizes", "fixed:yaw_deg=0,pitch_deg=0", 1, false);
+    if (rc != 0) fail_msg("xr_quad_app exited %d:\n%s", rc, f.log);
+    int fw, fh, fiw, fih;
+    view_size(&f, 0, &fw, &fh);
+    view_size(&f, 2, &fiw, &fih);
+    print_message("foveated: wide %dx%d, inset %dx%d\n", fw, fh, fiw, fih);
+    assert_true(abs(2 * fw - ww) <= 1 && abs(2 * fh - wh) <= 1);
+    assert_true(fiw == iw && fih == ih && iw > 16 && iw < ww / 2);
+    free(f.log);
+    /* the insets sit at the centre of the field of view, and the composite shows them there */
+    int k = 0;
+    for (int i = 0; i < r.nrows; i++) {
+        const frame_row *fr = &r.rows[i];
+        if (!fr->composited) continue;
+        assert_false(fr->tracked);
+        assert_true(fabs(fr->inset[0] + fr->inset[1]) < 1e-4 && fabs(fr->inset[2] + fr->inset[3]) < 1e-4);
+        int w, h;
+        unsigned char *px = load_composite(&r, k++, &w, &h);
+        inset_seen s = find_inset(px, w, h, 0);
+        double ex, ey;
+        tan_to_px(fr->wide[0], 0.0, 0.0, w / 2, h, &ex, &ey);
+        print_message("frame %d: inset seen at (%.1f, %.1f), the centre of the view at (%.1f, %.1f)\n", fr->n, s.cx,
+                      s.cy, ex, ey);
+        assert_true(fabs(s.cx - ex) < 1.5 && fabs(s.cy - ey) < 1.5);
+        stbi_image_free(px);
+    }
+    assert_true(k >= 3);
+    free(r.log);
+}
+
 static void without_the_extensions_an_app_sees_stereo_only(void **state)
 {
     (void)state;
@@ -315,6 +373,7 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(fixed_gaze_insets_land_at_the_fixed_direction),
         cmocka_unit_test(sim_gaze_insets_follow_the_predicted_gaze),
+        cmocka_unit_test(no_gaze_source_centred_insets_full_density_wide_views),
         cmocka_unit_test(without_the_extensions_an_app_sees_stereo_only),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
