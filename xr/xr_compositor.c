@@ -533,6 +533,8 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
         snprintf(c->out_dir, sizeof c->out_dir, "%s", out);
         /* FOVEA_XR_OUT_ALL=1: every composited frame (frame_NNNNN.png, N = composited frames before it) */
         const char *all = getenv("FOVEA_XR_OUT_ALL");
+        if (all && *all && strcmp(all, "0") != 0 && strcmp(all, "1") != 0)
+            FV_ERROR(FV_XR_LOG, "FOVEA_XR_OUT_ALL='%s': expected 0 or 1; writing the last frame only", all);
         fv_target_files_desc fd = {.dir = c->out_dir, .side_by_side = true,
                                    .save = all && !strcmp(all, "1") ? FV_TARGET_SAVE_EVERY : FV_TARGET_SAVE_LAST};
         res = fv_target_files_create(&fd, &c->target);
