@@ -32,7 +32,7 @@
 
 enum { G_FIX = 0, G_ONSET_AHEAD, G_INFLIGHT_EARLY, G_INFLIGHT, G_BLINK, GROUPS };
 static const char *g_group_names[GROUPS] = {"fixation/pursuit", "saccade starts after capture",
-                                            "in flight < 1 sample", "in flight >= 1 sample", "blink"};
+                                            "in flight < 1 sample", "in flight >= 1 sample", "blink at capture"};
 enum { O_NONE = 0, O_FLIGHT_0, O_FLIGHT_8, O_FLIGHT_17, O_FLIGHT_25, O_LAND_8, O_LAND_17, O_BLINK, O_FLIGHT_8_BLINK,
        O_ALL_VISIBLE, ORACLES };
 static const char *g_oracle_names[ORACLES] = {
@@ -135,7 +135,8 @@ static void run_bound(const fv_sim_eye_desc *d, bound *out)
         fv_gaze_prediction pr;
         fv_gaze_pipeline_predict(p, target, &pr);
         fv_sim_truth tt;
-        if (!pr.combined_valid || !fv_sim_eye_truth_at(truth_eye, target, &tt)) continue;
+        /* a target in a blink has no truth and is not scored (as the eval does, as on a recording) */
+        if (!pr.combined_valid || !fv_sim_eye_truth_at(truth_eye, target, &tt) || tt.blink) continue;
         /* the group, from the truth */
         while (si < ns && sv[si].t1 < tc.t_ns) si++;
         int g = G_FIX;
@@ -146,7 +147,7 @@ static void run_bound(const fv_sim_eye_desc *d, bound *out)
         }
         double age_ms = in ? (double)(tc.t_ns - in->t0) * 1e-6 : -1.0;
         if (in) g = age_ms < 1000.0 / d->rate_hz ? G_INFLIGHT_EARLY : G_INFLIGHT;
-        if (tc.blink || tt.blink) g = G_BLINK;
+        if (tc.blink) g = G_BLINK;
         grp[n] = g;
         age_k[n] = in ? (int)fmin(AGES - 1, floor(age_ms * 1e-3 * d->rate_hz) - 1.0) : -1;
         detected[n] = fv_gaze_pipeline_event(p) == FV_GAZE_EVENT_SACCADE;
