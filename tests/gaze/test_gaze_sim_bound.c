@@ -1,20 +1,23 @@
 /* @brief Where the simulated eye's p95 error at 20 ms comes from, and what bounds it: the gaze pipeline run on
  * fv_sim_eye directly (as `fovea gaze eval --gaze sim:seed=N` runs it: target = receipt + 20 ms, truth = the true
- * cyclopean gaze there, latest sample = the newest valid raw sample), each sample labelled from the truth (a blink
- * at its capture or target; a saccade that starts between capture and target; a saccade in flight at capture, by
- * its age), and ORACLES that replace the prediction on one group with what no causal predictor can beat:
+ * cyclopean gaze there, latest sample = the newest valid raw sample; a target at which the eye is closed has no
+ * truth and is not scored, as on a recording), each sample labelled from the truth (a blink at its capture; a
+ * saccade that starts between capture and target; a saccade in flight at capture, by its age), and ORACLES that
+ * replace the prediction on one group with what no causal predictor can beat:
  *   - in flight from onset + k ms: the true gaze at the target (a perfect landing-and-timing predictor that needs
  *     k ms of the saccade), for k = 0, 8, 17, 25 ms;
  *   - the true landing point (the saccade's end position) from onset + k ms;
- *   - blinks: the true gaze (what a predictor that sees through closed lids would give).
+ *   - captures in a blink (the target is after it): the true gaze (what a predictor that saw through closed
+ *     lids would give).
  * The figures are printed (docs/gaze.md quotes them). What they showed: the saccades not yet begun and the blinks
- * do NOT bound the gain below 30% (the previous reading); a predictor that knew the gaze in flight from one sample
- * period after onset would gain 33-56%. The loss is in the first one or two samples of each saccade, where every
+ * do NOT bound the gain below 30%; a predictor that knew the gaze in flight from one sample period after onset
+ * would gain 65-69%, from two periods 33-41%. The loss is in the first one or two samples of each saccade, where every
  * candidate (the landing fit included) is still far off: one displacement at an unknown phase of the saccade leaves
  * its amplitude uncertain by a factor of several.
  * The asserts pin what the figures rest on: the oracles are never worse than the pipeline; the pipeline beats the
- * latest sample on every seed; the candidate predict() reports as chosen is the one it predicts; and the in-flight
- * oracle from onset + 8 ms reaches 30% on average (the target is not bounded by what the tracker cannot see). */
+ * latest sample on every seed (by 22% on average over seeds 1-5: 23.4% measured, what `fovea gaze eval` reports);
+ * the candidate predict() reports as chosen is the one it predicts; and the in-flight oracle from onset + 8 ms
+ * reaches 30% on average (the target is not bounded by what the tracker cannot see). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -259,6 +262,7 @@ static void gaze_sim_bound_of_the_p95_gain(void **state)
     print_message("mean gain over %d seeds: pipeline %.1f%%, perfect in flight from onset+8 ms %.1f%%\n", seeds,
                   100.0 * gain_pipeline / seeds, 100.0 * gain_flight8 / seeds);
     assert_true(gain_flight8 / seeds >= 0.3);
+    if (seeds == 5) assert_true(gain_pipeline / seeds >= 0.22); /* 23.4% */
 }
 
 int main(void)
