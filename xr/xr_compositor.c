@@ -255,6 +255,10 @@ static XrResult image_init(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32
                             .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
                             .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED};
     if (ci->faceCount == 6) ic.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+    /* an EGL session (xr_egl.c): GL textures on the app's side, copied into the compositor's image */
+    bool egl = s->egl != NULL;
+    if (egl && sc->depth) return XR_SUCCESS;
+    if (egl) ic.usage |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     VkMemoryRequirements req;
     if (sc->depth) {
         /* depth images stay on the app's side: the compositor does not read depth */
@@ -291,6 +295,7 @@ static XrResult image_init(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32
                                     .format = sc->format,
                                     .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, ic.arrayLayers}};
         if (vkCreateImageView(cd, &vi, NULL, &im->comp_view) != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
+        if (egl) return XR_SUCCESS;
         int fd = -1;
         VkMemoryGetFdInfoKHR gi = {.sType = VK_STRUCTURE_TYPE_MEMORY_GET_FD_INFO_KHR,
                                    .memory = im->comp_mem,
@@ -359,6 +364,8 @@ void fv_xr_swapchain_images_destroy(fv_xr_compositor *c, struct XrSwapchain_T *s
 }
 
 VkImage fv_xr_swapchain_app_image(struct XrSwapchain_T *sc, uint32_t index) { return sc->images[index].app_image; }
+VkImage fv_xr_swapchain_comp_image(struct XrSwapchain_T *sc, uint32_t index) { return sc->images[index].comp_image; }
+struct fv_vk *fv_xr_compositor_vk(fv_xr_compositor *c) { return c->vk; }
 
 static VkImageLayout app_layout(const struct XrSwapchain_T *sc)
 {
@@ -684,6 +691,10 @@ static void set_layer(fv_xr_compose_layer *l, const mat3 *h, const XrSwapchainSu
     float w = (float)sc->info.width, hh = (float)sc->info.height;
     l->uv_rect = (fv_xr_vec4){(float)si->imageRect.offset.x / w, (float)si->imageRect.offset.y / hh,
                               (float)si->imageRect.extent.width / w, (float)si->imageRect.extent.height / hh};
+    if (sc->egl) { /* GL's rows are bottom-up (copied as they are): v runs from the rect's top row downwards */
+        l->uv_rect.y += l->uv_rect.w;
+        l->uv_rect.w = -l->uv_rect.w;
+    }
     uint32_t f = 0;
     if (flags & XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT) f |= FV_XR_LAYER_ALPHA;
     if (flags & XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT) f |= FV_XR_LAYER_UNPREMULTIPLIED;
@@ -763,6 +774,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     int64_t t_wait = fv_xr_now_ns();
     for (uint32_t i = 0; i < nsrc; i++) {
         fv_xr_swapchain_image *im = &src[i].sc->images[src[i].index];
+        if (!im->app_fence) continue; /* an EGL session's copy finished in xrReleaseSwapchainImage */
         VkResult vr = vkWaitForFences(s->vk.device, 1, &im->app_fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS);
         if (vr != VK_SUCCESS) {
             FV_ERROR(FV_XR_LOG, "the app's queue did not finish a swapchain release: %s", fv_vk_result_str(vr));

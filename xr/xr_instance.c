@@ -15,6 +15,9 @@ static const XrExtensionProperties g_extensions[] = {
     {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME, XR_KHR_vulkan_enable_SPEC_VERSION},
     {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_KHR_vulkan_enable2_SPEC_VERSION},
     {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_MND_HEADLESS_EXTENSION_NAME, XR_MND_headless_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_KHR_opengl_enable_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_OPENGL_ES_ENABLE_EXTENSION_NAME, XR_KHR_opengl_es_enable_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_MNDX_EGL_ENABLE_EXTENSION_NAME, XR_MNDX_egl_enable_SPEC_VERSION},
     {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME,
      XR_EXT_eye_gaze_interaction_SPEC_VERSION},
     {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME,
@@ -89,6 +92,9 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
         if (!strcmp(n, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME)) ext.vulkan = true;
         else if (!strcmp(n, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) ext.vulkan2 = true;
         else if (!strcmp(n, XR_MND_HEADLESS_EXTENSION_NAME)) ext.headless = true;
+        else if (!strcmp(n, XR_KHR_OPENGL_ENABLE_EXTENSION_NAME)) ext.opengl = true;
+        else if (!strcmp(n, XR_KHR_OPENGL_ES_ENABLE_EXTENSION_NAME)) ext.opengl_es = true;
+        else if (!strcmp(n, XR_MNDX_EGL_ENABLE_EXTENSION_NAME)) ext.egl = true;
         else if (!strcmp(n, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME)) ext.eye_gaze = true;
         else if (!strcmp(n, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME)) ext.convert_timespec = true;
         else if (!strcmp(n, XR_EXT_LOCAL_FLOOR_EXTENSION_NAME)) ext.local_floor = true;

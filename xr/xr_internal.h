@@ -33,6 +33,7 @@ enum { FV_XR_MAGIC_INSTANCE = 0x78696e73, FV_XR_MAGIC_SESSION = 0x78736573, FV_X
 /** Which extensions the application enabled. */
 typedef struct fv_xr_exts {
     bool vulkan, vulkan2, headless, eye_gaze, quad_views, foveated, local_floor, convert_timespec;
+    bool opengl, opengl_es, egl; /* XR_KHR_opengl_enable, XR_KHR_opengl_es_enable, XR_MNDX_egl_enable */
 } fv_xr_exts;
 
 struct XrInstance_T {
@@ -45,6 +46,7 @@ struct XrInstance_T {
     float render_scale;        /* FOVEA_XR_SCALE: recommended image size = the HMD's per-eye panel x this */
     uint32_t view_w, view_h;   /* recommended per-eye image size */
     bool graphics_requirements_queried;
+    struct { bool gl, gles; } gl_requirements_queried; /* xrGetOpenGL(ES)GraphicsRequirementsKHR called */
     fv_xr_compositor *comp;    /* the compositor's device (fovea's fv_vk), created on first graphics call */
     fv_xr_gaze *gaze;          /* FOVEA_XR_GAZE: fovea's gaze pipeline; NULL when no source is open */
     struct XrSession_T *session; /* the one session (a second one: XR_ERROR_LIMIT_REACHED) */
@@ -87,6 +89,7 @@ struct XrSession_T {
     struct XrInstance_T *inst;
     bool headless;                 /* XR_MND_headless without a graphics binding: no compositor, no frames shown */
     fv_xr_vk_binding vk;
+    struct fv_xr_egl *egl;         /* an OpenGL (ES) app through EGL (xr_egl.c); NULL otherwise */
     XrSessionState state;
     bool running;                  /* between xrBeginSession and xrEndSession */
     bool exit_requested;
@@ -138,6 +141,7 @@ struct XrSwapchain_T {
     bool depth;
     uint32_t image_count;
     fv_xr_swapchain_image *images;
+    struct fv_xr_egl_swapchain *egl; /* an EGL session's GL textures and copy (xr_egl.c) */
     /* acquire / wait / release order (a FIFO of acquired indices) */
     uint32_t next_acquire;
     uint32_t acquired[FV_XR_MAX_SWAPCHAIN_IMAGES];
@@ -278,6 +282,9 @@ void fv_xr_compositor_session_end(fv_xr_compositor *c);
 XrResult fv_xr_swapchain_images_create(fv_xr_compositor *c, struct XrSwapchain_T *sc);
 void fv_xr_swapchain_images_destroy(fv_xr_compositor *c, struct XrSwapchain_T *sc);
 VkImage fv_xr_swapchain_app_image(struct XrSwapchain_T *sc, uint32_t index);
+/** The compositor's image of a swapchain image, and the compositor's device (the EGL copy writes them). */
+VkImage fv_xr_swapchain_comp_image(struct XrSwapchain_T *sc, uint32_t index);
+struct fv_vk *fv_xr_compositor_vk(fv_xr_compositor *c);
 /** App-side hand-overs on the app's queue: acquire (the image comes back to the app in its layout) and release
  *  (to the compositor, signalling the image's fence). */
 XrResult fv_xr_swapchain_image_acquire(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index);
@@ -291,6 +298,26 @@ void fv_xr_compositor_flush(fv_xr_compositor *c);
 uint32_t fv_xr_compositor_validation_messages(const fv_xr_compositor *c);
 /** Mean GPU time per composited frame of the compose pass and of the distortion pass (0 without timestamps). */
 void fv_xr_compositor_gpu_ms(const fv_xr_compositor *c, double *out_compose_ms, double *out_distort_ms);
+
+/* xr_egl.c: OpenGL / OpenGL ES apps through EGL (XR_MNDX_egl_enable), images copied to the compositor */
+FV_XR_DECL(xrGetOpenGLGraphicsRequirementsKHR)(XrInstance instance, XrSystemId system,
+                                               XrGraphicsRequirementsOpenGLKHR *req);
+FV_XR_DECL(xrGetOpenGLESGraphicsRequirementsKHR)(XrInstance instance, XrSystemId system,
+                                                 XrGraphicsRequirementsOpenGLESKHR *req);
+/** Check an XrGraphicsBindingEGLMNDX (display, config, context, client API and version, the extensions and the
+ *  requirements call); instance lock held. */
+XrResult fv_xr_egl_session_create(struct XrInstance_T *inst, const void *binding, struct fv_xr_egl **out);
+void fv_xr_egl_session_destroy(struct fv_xr_egl **e);
+/** GL internal formats an EGL session's swapchains may have (the compositor's formats they map to), preferred first. */
+uint32_t fv_xr_egl_formats(fv_xr_compositor *c, int64_t *out, uint32_t cap);
+/** The compositor's format a GL internal format is copied into (VK_FORMAT_UNDEFINED: not one of fovea's). */
+VkFormat fv_xr_egl_format_vk(int64_t gl_format);
+XrResult fv_xr_egl_swapchain_create(struct XrSession_T *s, struct XrSwapchain_T *sc);
+void fv_xr_egl_swapchain_destroy(struct XrSession_T *s, struct XrSwapchain_T *sc);
+/** XrSwapchainImageOpenGLKHR / XrSwapchainImageOpenGLESKHR: the GL texture names. */
+XrResult fv_xr_egl_enumerate_images(struct XrSwapchain_T *sc, XrSwapchainImageBaseHeader *images);
+/** The released image's texels copied into the compositor's image (done when it returns). */
+XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index);
 
 /* xr_gaze.c: fovea's gaze pipeline from FOVEA_XR_GAZE */
 fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out);

@@ -142,7 +142,8 @@ void fv_xr_session_set_state(struct XrSession_T *s, XrSessionState state)
 }
 
 /* ---- xrGetInstanceProcAddr --------------------------------------------------------------------------------------- */
-typedef enum proc_need { NEED_NONE = 0, NEED_INSTANCE, NEED_VULKAN, NEED_VULKAN2, NEED_TIMESPEC } proc_need;
+typedef enum proc_need { NEED_NONE = 0, NEED_INSTANCE, NEED_VULKAN, NEED_VULKAN2, NEED_TIMESPEC, NEED_OPENGL,
+                         NEED_OPENGL_ES } proc_need;
 
 typedef struct proc_entry {
     const char *name;
@@ -200,6 +201,8 @@ static const proc_entry g_procs[] = {
     P(xrCreateVulkanDeviceKHR, NEED_VULKAN2),
     P(xrGetVulkanGraphicsDevice2KHR, NEED_VULKAN2),
     {"xrGetVulkanGraphicsRequirements2KHR", (PFN_xrVoidFunction)fv_xrGetVulkanGraphicsRequirementsKHR, NEED_VULKAN2},
+    P(xrGetOpenGLGraphicsRequirementsKHR, NEED_OPENGL),
+    P(xrGetOpenGLESGraphicsRequirementsKHR, NEED_OPENGL_ES),
     P(xrConvertTimespecTimeToTimeKHR, NEED_TIMESPEC),
     P(xrConvertTimeToTimespecTimeKHR, NEED_TIMESPEC),
 };
@@ -228,7 +231,8 @@ static XRAPI_ATTR XrResult XRAPI_CALL get_instance_proc_addr(XrInstance instance
     }
     if (e->need != NEED_NONE && !inst) return XR_ERROR_HANDLE_INVALID;
     if ((e->need == NEED_VULKAN && !inst->ext.vulkan) || (e->need == NEED_VULKAN2 && !inst->ext.vulkan2) ||
-        (e->need == NEED_TIMESPEC && !inst->ext.convert_timespec))
+        (e->need == NEED_TIMESPEC && !inst->ext.convert_timespec) || (e->need == NEED_OPENGL && !inst->ext.opengl) ||
+        (e->need == NEED_OPENGL_ES && !inst->ext.opengl_es))
         return XR_ERROR_FUNCTION_UNSUPPORTED; /* the extension is not enabled */
     *function = e->fn;
     return XR_SUCCESS;

@@ -49,14 +49,28 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
         return XR_ERROR_VALIDATION_FAILURE;
     if (info->systemId != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
     const XrGraphicsBindingVulkanKHR *vkb = fv_xr_find_next(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
+    const void *eglb = fv_xr_find_next(info->next, XR_TYPE_GRAPHICS_BINDING_EGL_MNDX);
+    if (vkb && eglb) {
+        FV_ERROR(FV_XR_LOG, "xrCreateSession: two graphics bindings (Vulkan and EGL)");
+        return XR_ERROR_VALIDATION_FAILURE;
+    }
     pthread_mutex_lock(&inst->lock);
     XrResult r = XR_SUCCESS;
     struct XrSession_T *s = NULL;
+    struct fv_xr_egl *egl = NULL;
     if (inst->session) {
         r = XR_ERROR_LIMIT_REACHED; /* one session per instance */
         goto fail;
     }
-    if (!vkb && !inst->ext.headless) {
+    if (eglb) {
+        if (!inst->comp) {
+            r = XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING;
+            goto fail;
+        }
+        r = fv_xr_egl_session_create(inst, eglb, &egl);
+        if (r != XR_SUCCESS) goto fail;
+    }
+    if (!vkb && !egl && !inst->ext.headless) {
         FV_ERROR(FV_XR_LOG, "xrCreateSession: no graphics binding (and XR_MND_headless is not enabled)");
         r = XR_ERROR_GRAPHICS_DEVICE_INVALID;
         goto fail;
@@ -90,7 +104,9 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
     }
     s->magic = FV_XR_MAGIC_SESSION;
     s->inst = inst;
-    s->headless = vkb == NULL;
+    s->headless = vkb == NULL && egl == NULL;
+    s->egl = egl;
+    egl = NULL;
     s->state = XR_SESSION_STATE_UNKNOWN;
     pthread_mutex_init(&s->frame_lock, NULL);
     pthread_cond_init(&s->frame_cond, NULL);
@@ -118,10 +134,10 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
             r = XR_ERROR_RUNTIME_FAILURE;
             goto fail;
         }
-        if (fv_xr_compositor_session_begin(inst->comp, inst->view_w, inst->view_h) != FV_OK) {
-            r = XR_ERROR_RUNTIME_FAILURE;
-            goto fail;
-        }
+    }
+    if (!s->headless && fv_xr_compositor_session_begin(inst->comp, inst->view_w, inst->view_h) != FV_OK) {
+        r = XR_ERROR_RUNTIME_FAILURE;
+        goto fail;
     }
     r = fv_xr_input_session_init(s);
     if (r != XR_SUCCESS) goto fail_comp;
@@ -143,11 +159,13 @@ fail_comp:
 fail:
     if (s) {
         if (s->vk.pool) vkDestroyCommandPool(s->vk.device, s->vk.pool, NULL);
+        fv_xr_egl_session_destroy(&s->egl);
         fv_display_destroy(&s->display);
         pthread_cond_destroy(&s->frame_cond);
         pthread_mutex_destroy(&s->frame_lock);
         free(s);
     }
+    fv_xr_egl_session_destroy(&egl);
     pthread_mutex_unlock(&inst->lock);
     return r;
 }
@@ -208,8 +226,9 @@ FV_XR_DECL(xrDestroySession)(XrSession session)
     if (!s->headless) {
         fv_xr_compositor_flush(inst->comp);
         fv_xr_compositor_session_end(inst->comp);
-        vkDestroyCommandPool(s->vk.device, s->vk.pool, NULL);
+        if (s->vk.pool) vkDestroyCommandPool(s->vk.device, s->vk.pool, NULL);
     }
+    fv_xr_egl_session_destroy(&s->egl);
     write_stats(s);
     fv_display_destroy(&s->display);
     /* events of this session still queued would name a dead handle: drop them */

@@ -20,11 +20,13 @@ FV_XR_DECL(xrEnumerateSwapchainFormats)(XrSession session, uint32_t cap, uint32_
         return XR_SUCCESS;
     }
     pthread_mutex_lock(&s->inst->lock);
-    uint32_t n = fv_xr_compositor_formats(s->inst->comp, NULL, 0);
+    /* an EGL session's formats are GL internal formats */
+    uint32_t (*list)(fv_xr_compositor *, int64_t *, uint32_t) = s->egl ? fv_xr_egl_formats : fv_xr_compositor_formats;
+    uint32_t n = list(s->inst->comp, NULL, 0);
     *count = n;
     XrResult r = XR_SUCCESS;
     if (cap > 0 && cap < n) r = XR_ERROR_SIZE_INSUFFICIENT;
-    else if (cap > 0) fv_xr_compositor_formats(s->inst->comp, formats, cap);
+    else if (cap > 0) list(s->inst->comp, formats, cap);
     pthread_mutex_unlock(&s->inst->lock);
     return r;
 }
@@ -48,7 +50,7 @@ FV_XR_DECL(xrCreateSwapchain)(XrSession session, const XrSwapchainCreateInfo *in
     XrResult r = XR_SUCCESS;
     struct XrSwapchain_T *sc = NULL;
     int64_t formats[16];
-    uint32_t n = fv_xr_compositor_formats(s->inst->comp, formats, 16);
+    uint32_t n = (s->egl ? fv_xr_egl_formats : fv_xr_compositor_formats)(s->inst->comp, formats, 16);
     bool ok = false;
     for (uint32_t i = 0; i < n && i < 16; i++) ok |= formats[i] == info->format;
     if (!ok) {
@@ -64,8 +66,8 @@ FV_XR_DECL(xrCreateSwapchain)(XrSession session, const XrSwapchainCreateInfo *in
     sc->session = s;
     sc->info = *info;
     sc->info.next = NULL;
-    sc->format = (VkFormat)info->format;
-    sc->depth = fv_xr_format_is_depth(info->format);
+    sc->format = s->egl ? fv_xr_egl_format_vk(info->format) : (VkFormat)info->format;
+    sc->depth = fv_xr_format_is_depth(sc->format);
     if (sc->depth && (info->usageFlags & XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT)) {
         r = XR_ERROR_VALIDATION_FAILURE;
         goto done;
@@ -74,8 +76,13 @@ FV_XR_DECL(xrCreateSwapchain)(XrSession session, const XrSwapchainCreateInfo *in
     sc->last_released = -1;
     r = fv_xr_swapchain_images_create(s->inst->comp, sc);
     if (r != XR_SUCCESS) goto done;
+    if (s->egl && (r = fv_xr_egl_swapchain_create(s, sc)) != XR_SUCCESS) {
+        fv_xr_swapchain_images_destroy(s->inst->comp, sc);
+        goto done;
+    }
     fv_xr_handle_add(sc);
     if (!fv_xr_handle_live(sc, FV_XR_MAGIC_SWAPCHAIN)) {
+        fv_xr_egl_swapchain_destroy(s, sc);
         fv_xr_swapchain_images_destroy(s->inst->comp, sc);
         r = XR_ERROR_OUT_OF_MEMORY;
         goto done;
@@ -100,6 +107,7 @@ static void unlink_swapchain(struct XrSession_T *s, struct XrSwapchain_T *sc)
 static void swapchain_free(struct XrSwapchain_T *sc)
 {
     fv_xr_handle_remove(sc);
+    fv_xr_egl_swapchain_destroy(sc->session, sc);
     fv_xr_swapchain_images_destroy(sc->session->inst->comp, sc);
     sc->magic = 0;
     free(sc);
@@ -135,6 +143,7 @@ FV_XR_DECL(xrEnumerateSwapchainImages)(XrSwapchain swapchain, uint32_t cap, uint
     *count = sc->image_count;
     if (cap == 0) return XR_SUCCESS;
     if (cap < sc->image_count) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (sc->egl) return fv_xr_egl_enumerate_images(sc, images);
     XrSwapchainImageVulkanKHR *vi = (XrSwapchainImageVulkanKHR *)images;
     for (uint32_t i = 0; i < sc->image_count; i++) {
         if (vi[i].type != XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR) return XR_ERROR_VALIDATION_FAILURE;
@@ -157,7 +166,8 @@ FV_XR_DECL(xrAcquireSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImag
         r = XR_ERROR_CALL_ORDER_INVALID; /* a static image is acquired once */
     if (r == XR_SUCCESS) {
         uint32_t i = sc->next_acquire;
-        r = fv_xr_swapchain_image_acquire(s->inst->comp, sc, i);
+        /* an EGL session's textures are the app's between releases (each copy finished in its release) */
+        r = sc->egl ? XR_SUCCESS : fv_xr_swapchain_image_acquire(s->inst->comp, sc, i);
         if (r == XR_SUCCESS) {
             sc->acquired[sc->acquired_count++] = i;
             sc->next_acquire = (i + 1) % sc->image_count;
@@ -180,7 +190,7 @@ FV_XR_DECL(xrWaitSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageWa
     if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
     else if (sc->acquired_count == 0 || sc->waited) r = XR_ERROR_CALL_ORDER_INVALID; /* nothing acquired to wait on */
     else {
-        r = fv_xr_swapchain_image_wait(s->inst->comp, sc, sc->acquired[0], info->timeout);
+        r = sc->egl ? XR_SUCCESS : fv_xr_swapchain_image_wait(s->inst->comp, sc, sc->acquired[0], info->timeout);
         if (r == XR_SUCCESS) sc->waited = true;
     }
     pthread_mutex_unlock(&s->inst->lock);
@@ -199,7 +209,7 @@ FV_XR_DECL(xrReleaseSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImag
     else if (sc->acquired_count == 0 || !sc->waited) r = XR_ERROR_CALL_ORDER_INVALID; /* not waited on */
     else {
         uint32_t i = sc->acquired[0];
-        r = fv_xr_swapchain_image_release(s->inst->comp, sc, i);
+        r = sc->egl ? fv_xr_egl_release(sc, i) : fv_xr_swapchain_image_release(s->inst->comp, sc, i);
         if (r == XR_SUCCESS) {
             memmove(sc->acquired, sc->acquired + 1, (sc->acquired_count - 1) * sizeof sc->acquired[0]);
             sc->acquired_count--;

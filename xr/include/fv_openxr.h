@@ -15,6 +15,19 @@
 #ifndef XR_USE_TIMESPEC
 #define XR_USE_TIMESPEC 1
 #endif
+/* OpenGL and OpenGL ES through EGL: XR_KHR_opengl_enable (extension 24), XR_KHR_opengl_es_enable (25) and
+ * XR_MNDX_egl_enable (49, XrGraphicsBindingEGLMNDX, XR_TYPE_GRAPHICS_BINDING_EGL_MNDX = 1000048004): Debian's
+ * 1.0.20 headers have all three behind these defines (EGL types from Debian's libegl-dev); nothing to declare. */
+#include <EGL/egl.h>
+#ifndef XR_USE_PLATFORM_EGL
+#define XR_USE_PLATFORM_EGL 1
+#endif
+#ifndef XR_USE_GRAPHICS_API_OPENGL
+#define XR_USE_GRAPHICS_API_OPENGL 1
+#endif
+#ifndef XR_USE_GRAPHICS_API_OPENGL_ES
+#define XR_USE_GRAPHICS_API_OPENGL_ES 1
+#endif
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
