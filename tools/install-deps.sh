@@ -20,8 +20,8 @@ PACKAGES=(
   libcmocka-dev python3-skimage python3-numpy
   # window tests: a virtual X server, input and screenshots
   xvfb xauth xdotool x11-apps imagemagick
-  # OpenXR runtime (xr/): headers and loader, hello_xr, the core-validation layer; EGL for OpenGL apps
-  libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation libegl-dev
+  # OpenXR runtime (xr/): headers and loader, hello_xr, the core-validation layer; EGL and GLES (the OpenGL test app)
+  libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation libegl-dev libgles-dev
 )
 
 missing=()

@@ -5,7 +5,7 @@
  * left quarter below it a green ramp that brightens upwards in 8 bands (GL's bottom-left origin: band 0 is the
  * bottom row) -- a composite that is upside down or mirrored shows it. Prints `gl,<version>`, `frame,N,...`,
  * `release_ms_mean,X` (the time in xrReleaseSwapchainImage per eye: the runtime's copy to its compositor) and
- * `frames,N`. --bad-bindings: only the session-creation checks (a missing context, a context that is not one, a
+ * `frames,N`. --size WxH: swapchains of that size (the benchmark's; default the recommended size). --bad-bindings: only the session-creation checks (a missing context, a context that is not one, a
  * session before the requirements call), each printed as `bad_binding,<case>,<XrResult>`. Exit 77 when EGL cannot
  * give a surfaceless context here (the test skips); any failed call prints it and exits 1. */
 #include <stdbool.h>
@@ -44,6 +44,7 @@ typedef struct eye {
 
 typedef struct app {
     bool desktop_gl;
+    uint32_t width, height; /* --size: the swapchains' size (default: the recommended one) */
     EGLDisplay dpy;
     EGLConfig cfg;
     EGLContext ctx;
@@ -216,8 +217,8 @@ static void create_swapchains(app *a)
                                                views));
     for (int e = 0; e < 2; e++) {
         eye *t = &a->eyes[e];
-        t->width = views[e].recommendedImageRectWidth;
-        t->height = views[e].recommendedImageRectHeight;
+        t->width = a->width ? a->width : views[e].recommendedImageRectWidth;
+        t->height = a->height ? a->height : views[e].recommendedImageRectHeight;
         XrSwapchainCreateInfo ci = {.type = XR_TYPE_SWAPCHAIN_CREATE_INFO,
                                     .usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT |
                                                   XR_SWAPCHAIN_USAGE_SAMPLED_BIT,
@@ -336,8 +337,15 @@ int main(int argc, char **argv)
         if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--gl")) a.desktop_gl = true;
         else if (!strcmp(argv[i], "--bad-bindings")) bad = true;
+        else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
+            if (sscanf(argv[++i], "%ux%u", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1 ||
+                a.width > 4096 || a.height > 4096) {
+                fprintf(stderr, "xr_egl_app: --size %s: expected WxH, 1..4096 each\n", argv[i]);
+                return 2;
+            }
+        }
         else {
-            fprintf(stderr, "usage: %s [--frames N] [--gl] [--bad-bindings]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--frames N] [--gl] [--size WxH] [--bad-bindings]\n", argv[0]);
             return 2;
         }
     }
