@@ -366,6 +366,19 @@ void fv_xr_swapchain_images_destroy(fv_xr_compositor *c, struct XrSwapchain_T *s
 VkImage fv_xr_swapchain_app_image(struct XrSwapchain_T *sc, uint32_t index) { return sc->images[index].app_image; }
 VkImage fv_xr_swapchain_comp_image(struct XrSwapchain_T *sc, uint32_t index) { return sc->images[index].comp_image; }
 struct fv_vk *fv_xr_compositor_vk(fv_xr_compositor *c) { return c->vk; }
+int fv_xr_swapchain_export_fd(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, uint64_t *out_size)
+{
+    fv_xr_swapchain_image *im = &sc->images[index];
+    if (!im->comp_mem) return -1;
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(c->vk->device, im->comp_image, &req);
+    *out_size = req.size; /* the dedicated allocation's size (image_init allocates exactly this) */
+    int fd = -1;
+    VkMemoryGetFdInfoKHR gi = {.sType = VK_STRUCTURE_TYPE_MEMORY_GET_FD_INFO_KHR,
+                               .memory = im->comp_mem,
+                               .handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
+    return c->get_memory_fd(c->vk->device, &gi, &fd) == VK_SUCCESS ? fd : -1;
+}
 
 static VkImageLayout app_layout(const struct XrSwapchain_T *sc)
 {

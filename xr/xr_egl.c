@@ -1,13 +1,19 @@
 /* @brief OpenGL / OpenGL ES apps through EGL (XR_MNDX_egl_enable with XR_KHR_opengl_enable or
  * XR_KHR_opengl_es_enable): the graphics requirements, the session's EGL binding checked (display, config, context,
  * client API and version), swapchain formats as GL internal formats, the swapchain images as GL textures created in
- * the app's context, and the hand-over to fovea's Vulkan compositor by a copy: at xrReleaseSwapchainImage the image
- * is read back (glReadPixels, which returns after the app's GL work on it has finished) into a host-visible staging
- * buffer of fovea's device and copied into the compositor's image. GL's rows go bottom-up; they are copied as they
- * are and the compositor samples GL swapchains with v flipped (fv_xr_swapchain_gl_origin), so a layer's imageRect
- * (bottom-left origin for GL) maps unchanged. Every GL and EGL call goes through the binding's getProcAddress: the
- * runtime links neither libEGL nor libGL. The GL context is made current on the calling thread only when it is not
- * already (and the previous one restored). */
+ * the app's context, and their hand-over to fovea's Vulkan compositor, one of two ways:
+ *  - shared memory, where the GL driver has GL_EXT_memory_object_fd and is the compositor's device and driver (the
+ *    UUIDs match; lavapipe + llvmpipe do): each texture's storage is the compositor's image's memory, imported from
+ *    its opaque fd. At xrReleaseSwapchainImage glFinish (llvmpipe has no GL_EXT_semaphore_fd) and fovea's queue
+ *    acquires the image from VK_QUEUE_FAMILY_EXTERNAL (GENERAL -> the sampled layout); at the next acquire of that
+ *    image it is released back to the external side in GENERAL.
+ *  - a copy otherwise (or with FOVEA_XR_EGL_COPY=1): at xrReleaseSwapchainImage the image is read back
+ *    (glReadPixels, which returns after the app's GL work on it has finished) into a host-visible staging buffer of
+ *    fovea's device and copied into the compositor's image.
+ * Either way GL's rows go bottom-up in the image; the compositor samples GL swapchains with v flipped, so a layer's
+ * imageRect (bottom-left origin for GL) maps unchanged. Every GL and EGL call goes through the binding's
+ * getProcAddress: the runtime links neither libEGL nor libGL. The GL context is made current on the calling thread
+ * only when it is not already (and the previous one restored). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,6 +21,8 @@
 #include <EGL/eglext.h>
 #define GL_GLES_PROTOTYPES 0
 #include <GLES3/gl32.h>
+#include <GLES2/gl2ext.h>
+#include <unistd.h>
 
 #include "fv_vk.h"
 #include "xr_internal.h"
@@ -45,6 +53,16 @@ typedef struct gl_fns {
     PFNGLPIXELSTOREIPROC PixelStorei;
     PFNGLBINDBUFFERPROC BindBuffer;
     PFNGLREADPIXELSPROC ReadPixels;
+    PFNGLFINISHPROC Finish;
+    PFNGLTEXPARAMETERIPROC TexParameteri;
+    /* GL_EXT_memory_object(_fd): NULL where the driver has none */
+    PFNGLGETUNSIGNEDBYTEVEXTPROC GetUnsignedBytevEXT;
+    PFNGLCREATEMEMORYOBJECTSEXTPROC CreateMemoryObjectsEXT;
+    PFNGLDELETEMEMORYOBJECTSEXTPROC DeleteMemoryObjectsEXT;
+    PFNGLMEMORYOBJECTPARAMETERIVEXTPROC MemoryObjectParameterivEXT;
+    PFNGLIMPORTMEMORYFDEXTPROC ImportMemoryFdEXT;
+    PFNGLTEXSTORAGEMEM2DEXTPROC TexStorageMem2DEXT;
+    PFNGLTEXSTORAGEMEM3DEXTPROC TexStorageMem3DEXT;
 } gl_fns;
 
 struct fv_xr_egl {
@@ -53,7 +71,9 @@ struct fv_xr_egl {
     EGLContext ctx;
     bool gles;              /* an OpenGL ES context (else desktop OpenGL) */
     XrVersion version;      /* the context's GL version */
-    bool has_memory_object_fd; /* GL_EXT_memory_object_fd (logged: the copy path is the one implemented) */
+    bool has_memory_object_fd; /* GL_EXT_memory_object_fd */
+    bool share;             /* images shared by memory: the extension, the same device and driver (UUIDs), not
+                             * FOVEA_XR_EGL_COPY=1 */
     PFNEGLGETCURRENTCONTEXTPROC GetCurrentContext;
     PFNEGLGETCURRENTDISPLAYPROC GetCurrentDisplay;
     PFNEGLGETCURRENTSURFACEPROC GetCurrentSurface;
@@ -66,6 +86,9 @@ struct fv_xr_egl {
 
 struct fv_xr_egl_swapchain {
     GLuint tex[FV_XR_MAX_SWAPCHAIN_IMAGES];
+    GLuint mem[FV_XR_MAX_SWAPCHAIN_IMAGES]; /* shared: GL memory objects of the compositor's images' memory */
+    bool shared;            /* the textures are the compositor's images (else the copy) */
+    bool with_comp[FV_XR_MAX_SWAPCHAIN_IMAGES]; /* shared: fovea's queue holds it (released, not re-acquired) */
     GLenum target;          /* GL_TEXTURE_2D, or GL_TEXTURE_2D_ARRAY for arraySize > 1 */
     GLuint fbo;             /* the read framebuffer of the copy */
     fv_vk_buffer staging;   /* one image's texels, every layer (host-visible, on fovea's device) */
@@ -292,6 +315,16 @@ XrResult fv_xr_egl_session_create(struct XrInstance_T *inst, const void *binding
     LOAD(g->PixelStorei, PFNGLPIXELSTOREIPROC, "glPixelStorei");
     LOAD(g->BindBuffer, PFNGLBINDBUFFERPROC, "glBindBuffer");
     LOAD(g->ReadPixels, PFNGLREADPIXELSPROC, "glReadPixels");
+    LOAD(g->Finish, PFNGLFINISHPROC, "glFinish");
+    LOAD(g->TexParameteri, PFNGLTEXPARAMETERIPROC, "glTexParameteri");
+    g->GetUnsignedBytevEXT = (PFNGLGETUNSIGNEDBYTEVEXTPROC)b->getProcAddress("glGetUnsignedBytevEXT");
+    g->CreateMemoryObjectsEXT = (PFNGLCREATEMEMORYOBJECTSEXTPROC)b->getProcAddress("glCreateMemoryObjectsEXT");
+    g->DeleteMemoryObjectsEXT = (PFNGLDELETEMEMORYOBJECTSEXTPROC)b->getProcAddress("glDeleteMemoryObjectsEXT");
+    g->MemoryObjectParameterivEXT =
+        (PFNGLMEMORYOBJECTPARAMETERIVEXTPROC)b->getProcAddress("glMemoryObjectParameterivEXT");
+    g->ImportMemoryFdEXT = (PFNGLIMPORTMEMORYFDEXTPROC)b->getProcAddress("glImportMemoryFdEXT");
+    g->TexStorageMem2DEXT = (PFNGLTEXSTORAGEMEM2DEXTPROC)b->getProcAddress("glTexStorageMem2DEXT");
+    g->TexStorageMem3DEXT = (PFNGLTEXSTORAGEMEM3DEXTPROC)b->getProcAddress("glTexStorageMem3DEXT");
     /* the context's version against the requirements the app was given */
     egl_saved sv;
     if (!egl_enter(e, &sv, "xrCreateSession")) goto invalid;
@@ -303,6 +336,22 @@ XrResult fv_xr_egl_session_create(struct XrInstance_T *inst, const void *binding
         const GLubyte *name = g->GetStringi(GL_EXTENSIONS, (GLuint)i);
         if (name && !strcmp((const char *)name, "GL_EXT_memory_object_fd")) e->has_memory_object_fd = true;
     }
+    /* shared memory needs the same device and driver on both sides (GL_EXT_memory_object's UUIDs = Vulkan's) */
+    bool same_device = false;
+    if (e->has_memory_object_fd && g->GetUnsignedBytevEXT && g->CreateMemoryObjectsEXT && g->DeleteMemoryObjectsEXT &&
+        g->MemoryObjectParameterivEXT && g->ImportMemoryFdEXT && g->TexStorageMem2DEXT && g->TexStorageMem3DEXT) {
+        GLubyte dev[GL_UUID_SIZE_EXT] = {0}, drv[GL_UUID_SIZE_EXT] = {0};
+        g->GetUnsignedBytevEXT(GL_DEVICE_UUID_EXT, dev);
+        g->GetUnsignedBytevEXT(GL_DRIVER_UUID_EXT, drv);
+        VkPhysicalDeviceIDProperties id = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+        VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &id};
+        vkGetPhysicalDeviceProperties2(fv_xr_compositor_phys(inst->comp), &p2);
+        same_device = !memcmp(dev, id.deviceUUID, VK_UUID_SIZE) && !memcmp(drv, id.driverUUID, VK_UUID_SIZE);
+    }
+    const char *copy = getenv("FOVEA_XR_EGL_COPY");
+    if (copy && *copy && strcmp(copy, "0") != 0 && strcmp(copy, "1") != 0)
+        FV_ERROR(FV_XR_LOG, "FOVEA_XR_EGL_COPY='%s': expected 0 or 1; sharing where possible", copy);
+    e->share = same_device && !(copy && !strcmp(copy, "1"));
     gl_clear_errors(e);
     egl_leave(e, &sv);
     e->version = XR_MAKE_VERSION(major, minor, 0);
@@ -313,9 +362,11 @@ XrResult fv_xr_egl_session_create(struct XrInstance_T *inst, const void *binding
                  (unsigned)XR_VERSION_MINOR(lo), (unsigned)XR_VERSION_MAJOR(hi));
         goto invalid;
     }
-    FV_INFO(FV_XR_LOG, "EGL session: %s %d.%d; images reach the compositor by a copy (glReadPixels -> staging -> "
-                       "Vulkan image; GL_EXT_memory_object_fd %s)", e->gles ? "OpenGL ES" : "OpenGL", major, minor,
-            e->has_memory_object_fd ? "present, not used" : "absent");
+    FV_INFO(FV_XR_LOG, "EGL session: %s %d.%d; images reach the compositor %s", e->gles ? "OpenGL ES" : "OpenGL", major,
+            minor,
+            e->share ? "by shared memory (GL_EXT_memory_object_fd)"
+            : same_device ? "by a copy (FOVEA_XR_EGL_COPY=1)"
+                          : "by a copy (no GL_EXT_memory_object_fd on the compositor's device and driver)");
     *out = e;
     return XR_SUCCESS;
 invalid:
@@ -335,8 +386,87 @@ void fv_xr_egl_session_destroy(struct fv_xr_egl **pe)
 static void swapchain_gl_free(struct fv_xr_egl *e, struct fv_xr_egl_swapchain *g, uint32_t count)
 {
     if (g->tex[0]) e->gl.DeleteTextures((GLsizei)count, g->tex);
+    for (uint32_t i = 0; i < count; i++)
+        if (g->mem[i]) e->gl.DeleteMemoryObjectsEXT(1, &g->mem[i]);
     if (g->fbo) e->gl.DeleteFramebuffers(1, &g->fbo);
+    memset(g->tex, 0, sizeof g->tex);
+    memset(g->mem, 0, sizeof g->mem);
+    g->fbo = 0;
 }
+
+/* Texture i on the compositor's image's memory (GL_EXT_memory_object_fd): the exported fd imported as a dedicated
+ * memory object (GL owns the fd once the import succeeded), the texture's storage on it with optimal tiling, the
+ * same levels, layers and format as the Vulkan image. Context current, texture bound. */
+static bool import_texture(struct fv_xr_egl *e, struct XrSwapchain_T *sc, struct fv_xr_egl_swapchain *g, uint32_t i)
+{
+    const XrSwapchainCreateInfo *ci = &sc->info;
+    uint64_t size = 0;
+    int fd = fv_xr_swapchain_export_fd(sc->session->inst->comp, sc, i, &size);
+    if (fd < 0) return false;
+    e->gl.CreateMemoryObjectsEXT(1, &g->mem[i]);
+    GLint dedicated = GL_TRUE;
+    e->gl.MemoryObjectParameterivEXT(g->mem[i], GL_DEDICATED_MEMORY_OBJECT_EXT, &dedicated);
+    e->gl.ImportMemoryFdEXT(g->mem[i], size, GL_HANDLE_TYPE_OPAQUE_FD_EXT, fd);
+    if (!gl_ok(e, "xrCreateSwapchain: importing the compositor's image memory")) {
+        close(fd); /* a failed import leaves the fd with us */
+        return false;
+    }
+    e->gl.TexParameteri(g->target, GL_TEXTURE_TILING_EXT, GL_OPTIMAL_TILING_EXT);
+    if (g->target == GL_TEXTURE_2D)
+        e->gl.TexStorageMem2DEXT(g->target, (GLsizei)ci->mipCount, (GLenum)ci->format, (GLsizei)ci->width,
+                                 (GLsizei)ci->height, g->mem[i], 0);
+    else
+        e->gl.TexStorageMem3DEXT(g->target, (GLsizei)ci->mipCount, (GLenum)ci->format, (GLsizei)ci->width,
+                                 (GLsizei)ci->height, (GLsizei)ci->arraySize, g->mem[i], 0);
+    return gl_ok(e, "xrCreateSwapchain: the texture on the compositor's image memory");
+}
+
+/* The GL textures: on the compositor's images' memory (g->shared), or their own storage. Context current. */
+static bool create_textures(struct fv_xr_egl *e, struct XrSwapchain_T *sc, struct fv_xr_egl_swapchain *g)
+{
+    const XrSwapchainCreateInfo *ci = &sc->info;
+    GLint prev = 0;
+    e->gl.GetIntegerv(g->target == GL_TEXTURE_2D ? GL_TEXTURE_BINDING_2D : GL_TEXTURE_BINDING_2D_ARRAY, &prev);
+    e->gl.GenTextures((GLsizei)sc->image_count, g->tex);
+    bool ok = true;
+    for (uint32_t i = 0; i < sc->image_count && ok; i++) {
+        e->gl.BindTexture(g->target, g->tex[i]);
+        if (g->shared) ok = import_texture(e, sc, g, i);
+        else if (g->target == GL_TEXTURE_2D)
+            e->gl.TexStorage2D(g->target, (GLsizei)ci->mipCount, (GLenum)ci->format, (GLsizei)ci->width,
+                               (GLsizei)ci->height);
+        else
+            e->gl.TexStorage3D(g->target, (GLsizei)ci->mipCount, (GLenum)ci->format, (GLsizei)ci->width,
+                               (GLsizei)ci->height, (GLsizei)ci->arraySize);
+    }
+    e->gl.BindTexture(g->target, (GLuint)prev);
+    if (ok && !sc->depth && !g->shared) e->gl.GenFramebuffers(1, &g->fbo);
+    return gl_ok(e, "xrCreateSwapchain: creating the GL textures") && ok;
+}
+
+/* One image barrier over every level and layer of a compositor image, on fovea's queue, waited for. */
+static XrResult comp_barrier(struct XrSwapchain_T *sc, uint32_t index, VkImageLayout from, VkImageLayout to,
+                             uint32_t src_family, uint32_t dst_family, VkAccessFlags dst_access,
+                             VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage)
+{
+    fv_vk *vk = fv_xr_compositor_vk(sc->session->inst->comp);
+    VkCommandBuffer cmd;
+    if (fv_vk_oneshot_begin(vk, "xr egl hand-over", &cmd) != FV_OK) return XR_ERROR_RUNTIME_FAILURE;
+    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .dstAccessMask = dst_access,
+                              .oldLayout = from,
+                              .newLayout = to,
+                              .srcQueueFamilyIndex = src_family == UINT32_MAX ? vk->queue_family : src_family,
+                              .dstQueueFamilyIndex = dst_family == UINT32_MAX ? vk->queue_family : dst_family,
+                              .image = fv_xr_swapchain_comp_image(sc, index),
+                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0,
+                                                   VK_REMAINING_ARRAY_LAYERS}};
+    vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, NULL, 0, NULL, 1, &b);
+    fv_result res = fv_vk_oneshot_end(vk, cmd);
+    if (res == FV_ERR_DEVICE_LOST) return XR_ERROR_SESSION_LOST;
+    return res == FV_OK ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
+}
+#define FAMILY_COMP UINT32_MAX /* comp_barrier: the compositor's queue family */
 
 XrResult fv_xr_egl_swapchain_create(struct XrSession_T *s, struct XrSwapchain_T *sc)
 {
@@ -357,35 +487,35 @@ XrResult fv_xr_egl_swapchain_create(struct XrSession_T *s, struct XrSwapchain_T 
     }
     gl_clear_errors(e);
     g->target = ci->arraySize > 1 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D;
-    GLint prev = 0;
-    e->gl.GetIntegerv(g->target == GL_TEXTURE_2D ? GL_TEXTURE_BINDING_2D : GL_TEXTURE_BINDING_2D_ARRAY, &prev);
-    e->gl.GenTextures((GLsizei)sc->image_count, g->tex);
-    for (uint32_t i = 0; i < sc->image_count; i++) {
-        e->gl.BindTexture(g->target, g->tex[i]);
-        if (g->target == GL_TEXTURE_2D)
-            e->gl.TexStorage2D(g->target, (GLsizei)ci->mipCount, (GLenum)ci->format, (GLsizei)ci->width,
-                               (GLsizei)ci->height);
-        else
-            e->gl.TexStorage3D(g->target, (GLsizei)ci->mipCount, (GLenum)ci->format, (GLsizei)ci->width,
-                               (GLsizei)ci->height, (GLsizei)ci->arraySize);
+    g->shared = e->share && !sc->depth;
+    bool ok = create_textures(e, sc, g);
+    if (!ok && g->shared) { /* the driver refused the import: the copy, for this swapchain */
+        FV_WARN(FV_XR_LOG, "xrCreateSwapchain: the GL driver cannot use the compositor's image memory; copying");
+        swapchain_gl_free(e, g, sc->image_count);
+        g->shared = false;
+        ok = create_textures(e, sc, g);
     }
-    e->gl.BindTexture(g->target, (GLuint)prev);
-    if (!sc->depth) e->gl.GenFramebuffers(1, &g->fbo);
-    bool ok = gl_ok(e, "xrCreateSwapchain: creating the GL textures");
     egl_leave(e, &sv);
     XrResult r = ok ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
-    if (r == XR_SUCCESS && !sc->depth) {
+    if (r == XR_SUCCESS && !sc->depth && !g->shared) {
         g->layer_bytes = (size_t)ci->width * ci->height * 4u;
         fv_vk *vk = fv_xr_compositor_vk(s->inst->comp);
         if (fv_vk_buffer_create(vk, g->layer_bytes * ci->arraySize, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                 FV_VK_MEM_UPLOAD, "xr egl staging", &g->staging) != FV_OK)
             r = XR_ERROR_OUT_OF_MEMORY;
     }
+    /* shared: every image starts with the GL side (VK_QUEUE_FAMILY_EXTERNAL) in the GENERAL layout, the layout GL
+     * uses for memory it did not get from a semaphore's layout hand-over (EXT_external_objects) */
+    for (uint32_t i = 0; r == XR_SUCCESS && g->shared && i < sc->image_count; i++)
+        r = comp_barrier(sc, i, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, FAMILY_COMP,
+                         VK_QUEUE_FAMILY_EXTERNAL, 0, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                         VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
     if (r != XR_SUCCESS) {
         if (egl_enter(e, &sv, "xrCreateSwapchain")) {
             swapchain_gl_free(e, g, sc->image_count);
             egl_leave(e, &sv);
         }
+        fv_vk_buffer_destroy(fv_xr_compositor_vk(s->inst->comp), &g->staging);
         free(g);
         return r;
     }
@@ -426,8 +556,8 @@ XrResult fv_xr_egl_enumerate_images(struct XrSwapchain_T *sc, XrSwapchainImageBa
     return XR_SUCCESS;
 }
 
-/* The copy: every layer of mip 0 read back in the app's context into the staging buffer (rows bottom-up, as GL
- * stores them), then copied into the compositor's image on fovea's queue and left in the layout the compose pass
+/* The hand-over to the compositor. Shared memory: see the file comment. The copy: every layer of mip 0 read back in
+ * the app's context into the staging buffer (rows bottom-up, as GL stores them), then copied into the compositor's image on fovea's queue and left in the layout the compose pass
  * samples. glReadPixels into client memory returns when the app's GL commands writing the texture have finished,
  * and the Vulkan copy is waited for, so the compositor reads a finished image. */
 XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index)
@@ -439,6 +569,17 @@ XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index)
     const XrSwapchainCreateInfo *ci = &sc->info;
     egl_saved sv;
     if (!egl_enter(e, &sv, "xrReleaseSwapchainImage")) return XR_ERROR_RUNTIME_FAILURE;
+    if (g->shared) {
+        /* the app's GL work on the texture finished (no GL_EXT_semaphore_fd needed), then fovea's queue takes the
+         * image from the external side into the layout the compose pass samples */
+        e->gl.Finish();
+        egl_leave(e, &sv);
+        XrResult r = comp_barrier(sc, index, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                  VK_QUEUE_FAMILY_EXTERNAL, FAMILY_COMP, VK_ACCESS_SHADER_READ_BIT,
+                                  VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+        if (r == XR_SUCCESS) g->with_comp[index] = true;
+        return r;
+    }
     gl_clear_errors(e);
     GLint prev_fbo = 0, prev_pack_buffer = 0, prev_align = 4, prev_row = 0, prev_skip_rows = 0, prev_skip_px = 0;
     e->gl.GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &prev_fbo);
@@ -510,4 +651,16 @@ XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index)
     fv_result res = fv_vk_oneshot_end(vk, cmd);
     if (res == FV_ERR_DEVICE_LOST) return XR_ERROR_SESSION_LOST;
     return res == FV_OK ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
+}
+
+XrResult fv_xr_egl_acquire(struct XrSwapchain_T *sc, uint32_t index)
+{
+    struct fv_xr_egl_swapchain *g = sc->egl;
+    if (!g->shared || !g->with_comp[index]) return XR_SUCCESS; /* the copy's textures never leave the app */
+    /* back to the GL side in GENERAL; the compositor's reads of it were fenced (xrEndFrame waits for them) */
+    XrResult r = comp_barrier(sc, index, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, FAMILY_COMP,
+                              VK_QUEUE_FAMILY_EXTERNAL, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                              VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    if (r == XR_SUCCESS) g->with_comp[index] = false;
+    return r;
 }

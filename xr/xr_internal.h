@@ -285,6 +285,8 @@ VkImage fv_xr_swapchain_app_image(struct XrSwapchain_T *sc, uint32_t index);
 /** The compositor's image of a swapchain image, and the compositor's device (the EGL copy writes them). */
 VkImage fv_xr_swapchain_comp_image(struct XrSwapchain_T *sc, uint32_t index);
 struct fv_vk *fv_xr_compositor_vk(fv_xr_compositor *c);
+/** An opaque fd of the compositor's image's (dedicated) memory and its size; -1 for none. The caller owns the fd. */
+int fv_xr_swapchain_export_fd(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, uint64_t *out_size);
 /** App-side hand-overs on the app's queue: acquire (the image comes back to the app in its layout) and release
  *  (to the compositor, signalling the image's fence). */
 XrResult fv_xr_swapchain_image_acquire(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index);
@@ -316,8 +318,11 @@ XrResult fv_xr_egl_swapchain_create(struct XrSession_T *s, struct XrSwapchain_T 
 void fv_xr_egl_swapchain_destroy(struct XrSession_T *s, struct XrSwapchain_T *sc);
 /** XrSwapchainImageOpenGLKHR / XrSwapchainImageOpenGLESKHR: the GL texture names. */
 XrResult fv_xr_egl_enumerate_images(struct XrSwapchain_T *sc, XrSwapchainImageBaseHeader *images);
-/** The released image's texels copied into the compositor's image (done when it returns). */
+/** Hand the released image to the compositor: its texels copied into the compositor's image, or (shared memory)
+ *  the app's GL work finished and the image acquired by fovea's queue; done when it returns. */
 XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index);
+/** The image back to the app (shared memory: released by fovea's queue to the external GL side). */
+XrResult fv_xr_egl_acquire(struct XrSwapchain_T *sc, uint32_t index);
 
 /* xr_gaze.c: fovea's gaze pipeline from FOVEA_XR_GAZE */
 fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out);

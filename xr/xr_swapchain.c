@@ -166,8 +166,8 @@ FV_XR_DECL(xrAcquireSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImag
         r = XR_ERROR_CALL_ORDER_INVALID; /* a static image is acquired once */
     if (r == XR_SUCCESS) {
         uint32_t i = sc->next_acquire;
-        /* an EGL session's textures are the app's between releases (each copy finished in its release) */
-        r = sc->egl ? XR_SUCCESS : fv_xr_swapchain_image_acquire(s->inst->comp, sc, i);
+        /* an EGL session: its own hand-over (xr_egl.c) */
+        r = sc->egl ? fv_xr_egl_acquire(sc, i) : fv_xr_swapchain_image_acquire(s->inst->comp, sc, i);
         if (r == XR_SUCCESS) {
             sc->acquired[sc->acquired_count++] = i;
             sc->next_acquire = (i + 1) % sc->image_count;

@@ -3,7 +3,8 @@
  * the Vulkan validation layer on fovea's compositor device (FOVEA_VALIDATION=1; the core-validation layer only where
  * it accepts the EGL binding: see run_app_validated), lens distortion off
  * (FOVEA_XR_DISTORT=0: the composite is the display image in tangent space, and the app's views have the display's
- * fov, so its images land one to one). Read back from the composite, per eye: the eye's own colour (left red, right
+ * fov, so its images land one to one). Both hand-overs: shared memory (where the runtime finds it: on lavapipe +
+ * llvmpipe it must) and the copy (FOVEA_XR_EGL_COPY=1). Read back from the composite, per eye: the eye's own colour (left red, right
  * blue), the white band at the top (not the bottom: GL's bottom-left origin handled), the green ramp on the left (not
  * the right: not mirrored) darkening downwards. Zero messages from either layer. The session-creation checks: before
  * the requirements call XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING, no context XR_ERROR_VALIDATION_FAILURE, a
@@ -35,6 +36,8 @@ typedef struct run {
     bool layer; /* under the OpenXR core-validation layer */
 } run;
 
+static const char *g_copy = "0"; /* FOVEA_XR_EGL_COPY of the next run */
+
 static void run_app(run *r, const char *name, const char *arg, bool layer)
 {
     snprintf(r->dir, sizeof r->dir, "%s", fv_test_tmp(name));
@@ -53,6 +56,8 @@ static void run_app(run *r, const char *name, const char *arg, bool layer)
         if (layer) setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
         else unsetenv("XR_ENABLE_API_LAYERS");
         setenv("FOVEA_VALIDATION", "1", 1);
+        setenv("FOVEA_LOG", "info", 1);
+        setenv("FOVEA_XR_EGL_COPY", g_copy, 1);
         setenv("FOVEA_XR_SCALE", SCALE, 1);
         setenv("FOVEA_XR_DISTORT", "0", 1);
         setenv("FOVEA_XR_OUT", r->dir, 1);
@@ -159,13 +164,26 @@ static void skip_if_no_egl(const run *r)
     }
 }
 
+/* Which hand-over ran: on lavapipe + llvmpipe (same device and driver UUIDs, GL_EXT_memory_object_fd) shared memory
+ * unless the copy is forced; elsewhere whatever the runtime says it chose. */
+static void check_path(const run *r, bool forced_copy)
+{
+    const char *path = strstr(r->log, "images reach the compositor by ");
+    if (!path) fail_msg("the runtime did not say how images reach the compositor:\n%s", r->log);
+    print_message("  %.*s\n", (int)strcspn(path, "\n"), path);
+    if (forced_copy) fv_assert_contains(r->log, "by a copy (FOVEA_XR_EGL_COPY=1)");
+    else if (strstr(r->log, "llvmpipe")) fv_assert_contains(r->log, "by shared memory (GL_EXT_memory_object_fd)");
+}
+
 static void gles_app_composites_each_eye_upright(void **state)
 {
     (void)state;
     run r;
+    g_copy = "0";
     run_app_validated(&r, "egl_gles", NULL);
     skip_if_no_egl(&r);
     if (r.rc != 0) fail_msg("xr_egl_app exited %d:\n%s", r.rc, r.log);
+    check_path(&r, false);
     fv_assert_contains(r.log, "gl,OpenGL ES 3");
     fv_assert_contains(r.log, "requirements,3.0,3.2");
     fv_assert_contains(r.log, "formats,0x8c43,0x8058"); /* GL_SRGB8_ALPHA8, GL_RGBA8 first */
@@ -175,13 +193,30 @@ static void gles_app_composites_each_eye_upright(void **state)
     free(r.log);
 }
 
+static void gles_app_by_copy_composites_each_eye_upright(void **state)
+{
+    (void)state;
+    run r;
+    g_copy = "1";
+    run_app_validated(&r, "egl_gles_copy", NULL);
+    g_copy = "0";
+    skip_if_no_egl(&r);
+    if (r.rc != 0) fail_msg("xr_egl_app (copy) exited %d:\n%s", r.rc, r.log);
+    check_path(&r, true);
+    assert_clean(&r);
+    check_composite(&r);
+    free(r.log);
+}
+
 static void desktop_gl_app_composites_each_eye_upright(void **state)
 {
     (void)state;
     run r;
+    g_copy = "0";
     run_app_validated(&r, "egl_gl", "--gl");
     skip_if_no_egl(&r);
     if (r.rc != 0) fail_msg("xr_egl_app --gl exited %d:\n%s", r.rc, r.log);
+    check_path(&r, false);
     fv_assert_contains(r.log, "gl,4.");
     fv_assert_contains(r.log, "requirements,4.2,4.6");
     assert_clean(&r);
@@ -216,6 +251,7 @@ int main(int argc, char **argv)
     g_manifest = argv[2];
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gles_app_composites_each_eye_upright),
+        cmocka_unit_test(gles_app_by_copy_composites_each_eye_upright),
         cmocka_unit_test(desktop_gl_app_composites_each_eye_upright),
         cmocka_unit_test(bad_bindings_are_refused_clearly),
     };

@@ -4,8 +4,10 @@
  * (GL_SRGB8_ALPHA8, one per eye): the left eye red, the right eye blue, the top quarter of each white, and in the
  * left quarter below it a green ramp that brightens upwards in 8 bands (GL's bottom-left origin: band 0 is the
  * bottom row) -- a composite that is upside down or mirrored shows it. Prints `gl,<version>`, `frame,N,...`,
- * `release_ms_mean,X` (the time in xrReleaseSwapchainImage per eye: the runtime's copy to its compositor) and
- * `frames,N`. --size WxH: swapchains of that size (the benchmark's; default the recommended size). --bad-bindings: only the session-creation checks (a missing context, a context that is not one, a
+ * `handover_ms_mean,X` (the time in xrAcquireSwapchainImage, xrWaitSwapchainImage and xrReleaseSwapchainImage per
+ * eye: the runtime's hand-over of the image to its compositor and back) and
+ * `frames,N` (--finish: the app's GL work finished before each release, so the hand-over time is the runtime's own).
+ * --size WxH: swapchains of that size (the benchmark's; default the recommended size). --bad-bindings: only the session-creation checks (a missing context, a context that is not one, a
  * session before the requirements call), each printed as `bad_binding,<case>,<XrResult>`. Exit 77 when EGL cannot
  * give a surfaceless context here (the test skips); any failed call prints it and exits 1. */
 #include <stdbool.h>
@@ -45,6 +47,7 @@ typedef struct eye {
 typedef struct app {
     bool desktop_gl;
     uint32_t width, height; /* --size: the swapchains' size (default: the recommended one) */
+    bool finish;            /* --finish: glFinish before each release (the hand-over time is then the runtime's own) */
     EGLDisplay dpy;
     EGLConfig cfg;
     EGLContext ctx;
@@ -54,7 +57,7 @@ typedef struct app {
     XrSpace local;
     eye eyes[2];
     GLuint fbo;
-    double release_ms_sum;
+    double handover_ms_sum;
     int releases;
 } app;
 
@@ -289,9 +292,11 @@ static void frame(app *a, int n)
         eye *t = &a->eyes[e];
         uint32_t idx = 0;
         XrSwapchainImageAcquireInfo ai = {.type = XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
+        double t_acq = now_ms();
         CHECK_XR(xrAcquireSwapchainImage(t->swapchain, &ai, &idx));
         XrSwapchainImageWaitInfo wti = {.type = XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO, .timeout = XR_INFINITE_DURATION};
         CHECK_XR(xrWaitSwapchainImage(t->swapchain, &wti));
+        a->handover_ms_sum += now_ms() - t_acq;
         glBindFramebuffer(GL_FRAMEBUFFER, a->fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->images[idx], 0);
         if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
@@ -300,10 +305,11 @@ static void frame(app *a, int n)
         }
         draw_eye(t, e);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (a->finish) glFinish();
         XrSwapchainImageReleaseInfo ri = {.type = XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
         double t0 = now_ms();
         CHECK_XR(xrReleaseSwapchainImage(t->swapchain, &ri));
-        a->release_ms_sum += now_ms() - t0;
+        a->handover_ms_sum += now_ms() - t0;
         a->releases++;
         pv[e] = (XrCompositionLayerProjectionView){
             .type = XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW,
@@ -337,6 +343,7 @@ int main(int argc, char **argv)
         if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--gl")) a.desktop_gl = true;
         else if (!strcmp(argv[i], "--bad-bindings")) bad = true;
+        else if (!strcmp(argv[i], "--finish")) a.finish = true;
         else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             if (sscanf(argv[++i], "%ux%u", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1 ||
                 a.width > 4096 || a.height > 4096) {
@@ -345,7 +352,7 @@ int main(int argc, char **argv)
             }
         }
         else {
-            fprintf(stderr, "usage: %s [--frames N] [--gl] [--size WxH] [--bad-bindings]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--frames N] [--gl] [--size WxH] [--finish] [--bad-bindings]\n", argv[0]);
             return 2;
         }
     }
@@ -408,6 +415,6 @@ int main(int argc, char **argv)
     eglMakeCurrent(a.dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(a.dpy, a.ctx);
     eglTerminate(a.dpy);
-    printf("release_ms_mean,%.4f\nframes,%d\n", a.releases ? a.release_ms_sum / a.releases : 0.0, n);
+    printf("handover_ms_mean,%.4f\nframes,%d\n", a.releases ? a.handover_ms_sum / a.releases : 0.0, n);
     return 0;
 }
