@@ -623,31 +623,24 @@ XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index)
 
     fv_vk *vk = fv_xr_compositor_vk(s->inst->comp);
     if (fv_vk_buffer_flush(vk, &g->staging) != FV_OK) return XR_ERROR_RUNTIME_FAILURE;
-    VkImage img = fv_xr_swapchain_comp_image(sc, index);
     VkCommandBuffer cmd;
     if (fv_vk_oneshot_begin(vk, "xr egl copy", &cmd) != FV_OK) return XR_ERROR_RUNTIME_FAILURE;
     /* mip 0 is overwritten whole: its old contents are discarded (the compositor's last read of it was fenced) */
-    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                              .srcAccessMask = 0,
-                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-                              .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .image = img,
-                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, ci->arraySize}};
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1,
-                         &b);
+    fv_vk_image img = {.image = fv_xr_swapchain_comp_image(sc, index), .aspect = VK_IMAGE_ASPECT_COLOR_BIT,
+                       .layers = ci->arraySize};
+    fv_vk_barrier_image(cmd, &img,
+                        (fv_vk_image_use){VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0},
+                        (fv_vk_image_use){VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                          VK_ACCESS_TRANSFER_WRITE_BIT});
     VkBufferImageCopy region = {.bufferOffset = 0,
                                 .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, ci->arraySize},
                                 .imageExtent = {ci->width, ci->height, 1}};
-    vkCmdCopyBufferToImage(cmd, g->staging.buffer, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-    b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0, NULL,
-                         1, &b);
+    vkCmdCopyBufferToImage(cmd, g->staging.buffer, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    fv_vk_barrier_image(cmd, &img,
+                        (fv_vk_image_use){VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                          VK_ACCESS_TRANSFER_WRITE_BIT},
+                        (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT});
     fv_result res = fv_vk_oneshot_end(vk, cmd);
     if (res == FV_ERR_DEVICE_LOST) return XR_ERROR_SESSION_LOST;
     return res == FV_OK ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;

@@ -6,12 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
-#define CHECK_XR(call)                                                                                                 \
-    do {                                                                                                               \
-        XrResult r_ = (call);                                                                                          \
-        if (XR_FAILED(r_)) { fprintf(stderr, "%s failed: %d\n", #call, (int)r_); exit(1); }                                                 \
-    } while (0)
+#define CHECK_XR XR_APP_CHECK
 
 XrTime xr_app_now(void)
 {
@@ -151,4 +148,46 @@ XrTime xr_app_frame(xr_app *a)
                          .environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE};
     CHECK_XR(xrEndFrame(a->session, &ei));
     return fs.predictedDisplayTime;
+}
+
+int xr_app_run_session(XrInstance inst, XrSession session, XrViewConfigurationType config, int frames,
+                       void (*frame)(void *ctx, int n, bool visible), void *ctx)
+{
+    XrSessionState state = XR_SESSION_STATE_UNKNOWN;
+    bool running = false, exit_requested = false, done = false;
+    int n = 0;
+    while (!done) {
+        XrEventDataBuffer ev = {.type = XR_TYPE_EVENT_DATA_BUFFER};
+        XrResult r;
+        while ((r = xrPollEvent(inst, &ev)) == XR_SUCCESS) {
+            if (ev.type == XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED) {
+                state = ((XrEventDataSessionStateChanged *)&ev)->state;
+                if (state == XR_SESSION_STATE_READY) {
+                    XrSessionBeginInfo bi = {.type = XR_TYPE_SESSION_BEGIN_INFO, .primaryViewConfigurationType = config};
+                    CHECK_XR(xrBeginSession(session, &bi));
+                    running = true;
+                } else if (state == XR_SESSION_STATE_STOPPING) {
+                    CHECK_XR(xrEndSession(session));
+                    running = false;
+                } else if (state == XR_SESSION_STATE_EXITING || state == XR_SESSION_STATE_LOSS_PENDING) {
+                    done = true;
+                }
+            }
+            ev = (XrEventDataBuffer){.type = XR_TYPE_EVENT_DATA_BUFFER};
+        }
+        CHECK_XR(r);
+        if (done) break;
+        if (!running) {
+            usleep(1000); /* waiting for the runtime's next state */
+            continue;
+        }
+        if (n < frames) {
+            frame(ctx, n, state == XR_SESSION_STATE_VISIBLE || state == XR_SESSION_STATE_FOCUSED);
+            n++;
+        } else if (!exit_requested) {
+            CHECK_XR(xrRequestExitSession(session));
+            exit_requested = true;
+        }
+    }
+    return n;
 }

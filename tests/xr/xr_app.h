@@ -6,8 +6,20 @@
 #define FV_XR_APP_H
 
 #include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
 
 #include <openxr/openxr.h>
+
+/** A failed call prints the call and its XrResult and exits (status 1). */
+#define XR_APP_CHECK(call)                                                                                             \
+    do {                                                                                                               \
+        XrResult r_ = (call);                                                                                          \
+        if (XR_FAILED(r_)) {                                                                                           \
+            fprintf(stderr, "%s failed: %d\n", #call, (int)r_);                                                        \
+            exit(1);                                                                                                   \
+        }                                                                                                              \
+    } while (0)
 
 typedef struct xr_app {
     XrInstance inst;
@@ -31,6 +43,12 @@ XrSpaceLocationFlags xr_app_locate(xr_app *a, XrTime t, double out_dir[3]);
 double xr_app_angle_deg(const double a[3], const double b[3]);
 /** One headless frame: xrWaitFrame, xrBeginFrame, xrEndFrame with no layers; the predicted display time. */
 XrTime xr_app_frame(xr_app *a);
+
+/** The session's life cycle for an app with a frame loop: begin at READY, end at STOPPING, done at EXITING or
+ *  LOSS_PENDING; `frame(ctx, n, visible)` runs frames 0..frames-1 while the session runs (visible: VISIBLE or
+ *  FOCUSED), then the app requests exit. Returns the frames run. */
+int xr_app_run_session(XrInstance inst, XrSession session, XrViewConfigurationType config, int frames,
+                       void (*frame)(void *ctx, int n, bool visible), void *ctx);
 
 #define XR_APP_ALL_BITS                                                                                                \
     (XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |                                \

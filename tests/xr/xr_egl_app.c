@@ -15,7 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -27,14 +26,9 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
-#define CHECK_XR(call)                                                                                                 \
-    do {                                                                                                               \
-        XrResult r_ = (call);                                                                                          \
-        if (XR_FAILED(r_)) {                                                                                           \
-            fprintf(stderr, "xr_egl_app: %s failed: %d\n", #call, (int)r_);                                            \
-            exit(1);                                                                                                   \
-        }                                                                                                              \
-    } while (0)
+#include "xr_app.h"
+
+#define CHECK_XR XR_APP_CHECK
 
 #define MAX_IMAGES 8
 
@@ -141,22 +135,17 @@ static void requirements(app *a)
     GLint major = 0, minor = 0;
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);
-    XrVersion have = XR_MAKE_VERSION(major, minor, 0), lo, hi;
-    if (a->desktop_gl) {
-        PFN_xrGetOpenGLGraphicsRequirementsKHR get = NULL;
-        CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrGetOpenGLGraphicsRequirementsKHR", (PFN_xrVoidFunction *)&get));
-        XrGraphicsRequirementsOpenGLKHR req = {.type = XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR};
-        CHECK_XR(get(a->inst, a->system, &req));
-        lo = req.minApiVersionSupported;
-        hi = req.maxApiVersionSupported;
-    } else {
-        PFN_xrGetOpenGLESGraphicsRequirementsKHR get = NULL;
-        CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrGetOpenGLESGraphicsRequirementsKHR", (PFN_xrVoidFunction *)&get));
-        XrGraphicsRequirementsOpenGLESKHR req = {.type = XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_ES_KHR};
-        CHECK_XR(get(a->inst, a->system, &req));
-        lo = req.minApiVersionSupported;
-        hi = req.maxApiVersionSupported;
-    }
+    XrVersion have = XR_MAKE_VERSION(major, minor, 0);
+    /* XrGraphicsRequirementsOpenGLKHR and ...OpenGLESKHR (and their functions) differ only in the type */
+    PFN_xrGetOpenGLGraphicsRequirementsKHR get = NULL;
+    CHECK_XR(xrGetInstanceProcAddr(a->inst,
+                                   a->desktop_gl ? "xrGetOpenGLGraphicsRequirementsKHR"
+                                                 : "xrGetOpenGLESGraphicsRequirementsKHR",
+                                   (PFN_xrVoidFunction *)&get));
+    XrGraphicsRequirementsOpenGLKHR req = {.type = a->desktop_gl ? XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR
+                                                                 : XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_ES_KHR};
+    CHECK_XR(get(a->inst, a->system, &req));
+    XrVersion lo = req.minApiVersionSupported, hi = req.maxApiVersionSupported;
     printf("requirements,%u.%u,%u.%u\n", (unsigned)XR_VERSION_MAJOR(lo), (unsigned)XR_VERSION_MINOR(lo),
            (unsigned)XR_VERSION_MAJOR(hi), (unsigned)XR_VERSION_MINOR(hi));
     if (have < lo || XR_VERSION_MAJOR(have) > XR_VERSION_MAJOR(hi)) {
@@ -334,6 +323,12 @@ static void frame(app *a, int n)
     printf("frame,%d,drawn,%d\n", n, draw_it ? 1 : 0);
 }
 
+static void frame_cb(void *ctx, int n, bool visible)
+{
+    (void)visible; /* the runtime's shouldRender decides what is drawn */
+    frame(ctx, n);
+}
+
 int main(int argc, char **argv)
 {
     int frames = 6;
@@ -371,42 +366,7 @@ int main(int argc, char **argv)
                                      .poseInReferenceSpace = {{0, 0, 0, 1}, {0, 0, 0}}};
     CHECK_XR(xrCreateReferenceSpace(a.session, &rs, &a.local));
     create_swapchains(&a);
-    bool running = false, exit_requested = false, done = false;
-    int n = 0;
-    while (!done) {
-        XrEventDataBuffer ev = {.type = XR_TYPE_EVENT_DATA_BUFFER};
-        XrResult r;
-        while ((r = xrPollEvent(a.inst, &ev)) == XR_SUCCESS) {
-            if (ev.type == XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED) {
-                XrSessionState st = ((XrEventDataSessionStateChanged *)&ev)->state;
-                if (st == XR_SESSION_STATE_READY) {
-                    XrSessionBeginInfo bi = {.type = XR_TYPE_SESSION_BEGIN_INFO,
-                                             .primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO};
-                    CHECK_XR(xrBeginSession(a.session, &bi));
-                    running = true;
-                } else if (st == XR_SESSION_STATE_STOPPING) {
-                    CHECK_XR(xrEndSession(a.session));
-                    running = false;
-                } else if (st == XR_SESSION_STATE_EXITING || st == XR_SESSION_STATE_LOSS_PENDING) {
-                    done = true;
-                }
-            }
-            ev = (XrEventDataBuffer){.type = XR_TYPE_EVENT_DATA_BUFFER};
-        }
-        CHECK_XR(r);
-        if (done) break;
-        if (!running) {
-            usleep(1000);
-            continue;
-        }
-        if (n < frames) {
-            frame(&a, n);
-            n++;
-        } else if (!exit_requested) {
-            CHECK_XR(xrRequestExitSession(a.session));
-            exit_requested = true;
-        }
-    }
+    int n = xr_app_run_session(a.inst, a.session, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, frames, frame_cb, &a);
     for (int e = 0; e < 2; e++) CHECK_XR(xrDestroySwapchain(a.eyes[e].swapchain));
     glDeleteFramebuffers(1, &a.fbo);
     CHECK_XR(xrDestroySpace(a.local));

@@ -477,6 +477,8 @@ static void frame(app *a, int n, bool visible)
            (double)wr->angleDown);
 }
 
+static void frame_cb(void *ctx, int n, bool visible) { frame(ctx, n, visible); }
+
 static void destroy(app *a)
 {
     if (a->device) vkDeviceWaitIdle(a->device);
@@ -533,43 +535,7 @@ int main(int argc, char **argv)
     create_vulkan(&a);
     create_session(&a);
     /* the session's life cycle; the app ends after `frames` frames */
-    XrSessionState state = XR_SESSION_STATE_UNKNOWN;
-    bool running = false, exit_requested = false, done = false;
-    int n = 0;
-    while (!done) {
-        XrEventDataBuffer ev = {.type = XR_TYPE_EVENT_DATA_BUFFER};
-        XrResult r;
-        while ((r = xrPollEvent(a.inst, &ev)) == XR_SUCCESS) {
-            if (ev.type == XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED) {
-                state = ((XrEventDataSessionStateChanged *)&ev)->state;
-                if (state == XR_SESSION_STATE_READY) {
-                    XrSessionBeginInfo bi = {.type = XR_TYPE_SESSION_BEGIN_INFO,
-                                             .primaryViewConfigurationType = a.config};
-                    CHECK_XR(xrBeginSession(a.session, &bi));
-                    running = true;
-                } else if (state == XR_SESSION_STATE_STOPPING) {
-                    CHECK_XR(xrEndSession(a.session));
-                    running = false;
-                } else if (state == XR_SESSION_STATE_EXITING || state == XR_SESSION_STATE_LOSS_PENDING) {
-                    done = true;
-                }
-            }
-            ev = (XrEventDataBuffer){.type = XR_TYPE_EVENT_DATA_BUFFER};
-        }
-        CHECK_XR(r);
-        if (done) break;
-        if (!running) {
-            usleep(1000); /* waiting for the runtime's next state */
-            continue;
-        }
-        if (n < frames) {
-            frame(&a, n, state == XR_SESSION_STATE_VISIBLE || state == XR_SESSION_STATE_FOCUSED);
-            n++;
-        } else if (!exit_requested) {
-            CHECK_XR(xrRequestExitSession(a.session));
-            exit_requested = true;
-        }
-    }
+    int n = xr_app_run_session(a.inst, a.session, a.config, frames, frame_cb, &a);
     destroy(&a);
     printf("frames,%d\nvk_validation_messages,%d\n", n, g_vk_messages);
     return g_vk_messages ? 1 : 0;
