@@ -4,7 +4,8 @@
  * it accepts the EGL binding: see run_app_validated), lens distortion off
  * (FOVEA_XR_DISTORT=0: the composite is the display image in tangent space, and the app's views have the display's
  * fov, so its images land one to one). Both hand-overs: shared memory (where the runtime finds it: on lavapipe +
- * llvmpipe it must) and the copy (FOVEA_XR_EGL_COPY=1). Read back from the composite, per eye: the eye's own colour (left red, right
+ * llvmpipe it must) and the copy (FOVEA_XR_EGL_COPY=1), with a swapchain per eye and with one array swapchain.
+ * Read back from the composite, per eye: the eye's own colour (left red, right
  * blue), the white band at the top (not the bottom: GL's bottom-left origin handled), the green ramp on the left (not
  * the right: not mirrored) darkening downwards. Zero messages from either layer. The session-creation checks: before
  * the requirements call XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING, no context XR_ERROR_VALIDATION_FAILURE, a
@@ -208,6 +209,25 @@ static void gles_app_by_copy_composites_each_eye_upright(void **state)
     free(r.log);
 }
 
+/* One swapchain of two layers (eye e in layer e): the runtime's array textures, shared and copied. */
+static void gles_array_swapchain_composites_each_layer(void **state)
+{
+    (void)state;
+    const char *copies[2] = {"0", "1"};
+    for (int k = 0; k < 2; k++) {
+        run r;
+        g_copy = copies[k];
+        run_app_validated(&r, k ? "egl_array_copy" : "egl_array", "--array");
+        g_copy = "0";
+        skip_if_no_egl(&r);
+        if (r.rc != 0) fail_msg("xr_egl_app --array exited %d:\n%s", r.rc, r.log);
+        check_path(&r, k == 1);
+        assert_clean(&r);
+        check_composite(&r);
+        free(r.log);
+    }
+}
+
 static void desktop_gl_app_composites_each_eye_upright(void **state)
 {
     (void)state;
@@ -252,6 +272,7 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gles_app_composites_each_eye_upright),
         cmocka_unit_test(gles_app_by_copy_composites_each_eye_upright),
+        cmocka_unit_test(gles_array_swapchain_composites_each_layer),
         cmocka_unit_test(desktop_gl_app_composites_each_eye_upright),
         cmocka_unit_test(bad_bindings_are_refused_clearly),
     };

@@ -7,7 +7,7 @@
  * `handover_ms_mean,X` (the time in xrAcquireSwapchainImage, xrWaitSwapchainImage and xrReleaseSwapchainImage per
  * eye: the runtime's hand-over of the image to its compositor and back) and
  * `frames,N` (--finish: the app's GL work finished before each release, so the hand-over time is the runtime's own).
- * --size WxH: swapchains of that size (the benchmark's; default the recommended size). --bad-bindings: only the session-creation checks (a missing context, a context that is not one, a
+ * --array: one swapchain of two layers, eye e in layer e (imageArrayIndex). --size WxH: swapchains of that size (the benchmark's; default the recommended size). --bad-bindings: only the session-creation checks (a missing context, a context that is not one, a
  * session before the requirements call), each printed as `bad_binding,<case>,<XrResult>`. Exit 77 when EGL cannot
  * give a surfaceless context here (the test skips); any failed call prints it and exits 1. */
 #include <stdbool.h>
@@ -41,6 +41,7 @@ typedef struct eye {
 typedef struct app {
     bool desktop_gl;
     uint32_t width, height; /* --size: the swapchains' size (default: the recommended one) */
+    bool array;             /* --array: one swapchain of two layers (layer e = eye e) */
     bool finish;            /* --finish: glFinish before each release (the hand-over time is then the runtime's own) */
     EGLDisplay dpy;
     EGLConfig cfg;
@@ -207,7 +208,7 @@ static void create_swapchains(app *a)
                                         {.type = XR_TYPE_VIEW_CONFIGURATION_VIEW}};
     CHECK_XR(xrEnumerateViewConfigurationViews(a->inst, a->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 2, &n,
                                                views));
-    for (int e = 0; e < 2; e++) {
+    for (int e = 0; e < (a->array ? 1 : 2); e++) {
         eye *t = &a->eyes[e];
         t->width = a->width ? a->width : views[e].recommendedImageRectWidth;
         t->height = a->height ? a->height : views[e].recommendedImageRectHeight;
@@ -219,7 +220,7 @@ static void create_swapchains(app *a)
                                     .width = t->width,
                                     .height = t->height,
                                     .faceCount = 1,
-                                    .arraySize = 1,
+                                    .arraySize = a->array ? 2 : 1,
                                     .mipCount = 1};
         CHECK_XR(xrCreateSwapchain(a->session, &ci, &t->swapchain));
         CHECK_XR(xrEnumerateSwapchainImages(t->swapchain, 0, &t->image_count, NULL));
@@ -233,6 +234,7 @@ static void create_swapchains(app *a)
                                             (XrSwapchainImageBaseHeader *)imgs));
         for (uint32_t i = 0; i < t->image_count; i++) t->images[i] = imgs[i].image;
     }
+    if (a->array) a->eyes[1] = a->eyes[0]; /* the same swapchain, layer 1 */
     printf("eye_size,%ux%u\n", a->eyes[0].width, a->eyes[0].height);
     glGenFramebuffers(1, &a->fbo);
 }
@@ -277,35 +279,43 @@ static void frame(app *a, int n)
     CHECK_XR(xrLocateViews(a->session, &li, &vs, 2, &nv, views));
     XrCompositionLayerProjectionView pv[2];
     bool draw_it = fs.shouldRender && (vs.viewStateFlags & XR_VIEW_STATE_ORIENTATION_VALID_BIT);
+    uint32_t idx = 0;
     for (int e = 0; e < 2 && draw_it; e++) {
         eye *t = &a->eyes[e];
-        uint32_t idx = 0;
-        XrSwapchainImageAcquireInfo ai = {.type = XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
-        double t_acq = now_ms();
-        CHECK_XR(xrAcquireSwapchainImage(t->swapchain, &ai, &idx));
-        XrSwapchainImageWaitInfo wti = {.type = XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO, .timeout = XR_INFINITE_DURATION};
-        CHECK_XR(xrWaitSwapchainImage(t->swapchain, &wti));
-        a->handover_ms_sum += now_ms() - t_acq;
+        bool first = !a->array || e == 0, last = !a->array || e == 1; /* an array swapchain: once per frame */
+        if (first) {
+            XrSwapchainImageAcquireInfo ai = {.type = XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
+            double t_acq = now_ms();
+            CHECK_XR(xrAcquireSwapchainImage(t->swapchain, &ai, &idx));
+            XrSwapchainImageWaitInfo wti = {.type = XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO,
+                                            .timeout = XR_INFINITE_DURATION};
+            CHECK_XR(xrWaitSwapchainImage(t->swapchain, &wti));
+            a->handover_ms_sum += now_ms() - t_acq;
+        }
         glBindFramebuffer(GL_FRAMEBUFFER, a->fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->images[idx], 0);
+        if (a->array) glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, t->images[idx], 0, e);
+        else glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->images[idx], 0);
         if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
             fprintf(stderr, "xr_egl_app: swapchain texture %u is not renderable\n", t->images[idx]);
             exit(1);
         }
         draw_eye(t, e);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (a->finish) glFinish();
-        XrSwapchainImageReleaseInfo ri = {.type = XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
-        double t0 = now_ms();
-        CHECK_XR(xrReleaseSwapchainImage(t->swapchain, &ri));
-        a->handover_ms_sum += now_ms() - t0;
-        a->releases++;
+        if (last) {
+            if (a->finish) glFinish();
+            XrSwapchainImageReleaseInfo ri = {.type = XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
+            double t0 = now_ms();
+            CHECK_XR(xrReleaseSwapchainImage(t->swapchain, &ri));
+            a->handover_ms_sum += now_ms() - t0;
+            a->releases++;
+        }
         pv[e] = (XrCompositionLayerProjectionView){
             .type = XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW,
             .pose = views[e].pose,
             .fov = views[e].fov,
             .subImage = {.swapchain = t->swapchain,
-                         .imageRect = {{0, 0}, {(int32_t)t->width, (int32_t)t->height}}}};
+                         .imageRect = {{0, 0}, {(int32_t)t->width, (int32_t)t->height}},
+                         .imageArrayIndex = a->array ? (uint32_t)e : 0}};
     }
     if (glGetError() != GL_NO_ERROR) {
         fprintf(stderr, "xr_egl_app: GL error in frame %d\n", n);
@@ -339,6 +349,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--gl")) a.desktop_gl = true;
         else if (!strcmp(argv[i], "--bad-bindings")) bad = true;
         else if (!strcmp(argv[i], "--finish")) a.finish = true;
+        else if (!strcmp(argv[i], "--array")) a.array = true;
         else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             if (sscanf(argv[++i], "%ux%u", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1 ||
                 a.width > 4096 || a.height > 4096) {
@@ -347,7 +358,7 @@ int main(int argc, char **argv)
             }
         }
         else {
-            fprintf(stderr, "usage: %s [--frames N] [--gl] [--size WxH] [--finish] [--bad-bindings]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--frames N] [--gl] [--size WxH] [--finish] [--array] [--bad-bindings]\n", argv[0]);
             return 2;
         }
     }
@@ -367,7 +378,7 @@ int main(int argc, char **argv)
     CHECK_XR(xrCreateReferenceSpace(a.session, &rs, &a.local));
     create_swapchains(&a);
     int n = xr_app_run_session(a.inst, a.session, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, frames, frame_cb, &a);
-    for (int e = 0; e < 2; e++) CHECK_XR(xrDestroySwapchain(a.eyes[e].swapchain));
+    for (int e = 0; e < (a.array ? 1 : 2); e++) CHECK_XR(xrDestroySwapchain(a.eyes[e].swapchain));
     glDeleteFramebuffers(1, &a.fbo);
     CHECK_XR(xrDestroySpace(a.local));
     CHECK_XR(xrDestroySession(a.session));
