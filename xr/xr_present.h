@@ -8,8 +8,8 @@
  *   FOVEA_XR_PRESENT_MODE=fifo|mailbox|immediate: the window's present mode (fifo by default).
  * In a window the session's display clock is the window's swapchain clock (xrWaitFrame paces to it and
  * predictedDisplayTime comes from it); closing the window stops the session (STOPPING -> the app ends it ->
- * EXITING); a present that fails for good loses the display (LOSS_PENDING). XR_MND_headless sessions (no graphics
- * binding) never reach the compositor, so never open a window. GLFW's rule: the thread that calls the graphics
+ * EXITING); a present that fails for good loses the display (LOSS_PENDING). An app that only makes XR_MND_headless
+ * sessions (no graphics binding, no graphics calls) never creates the compositor, so never opens a window. GLFW's rule: the thread that calls the graphics
  * functions and xrEndFrame is the one that made the window (an app's main thread, as in hello_xr). */
 #ifndef FV_XR_PRESENT_H
 #define FV_XR_PRESENT_H

@@ -353,7 +353,7 @@ static void sleep_until_ns(int64_t t_ns)
 }
 
 /* The host time of the newest gaze sample now (0 when no source or no sample). Instance lock held. */
-static void st_gaze_sample(struct XrSession_T *s)
+static void note_gaze_sample(struct XrSession_T *s)
 {
     s->stats.gaze_sample_ns = s->inst->gaze ? fv_xr_gaze_newest_sample_ns(s->inst->gaze) : 0;
 }
@@ -410,7 +410,7 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     s->stats.overhead_ms_sum += (double)t_work * MS_PER_NS;
     s->wait_return_ns = fv_xr_now_ns();
     /* the newest gaze sample an app locating its gaze now would be predicted from (gaze-to-photon statistics) */
-    st_gaze_sample(s);
+    note_gaze_sample(s);
     pthread_mutex_unlock(&s->inst->lock);
     pthread_mutex_lock(&s->frame_lock);
     s->frames_waited++;
@@ -590,9 +590,12 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
         set_state(s, XR_SESSION_STATE_FOCUSED);
         fv_xr_input_focus(s);
     }
-    /* the window closed: the runtime stops the session (the app then ends it and the session exits) */
-    if (!s->headless && !fv_xr_present_poll(fv_xr_compositor_present(s->inst->comp)) && !s->exit_requested &&
-        !s->loss_pending) {
+    /* the window's events (its share of the runtime's time); closed: the runtime stops the session (the app then
+     * ends it and the session exits) */
+    int64_t t_poll = fv_xr_now_ns();
+    bool open = s->headless || fv_xr_present_poll(fv_xr_compositor_present(s->inst->comp));
+    st->overhead_ms_sum += (double)(fv_xr_now_ns() - t_poll) * MS_PER_NS;
+    if (!open && !s->exit_requested && !s->loss_pending) {
         s->exit_requested = true;
         go_stopping(s);
     }
