@@ -1,6 +1,9 @@
 /* @brief The runtime's presenter choice and the window it presents in (see xr_present.h). */
+#define _GNU_SOURCE
 #include "xr_present.h"
 
+#include <dlfcn.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,9 +17,81 @@ struct fv_xr_present {
     fv_window *window; /* NULL: headless */
     const char *why;   /* why this presenter (the statistics say it) */
     bool closed;       /* the window was closed (the first poll that saw it) */
+    atomic_bool lost;  /* the X server went away (Xlib's I/O error) */
     const char *optional[MAX_OPTIONAL]; /* the compositor's optional device extensions and the window's */
     char title[160];
 };
+
+/* The X server going away (libX11 >= 1.8; measured against a killed Xvfb): Xlib's fatal I/O error calls the
+ * process's I/O error handler, whose default exits, then the display's exit handler, whose default exits too. Ours
+ * mark the display lost and return for GLFW's display (the app lives; the session is lost), and hand any other
+ * display to the handler that was there before (an app's own X connections keep their behaviour). One window per
+ * process (GLFW's one initialisation): the watched display is process state. */
+static void *g_x_display;
+static fv_xr_present *g_x_present;
+static int (*g_prev_io_handler)(void *dpy);
+
+static void x_display_lost(void)
+{
+    if (g_x_present && !atomic_exchange(&g_x_present->lost, true))
+        FV_ERROR(MOD, "the window's X server went away: the display is lost");
+}
+
+static int on_x_io_error(void *dpy)
+{
+    if (dpy && dpy == g_x_display) {
+        x_display_lost();
+        return 0;
+    }
+    return g_prev_io_handler ? g_prev_io_handler(dpy) : 0;
+}
+
+static void on_x_io_exit(void *dpy, void *user)
+{
+    (void)dpy;
+    (void)user;
+    x_display_lost();
+}
+
+/* Where GLFW runs on X11 with a libX11 that lets an application live through the server going away, take those two
+ * handlers. Looked up in the libraries already loaded (GLFW's build may be Wayland's, libX11 older than 1.8):
+ * without them Xlib's defaults stay (the process ends with the server). */
+static void watch_x_server(fv_xr_present *p)
+{
+    void *glfw = dlopen("libglfw.so.3", RTLD_LAZY | RTLD_NOLOAD), *x11 = dlopen("libX11.so.6", RTLD_LAZY | RTLD_NOLOAD);
+    void *(*get_display)(void) = NULL;
+    void (*set_exit)(void *, void (*)(void *, void *), void *) = NULL;
+    int (*(*set_io)(int (*)(void *)))(void *) = NULL;
+    /* POSIX's way to take a function from dlsym (ISO C has no object-to-function pointer conversion) */
+    if (glfw) *(void **)&get_display = dlsym(glfw, "glfwGetX11Display");
+    if (x11) *(void **)&set_exit = dlsym(x11, "XSetIOErrorExitHandler");
+    if (x11) *(void **)&set_io = dlsym(x11, "XSetIOErrorHandler");
+    void *dpy = get_display && getenv("DISPLAY") ? get_display() : NULL;
+    if (dpy && set_exit && set_io && !g_x_display) {
+        g_x_display = dpy;
+        g_x_present = p;
+        g_prev_io_handler = set_io(on_x_io_error);
+        set_exit(dpy, on_x_io_exit, NULL);
+    } else {
+        FV_DEBUG(MOD, "the X server going away ends the process (not on X11, or libX11 older than 1.8)");
+    }
+    if (glfw) dlclose(glfw);
+    if (x11) dlclose(x11);
+}
+
+/* The window goes: Xlib's handlers back as they were. */
+static void unwatch_x_server(fv_xr_present *p)
+{
+    if (g_x_present != p) return;
+    void *x11 = dlopen("libX11.so.6", RTLD_LAZY | RTLD_NOLOAD);
+    int (*(*set_io)(int (*)(void *)))(void *) = NULL;
+    if (x11) *(void **)&set_io = dlsym(x11, "XSetIOErrorHandler");
+    if (set_io) set_io(g_prev_io_handler); /* NULL restores Xlib's default */
+    if (x11) dlclose(x11);
+    g_x_display = NULL;
+    g_x_present = NULL;
+    g_prev_io_handler = NULL;
+}
 
 static bool has_display(void)
 {
@@ -60,6 +135,7 @@ fv_result fv_xr_present_create(const char *app_name, uint32_t eye_w, uint32_t ey
             return res;
         }
         p->why = res == FV_OK ? "window" : "headless (the window could not be opened: see above)";
+        if (res == FV_OK) watch_x_server(p);
     } else {
         p->why = "headless (FOVEA_XR_PRESENT=headless)";
     }
@@ -73,6 +149,7 @@ void fv_xr_present_destroy(fv_xr_present **pp)
 {
     if (!pp || !*pp) return;
     fv_window_destroy(&(*pp)->window);
+    unwatch_x_server(*pp);
     free(*pp);
     *pp = NULL;
 }
@@ -115,9 +192,11 @@ fv_target *fv_xr_present_target(fv_xr_present *p) { return p && p->window ? fv_w
 
 fv_display *fv_xr_present_display(fv_xr_present *p) { return p && p->window ? fv_window_display(p->window) : NULL; }
 
+bool fv_xr_present_lost(const fv_xr_present *p) { return p && atomic_load(&((fv_xr_present *)p)->lost); }
+
 bool fv_xr_present_poll(fv_xr_present *p)
 {
-    if (!p || !p->window) return true;
+    if (!p || !p->window || atomic_load(&p->lost)) return true; /* a dead display has no events (the loss decides) */
     if (!p->closed && !fv_window_poll(p->window)) {
         p->closed = true;
         FV_INFO(MOD, "the window was closed: the session stops");

@@ -8,7 +8,7 @@
  *   FOVEA_XR_PRESENT_MODE=fifo|mailbox|immediate: the window's present mode (fifo by default).
  * In a window the session's display clock is the window's swapchain clock (xrWaitFrame paces to it and
  * predictedDisplayTime comes from it); closing the window stops the session (STOPPING -> the app ends it ->
- * EXITING); a present that fails for good loses the display (LOSS_PENDING). An app that only makes XR_MND_headless
+ * EXITING); a present that fails for good, or the X server going away, loses the display (LOSS_PENDING). An app that only makes XR_MND_headless
  * sessions (no graphics binding, no graphics calls) never creates the compositor, so never opens a window. GLFW's rule: the thread that calls the graphics
  * functions and xrEndFrame is the one that made the window (an app's main thread, as in hello_xr). */
 #ifndef FV_XR_PRESENT_H
@@ -43,7 +43,9 @@ bool fv_xr_present_windowed(const fv_xr_present *p);
 fv_target *fv_xr_present_target(fv_xr_present *p);
 /** The display clock of the window's swapchain (owned by the window), or NULL when headless. */
 fv_display *fv_xr_present_display(fv_xr_present *p);
-/** Handle the window's events; false once it was closed (or Esc pressed). Headless: true. */
+/** Whether the window's display went away (the X server: Xlib's I/O error, where libX11 lets the app live). */
+bool fv_xr_present_lost(const fv_xr_present *p);
+/** Handle the window's events; false once it was closed (or Esc pressed). Headless or lost: true. */
 bool fv_xr_present_poll(fv_xr_present *p);
 /** The presenter's part of the statistics JSON (FOVEA_XR_STATS): lines `  "key": value,`. */
 void fv_xr_present_write_stats(const fv_xr_present *p, FILE *f);

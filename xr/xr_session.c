@@ -543,7 +543,11 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     /* a headless session (XR_MND_headless) may run a frame loop for its timing; it has nothing to show */
     bool shown = (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED) && !s->headless;
     int64_t t_comp = fv_xr_now_ns();
-    if (shown && info->layerCount > 0) {
+    if (shown && fv_xr_present_lost(fv_xr_compositor_present(s->inst->comp))) {
+        lose_display(s, "the window's X server went away");
+        shown = false;
+    }
+    if (shown && info->layerCount > 0 && !s->loss_pending) {
         double wait_ms = 0.0;
         fv_result fr = fv_xr_compositor_frame(s->inst->comp, s, info, &wait_ms);
         st->app_gpu_wait_ms_ema = ema(st->app_gpu_wait_ms_ema, wait_ms, st->composited + 1);

@@ -10,7 +10,8 @@
  * on a virtual X server the test starts (Xvfb -displayfd: a free display number; skipped, saying why, when Xvfb is
  * not installed or does not start): the frames presented to the window, its swapchain clock, and the presented frame
  * read back from the X server (the window's pixels, XGetImage) while hello_xr runs; then closing the window (a window
- * manager's WM_DELETE_WINDOW) stops the session: STOPPING, the app ends it, EXITING.
+ * manager's WM_DELETE_WINDOW) stops the session: STOPPING, the app ends it, EXITING; and ending the X server loses
+ * the display: LOSS_PENDING, the app living on.
  * argv[1] = hello_xr, argv[2] = the runtime manifest. */
 #include <errno.h>
 #include <fcntl.h>
@@ -231,6 +232,8 @@ typedef struct window_watch {
     frame_counts best;      /* the last good read (else the last read) */
     int close_after_good;   /* send WM_DELETE_WINDOW after this many good reads (0: never) */
     bool closed;
+    int kill_after_good;    /* end the X server after this many good reads (0: never) */
+    bool killed;
 } window_watch;
 
 /* fovea's window: a child of the root named "fovea OpenXR: ..." (no window manager: no frame around it). */
@@ -268,6 +271,7 @@ static void close_like_a_window_manager(Display *dpy, Window win)
 static void watch_window(void *user)
 {
     window_watch *ww = user;
+    if (ww->killed) return;
     if (!ww->dpy) {
         ww->dpy = XOpenDisplay(g_display);
         if (!ww->dpy) return;
@@ -302,6 +306,14 @@ static void watch_window(void *user)
     if (ww->close_after_good && ww->good >= ww->close_after_good && !ww->closed) {
         close_like_a_window_manager(ww->dpy, win);
         ww->closed = true;
+    }
+    if (ww->kill_after_good && ww->good >= ww->kill_after_good) {
+        XCloseDisplay(ww->dpy); /* ours first: Xlib would end this process too */
+        ww->dpy = NULL;
+        kill(g_xvfb, SIGTERM);
+        waitpid(g_xvfb, NULL, 0);
+        g_xvfb = -1;
+        ww->killed = true;
     }
 }
 
@@ -491,6 +503,33 @@ static void hello_xr_window_close_exits(void **state)
     free(log);
 }
 
+/* The X server going away (ended while hello_xr runs) loses the display: LOSS_PENDING, and the app lives on to
+ * destroy its session (Xlib's fatal I/O error does not end it). hello_xr then restarts and cannot open a window on
+ * the dead server (FOVEA_XR_PRESENT=window): it exits 1 after that, which this test does not judge. Runs last: the
+ * server is gone after it. */
+static void hello_xr_window_display_lost(void **state)
+{
+    (void)state;
+    NEED_XVFB();
+    char dir[1024], log_path[1200], stats_path[1200];
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp("lost"));
+    mkdir(dir, 0755);
+    window_watch ww = {.kill_after_good = 2};
+    int rc = run_hello("Vulkan2", dir, log_path, sizeof log_path, 0, watch_window, &ww);
+    g_display[0] = 0;
+    char *log = fv_test_read_file(log_path, NULL);
+    print_message("hello_xr -g Vulkan2 (window, X server ended): exit %d\n", rc);
+    assert_true(ww.killed);
+    snprintf(stats_path, sizeof stats_path, "%s/stats.json", dir);
+    char *stats = fv_test_read_file(stats_path, NULL);
+    fv_assert_contains(stats, "\"presenter\": \"window\"");
+    fv_assert_contains(stats, "\"states\": \"IDLE READY SYNCHRONIZED VISIBLE FOCUSED LOSS_PENDING\"");
+    fv_assert_contains(log, "XR_SESSION_STATE_FOCUSED->XR_SESSION_STATE_LOSS_PENDING");
+    if (strstr(log, "X connection to")) fail_msg("Xlib's default fatal I/O error handler ran:\n%s", log);
+    free(stats);
+    free(log);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 3) {
@@ -505,6 +544,7 @@ int main(int argc, char **argv)
             cmocka_unit_test(hello_xr_vulkan2_window_validation_clean),
             cmocka_unit_test(hello_xr_vulkan_window_validation_clean),
             cmocka_unit_test(hello_xr_window_close_exits),
+            cmocka_unit_test(hello_xr_window_display_lost), /* last: it ends the X server */
         };
         return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
     }
