@@ -33,8 +33,10 @@ static int (*g_prev_io_handler)(void *dpy);
 
 static void x_display_lost(void)
 {
-    if (g_x_present && !atomic_exchange(&g_x_present->lost, true))
-        FV_ERROR(MOD, "the window's X server went away: the display is lost");
+    if (!g_x_present || atomic_exchange(&g_x_present->lost, true)) return;
+    FV_ERROR(MOD, "the window's X server went away: the display is lost");
+    /* the presenter stops waiting on the dead server (e.g. for a size while its window reads as zero-sized) */
+    fv_window_request_close(g_x_present->window);
 }
 
 static int on_x_io_error(void *dpy)
@@ -197,7 +199,9 @@ bool fv_xr_present_lost(const fv_xr_present *p) { return p && atomic_load(&((fv_
 bool fv_xr_present_poll(fv_xr_present *p)
 {
     if (!p || !p->window || atomic_load(&p->lost)) return true; /* a dead display has no events (the loss decides) */
-    if (!p->closed && !fv_window_poll(p->window)) {
+    bool open = p->closed ? false : fv_window_poll(p->window);
+    if (atomic_load(&p->lost)) return true; /* the server went away during the poll: not a close */
+    if (!p->closed && !open) {
         p->closed = true;
         FV_INFO(MOD, "the window was closed: the session stops");
     }
