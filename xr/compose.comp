@@ -47,11 +47,18 @@ void main()
         vec2 uv = p.xy / p.z;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
         vec4 c = fetch(l.info.x, vec3(l.uv_rect.xy + uv * l.uv_rect.zw, float(l.info.y)));
+        vec3 under = color;
         if ((l.info.z & FV_XR_LAYER_ALPHA) != 0u) {
             vec3 src = (l.info.z & FV_XR_LAYER_UNPREMULTIPLIED) != 0u ? c.rgb * c.a : c.rgb;
             color = src + color * (1.0 - clamp(c.a, 0.0, 1.0));
         } else {
             color = c.rgb;
+        }
+        if ((l.info.z & FV_XR_LAYER_INSET) != 0u) {
+            // an inset blends into what is under it (the wide view) over the band at its edge: a smoothstep per axis
+            vec2 band = max(vec2(l.h[0].w, l.h[1].w), vec2(1e-6));
+            vec2 s = smoothstep(vec2(0.0), band, min(uv, vec2(1.0) - uv));
+            color = mix(under, color, s.x * s.y);
         }
     }
     imageStore(display, ivec3(px, eye), vec4(srgb_encode(color), 1.0));

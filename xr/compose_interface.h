@@ -14,6 +14,8 @@
 
 #define FV_XR_LAYER_ALPHA 1u         /* XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT */
 #define FV_XR_LAYER_UNPREMULTIPLIED 2u /* XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT */
+#define FV_XR_LAYER_INSET 4u         /* a quad-views inset (XR_VARJO_quad_views): its weight falls smoothly to 0 over
+                                      * the band at its edge (h[0].w, h[1].w: the band in u and v, xr_quad.c) */
 
 #ifdef __cplusplus
 #error C only
@@ -32,7 +34,7 @@ typedef struct fv_xr_uvec4 { uint32_t x, y, z, w; } fv_xr_uvec4;
 #endif
 
 FV_XR_STRUCT(fv_xr_compose_layer) {
-    FV_XR_VEC4 h[3];     /* rows of the homography: (u w, v w, w) = h * (tan_x, tan_y, 1) */
+    FV_XR_VEC4 h[3];     /* rows of the homography: (u w, v w, w) = h * (tan_x, tan_y, 1) (xyz; w: see INSET) */
     FV_XR_VEC4 uv_rect;  /* source image rect in normalised coordinates: offset.xy, scale.zw */
     FV_XR_UVEC4 info;    /* x: source index (binding array element), y: array layer, z: FV_XR_LAYER_* flags */
 };

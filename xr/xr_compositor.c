@@ -545,7 +545,12 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
         c->target = fv_xr_present_target(c->present);
     } else if (res == FV_OK && out && *out) {
         snprintf(c->out_dir, sizeof c->out_dir, "%s", out);
-        fv_target_files_desc fd = {.dir = c->out_dir, .side_by_side = true, .save = FV_TARGET_SAVE_LAST};
+        /* FOVEA_XR_OUT_ALL=1: every composited frame (frame_NNNNN.png, N = composited frames before it) */
+        const char *all = getenv("FOVEA_XR_OUT_ALL");
+        if (all && *all && strcmp(all, "0") != 0 && strcmp(all, "1") != 0)
+            FV_ERROR(FV_XR_LOG, "FOVEA_XR_OUT_ALL='%s': expected 0 or 1; writing the last frame only", all);
+        fv_target_files_desc fd = {.dir = c->out_dir, .side_by_side = true,
+                                   .save = all && !strcmp(all, "1") ? FV_TARGET_SAVE_EVERY : FV_TARGET_SAVE_LAST};
         res = fv_target_files_create(&fd, &c->target);
     } else if (res == FV_OK) {
         c->target = fv_target_headless();
@@ -749,6 +754,19 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
             if (slot < 0) continue; /* more distinct swapchains than the pass binds: the layer is dropped */
             set_layer(&blk->layer[e * FV_XR_COMPOSE_MAX_LAYERS + nl[e]], &h, si, (uint32_t)slot, lh->layerFlags);
             nl[e]++;
+            /* quad views (XR_VARJO_quad_views): the eye's inset (view e + 2) over its wide view, blended at its edge */
+            const XrCompositionLayerProjection *pl = (const void *)lh;
+            if (lh->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION || pl->viewCount != 4 ||
+                nl[e] == FV_XR_COMPOSE_MAX_LAYERS)
+                continue;
+            const XrCompositionLayerProjectionView *iv = &pl->views[e + 2];
+            XrPosef inset_local = pose_mul(space_local, iv->pose);
+            h = projection_homography(&eye_local[e], &inset_local, &iv->fov);
+            if ((slot = source_slot(src, &nsrc, iv->subImage.swapchain)) < 0) continue;
+            fv_xr_compose_layer *il = &blk->layer[e * FV_XR_COMPOSE_MAX_LAYERS + nl[e]++];
+            set_layer(il, &h, &iv->subImage, (uint32_t)slot, lh->layerFlags);
+            fv_xr_quad_blend_band(&iv->fov, &il->h[0].w, &il->h[1].w);
+            il->info.z |= FV_XR_LAYER_INSET;
         }
     }
     blk->counts.x = nl[0];

@@ -98,7 +98,8 @@ bool fv_xr_gaze_present(fv_xr_gaze *g)
     return st.state == FV_GAZE_SOURCE_CONNECTED || st.state == FV_GAZE_SOURCE_LOST;
 }
 
-static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3], bool record)
+static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3], bool record,
+                    float *out_uncertainty_deg)
 {
     pthread_mutex_lock(&g->lock);
     drain(g);
@@ -115,6 +116,7 @@ static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float ou
     FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "gaze at %+.1f ms from the newest sample: %s, %s", horizon_ms,
            fv_gaze_event_str(p.event), tracked ? "tracked" : "not tracked");
     pthread_mutex_unlock(&g->lock);
+    if (out_uncertainty_deg) *out_uncertainty_deg = p.uncertainty_deg;
     /* the combined (cyclopean) ray starts between the eyes: the head frame's origin */
     out_origin_m[0] = out_origin_m[1] = out_origin_m[2] = 0.0f;
     if (p.combined_valid) {
@@ -146,11 +148,17 @@ void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out)
 
 bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3])
 {
-    return predict(g, t_ns, out_origin_m, out_dir, true);
+    return predict(g, t_ns, out_origin_m, out_dir, true, NULL);
+}
+
+bool fv_xr_gaze_predict_uncertainty(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3],
+                                    float *out_uncertainty_deg)
+{
+    return predict(g, t_ns, out_origin_m, out_dir, true, out_uncertainty_deg);
 }
 
 bool fv_xr_gaze_tracked(fv_xr_gaze *g, int64_t t_ns)
 {
     float o[3], d[3];
-    return predict(g, t_ns, o, d, false);
+    return predict(g, t_ns, o, d, false, NULL);
 }

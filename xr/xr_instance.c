@@ -20,6 +20,9 @@ static const XrExtensionProperties g_extensions[] = {
     {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME,
      XR_KHR_convert_timespec_time_SPEC_VERSION},
     {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_EXT_LOCAL_FLOOR_EXTENSION_NAME, XR_EXT_local_floor_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME, XR_VARJO_quad_views_SPEC_VERSION},
+    {XR_TYPE_EXTENSION_PROPERTIES, NULL, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME,
+     XR_VARJO_foveated_rendering_SPEC_VERSION},
 };
 #define EXTENSION_COUNT (uint32_t)(sizeof g_extensions / sizeof g_extensions[0])
 
@@ -89,10 +92,17 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
         else if (!strcmp(n, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME)) ext.eye_gaze = true;
         else if (!strcmp(n, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME)) ext.convert_timespec = true;
         else if (!strcmp(n, XR_EXT_LOCAL_FLOOR_EXTENSION_NAME)) ext.local_floor = true;
+        else if (!strcmp(n, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME)) ext.quad_views = true;
+        else if (!strcmp(n, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME)) ext.foveated = true;
         else {
             FV_ERROR(FV_XR_LOG, "extension %s is not supported by fovea", n);
             return XR_ERROR_EXTENSION_NOT_PRESENT;
         }
+    }
+    if (ext.foveated && !ext.quad_views) { /* XR_VARJO_foveated_rendering requires XR_VARJO_quad_views */
+        FV_ERROR(FV_XR_LOG, "%s requires %s to be enabled", XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME,
+                 XR_VARJO_QUAD_VIEWS_EXTENSION_NAME);
+        return XR_ERROR_VALIDATION_FAILURE;
     }
     struct XrInstance_T *inst = calloc(1, sizeof *inst);
     if (!inst) return XR_ERROR_OUT_OF_MEMORY;
@@ -223,6 +233,11 @@ FV_XR_DECL(xrGetSystemProperties)(XrInstance instance, XrSystemId system, XrSyst
             if (!inst->ext.eye_gaze) return XR_ERROR_VALIDATION_FAILURE;
             ((XrSystemEyeGazeInteractionPropertiesEXT *)b)->supportsEyeGazeInteraction =
                 inst->gaze && fv_xr_gaze_present(inst->gaze) ? XR_TRUE : XR_FALSE;
+        } else if (b->type == XR_TYPE_SYSTEM_FOVEATED_RENDERING_PROPERTIES_VARJO) {
+            if (!inst->ext.foveated) return XR_ERROR_VALIDATION_FAILURE;
+            /* rendering gaze: fovea's gaze pipeline on an open source */
+            ((XrSystemFoveatedRenderingPropertiesVARJO *)b)->supportsFoveatedRendering =
+                inst->gaze && fv_xr_gaze_present(inst->gaze) ? XR_TRUE : XR_FALSE;
         }
     return XR_SUCCESS;
 }
@@ -231,6 +246,10 @@ XrResult fv_xr_check_view_config(struct XrInstance_T *inst, XrViewConfigurationT
 {
     if (type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) {
         if (out_views) *out_views = 2;
+        return XR_SUCCESS;
+    }
+    if (type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO && inst->ext.quad_views) {
+        if (out_views) *out_views = 4; /* wide left, wide right, inset left, inset right (xr_quad.c) */
         return XR_SUCCESS;
     }
     if (type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO || type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO ||
@@ -242,12 +261,18 @@ XrResult fv_xr_check_view_config(struct XrInstance_T *inst, XrViewConfigurationT
 FV_XR_DECL(xrEnumerateViewConfigurations)(XrInstance instance, XrSystemId system, uint32_t cap, uint32_t *count,
                                           XrViewConfigurationType *types)
 {
-    if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
+    struct XrInstance_T *inst = fv_xr_instance_check(instance);
+    if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (system != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
     if (!count || (cap && !types)) return XR_ERROR_VALIDATION_FAILURE;
-    *count = 1;
+    /* quad views only for an app that enabled XR_VARJO_quad_views; preferred then (the insets at the display's
+     * density, the rest at less) */
+    uint32_t n = inst->ext.quad_views ? 2 : 1;
+    *count = n;
     if (cap == 0) return XR_SUCCESS;
-    types[0] = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    if (cap < n) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (n == 2) types[0] = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO;
+    types[n - 1] = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
     return XR_SUCCESS;
 }
 
@@ -282,6 +307,13 @@ FV_XR_DECL(xrEnumerateViewConfigurationViews)(XrInstance instance, XrSystemId sy
         if (views[i].type != XR_TYPE_VIEW_CONFIGURATION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
         views[i].recommendedImageRectWidth = inst->view_w;
         views[i].recommendedImageRectHeight = inst->view_h;
+        if (n == 4) {
+            const XrFoveatedViewConfigurationViewVARJO *fv =
+                inst->ext.foveated ? fv_xr_find_next(views[i].next, XR_TYPE_FOVEATED_VIEW_CONFIGURATION_VIEW_VARJO)
+                                   : NULL;
+            fv_xr_quad_view_size(inst, i, fv && fv->foveatedRenderingActive, &views[i].recommendedImageRectWidth,
+                                 &views[i].recommendedImageRectHeight);
+        }
         views[i].maxImageRectWidth = 4096;
         views[i].maxImageRectHeight = 4096;
         views[i].recommendedSwapchainSampleCount = 1;

@@ -317,5 +317,22 @@ typedef struct fv_xr_gaze_stats {
     double sum_ms, max_ms;
 } fv_xr_gaze_stats;
 void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out);
+/** fv_xr_gaze_predict, and the pipeline's uncertainty radius of that prediction (deg, finite). */
+bool fv_xr_gaze_predict_uncertainty(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3],
+                                    float *out_uncertainty_deg);
+
+/* xr_quad.c: quad views (XR_VARJO_quad_views) and gaze-driven insets (XR_VARJO_foveated_rendering) */
+/** The inset's angular radius (deg) from fovea's MAR model for a gaze uncertainty (deg). */
+double fv_xr_quad_inset_radius_deg(const struct XrInstance_T *inst, double uncertainty_deg);
+/** Recommended image size of quad view `view` (0, 1 wide; 2, 3 insets); foveated: XrFoveatedViewConfigurationViewVARJO
+ *  asked for the foveated sizes. */
+void fv_xr_quad_view_size(const struct XrInstance_T *inst, uint32_t view, bool foveated, uint32_t *out_w,
+                          uint32_t *out_h);
+/** xrLocateViews of the quad configuration: views 0 and 1 located by the caller; sets the insets (2, 3), on the
+ *  gaze predicted to info->displayTime when XrViewLocateFoveatedRenderingVARJO asks for it. Instance lock held.
+ *  Returns whether the insets follow a tracked gaze. */
+bool fv_xr_quad_locate(struct XrSession_T *s, const XrViewLocateInfo *info, XrView *views);
+/** The compositor's blend band at an inset's edge, in the inset's normalised image coordinates (u, v). */
+void fv_xr_quad_blend_band(const XrFovf *fov, float *out_band_u, float *out_band_v);
 
 #endif

@@ -54,6 +54,7 @@ static bool ref_type_supported(struct XrSession_T *s, XrReferenceSpaceType t)
 {
     if (t == XR_REFERENCE_SPACE_TYPE_VIEW || t == XR_REFERENCE_SPACE_TYPE_LOCAL || t == XR_REFERENCE_SPACE_TYPE_STAGE)
         return true;
+    if (t == XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO) return s->inst->ext.foveated; /* the rendering gaze */
     return t == XR_REFERENCE_SPACE_TYPE_LOCAL_FLOOR_EXT && s->inst->ext.local_floor;
 }
 
@@ -62,9 +63,11 @@ FV_XR_DECL(xrEnumerateReferenceSpaces)(XrSession session, uint32_t cap, uint32_t
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!count || (cap && !types)) return XR_ERROR_VALIDATION_FAILURE;
-    XrReferenceSpaceType all[4] = {XR_REFERENCE_SPACE_TYPE_VIEW, XR_REFERENCE_SPACE_TYPE_LOCAL,
-                                   XR_REFERENCE_SPACE_TYPE_STAGE, XR_REFERENCE_SPACE_TYPE_LOCAL_FLOOR_EXT};
-    uint32_t n = s->inst->ext.local_floor ? 4 : 3;
+    XrReferenceSpaceType all[5] = {XR_REFERENCE_SPACE_TYPE_VIEW, XR_REFERENCE_SPACE_TYPE_LOCAL,
+                                   XR_REFERENCE_SPACE_TYPE_STAGE};
+    uint32_t n = 3;
+    if (s->inst->ext.local_floor) all[n++] = XR_REFERENCE_SPACE_TYPE_LOCAL_FLOOR_EXT;
+    if (s->inst->ext.foveated) all[n++] = XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO;
     *count = n;
     if (cap == 0) return XR_SUCCESS;
     if (cap < n) return XR_ERROR_SIZE_INSUFFICIENT;
@@ -203,10 +206,14 @@ XrSpaceLocationFlags fv_xr_space_pose(struct XrSpace_T *sp, XrTime t, XrPosef *o
                    sp->ref_type == XR_REFERENCE_SPACE_TYPE_LOCAL_FLOOR_EXT) {
             base.position.y = -FV_XR_EYE_HEIGHT_M;
         }
-    } else {
+    }
+    /* the eye gaze action space, and XR_VARJO_foveated_rendering's COMBINED_EYE space (the rendering gaze: the same
+     * predicted ray; its ORIENTATION_TRACKED bit says whether the insets follow the gaze) */
+    bool combined_eye = sp->kind == FV_XR_SPACE_REFERENCE && sp->ref_type == XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO;
+    if (sp->kind != FV_XR_SPACE_REFERENCE || combined_eye) {
         flags = 0;
         on_head = true; /* the gaze is measured in the head frame */
-        if (fv_xr_input_space_source(sp) == 1 /* FV_XR_POSE_EYE_GAZE */ && inst->gaze) {
+        if ((combined_eye || fv_xr_input_space_source(sp) == 1 /* FV_XR_POSE_EYE_GAZE */) && inst->gaze) {
             /* the gaze ray in the head frame, predicted by fovea's pipeline to t, then into LOCAL with the head */
             float o[3], d[3];
             bool tracked = fv_xr_gaze_predict(inst->gaze, t, o, d);
@@ -310,14 +317,16 @@ FV_XR_DECL(xrLocateViews)(XrSession session, const XrViewLocateInfo *info, XrVie
             pthread_mutex_unlock(&s->inst->lock);
             return XR_ERROR_VALIDATION_FAILURE;
         }
-        XrPosef eye = {{0, 0, 0, 1}, {(i == 0 ? -0.5f : 0.5f) * FV_XR_IPD_M, 0, 0}};
+        /* quad views (XR_VARJO_quad_views): 2 and 3 are the left and right eyes' insets */
+        XrPosef eye = {{0, 0, 0, 1}, {((i & 1u) == 0 ? -0.5f : 0.5f) * FV_XR_IPD_M, 0, 0}};
         views[i].pose = pose_mul(base_inv, pose_mul(head, eye));
-        const fv_hmd_fov *f = &h->fov[i < 2 ? i : 0];
+        const fv_hmd_fov *f = &h->fov[i & 1u];
         views[i].fov.angleLeft = -atanf(f->tan_left);
         views[i].fov.angleRight = atanf(f->tan_right);
         views[i].fov.angleUp = atanf(f->tan_up);
         views[i].fov.angleDown = -atanf(f->tan_down);
     }
+    if (n == 4) fv_xr_quad_locate(s, info, views);
     /* relative to a space off the head, the head's tracking decides (given, not tracked today) */
     state->viewStateFlags = 0;
     if ((fb & LOC_VALID) == LOC_VALID)

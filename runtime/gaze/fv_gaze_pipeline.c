@@ -50,8 +50,9 @@ enum { CH_LEFT = 0, CH_RIGHT = 1, CH_COMBINED = 2 };
  * sample moved by the shrunk velocity, and by half of it (inside a saccade: by the 20 ms velocity) */
 enum { CAND_SAMPLE = 0, CAND_FILTERED = 1, CAND_MODEL = 2, CAND_SAMPLE_VEL = 3, CAND_SAMPLE_HALF = 4, CAND_BLEND = 5,
        CANDS = 6 };
-/* scoring contexts: the motion state x the speed of the newest 50 ms (SPEED_BINS bins) */
-enum { STATES = FV_GAZE_EVENT_LOST + 1, SPEED_BINS = 4, CONTEXTS = STATES * SPEED_BINS };
+/* scoring contexts: the motion state x the speed of the newest 50 ms (4 bins); a saccade that began from slow
+ * motion (< 20 deg/s) instead by the samples seen of it (1, 2, 3+: bins 0, 4, 5) -- see context() */
+enum { STATES = FV_GAZE_EVENT_LOST + 1, SPEED_BINS = 6, CONTEXTS = STATES * SPEED_BINS };
 
 typedef struct channel {
     fv_gaze_one_euro filter;
@@ -555,12 +556,23 @@ static void candidates(const fv_gaze_pipeline *p, fv_gaze_event ev, double h_s, 
 }
 
 /* The scoring context of state ev now: the state and a bin of the speed over the newest 50 ms (< 5, < 20, < 60,
- * >= 60 deg/s): the best candidate of a slow pursuit is not that of a fast one. */
+ * >= 60 deg/s): the best candidate of a slow pursuit is not that of a fast one. Inside a saccade that speed is the
+ * one before it (the 50 ms velocity is not updated in flight). A saccade that began from a fixation or a slow
+ * pursuit (< 20 deg/s) is binned by how many of its samples have been seen instead (1: bin 0, 2: bin 4, 3 or more:
+ * bin 5): what a candidate is worth depends on how much of the saccade the landing fit has had -- from one
+ * displacement its amplitude is uncertain by a factor of several, from three it is not -- and a context mixing
+ * the two takes the first samples' choice from the later ones' scores. One that began from fast motion (a head
+ * movement on a head-worn tracker, a catch-up saccade in a fast pursuit) keeps its speed bin. */
 static int context(const fv_gaze_pipeline *p, fv_gaze_event ev)
 {
     int st = (int)ev >= 0 && (int)ev < STATES ? (int)ev : 0;
     double v = ang_norm(p->v_mid, p->h_count > 0 ? p->h_p[hist_index(p, 0)][1] : 0.0);
     int bin = !(v >= 5.0) ? 0 : v < 20.0 ? 1 : v < 60.0 ? 2 : 3;
+    if (ev == FV_GAZE_EVENT_SACCADE && p->state == FV_GAZE_EVENT_SACCADE && bin <= 1) {
+        int seen = 0;
+        while (seen < p->h_count && seen < 3 && p->h_t[hist_index(p, seen)] >= p->sacc_start_ns) seen++;
+        bin = seen <= 1 ? 0 : 2 + seen;
+    }
     return st * SPEED_BINS + bin;
 }
 

@@ -472,9 +472,12 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
             ok[FV_SIM_EVAL_TRUTH_SMOOTHED] =
                 reference_from_samples(recs, n, i, target, true, &ref[FV_SIM_EVAL_TRUTH_SMOOTHED]);
             ok[FV_SIM_EVAL_TRUTH_TRUE] = false;
+            /* Blinks are treated as on a recording: a target at which the eye is closed has no truth (a
+             * recording has no valid sample there; the simulated eye's direction behind closed lids is no gaze
+             * anyone sees), so it is not scored. A capture inside a blink is scored when its target is not. */
             if (eye) {
                 fv_sim_truth tr;
-                ok[FV_SIM_EVAL_TRUTH_TRUE] = fv_sim_eye_truth_at(eye, target - origin, &tr);
+                ok[FV_SIM_EVAL_TRUTH_TRUE] = fv_sim_eye_truth_at(eye, target - origin, &tr) && !tr.blink;
                 ref[FV_SIM_EVAL_TRUTH_TRUE] = tr.dir_cyc;
             }
             if (!have_latest) continue;
@@ -506,7 +509,7 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
             bool ok;
             if (eye) {
                 fv_sim_truth tr;
-                ok = fv_sim_eye_truth_at(eye, target - origin, &tr);
+                ok = fv_sim_eye_truth_at(eye, target - origin, &tr) && !tr.blink; /* no truth in a blink */
                 ref = tr.dir_cyc;
             } else {
                 ok = reference_from_samples(recs, n, i, target, true, &ref);

@@ -5,6 +5,8 @@
  *    and saccade detection precision/recall/F1 by event matching;
  *  - on recordings (no truth): the same errors measured against the later samples themselves (the raw gaze
  *    interpolated at the target time), and counts of detected events.
+ * Blinks are treated alike for every source: a target at which the eye is closed has no truth and is not scored
+ * (a recording has no valid sample there; the simulated eye's direction behind closed lids is not scored either).
  * Event matching (documented in docs/gaze.md): a detected saccade is the run of samples the pipeline labels
  * SACCADE (from the capture time of the first to that of the last); it matches a true saccade when the two
  * intervals overlap, allowing FV_SIM_EVAL_MATCH_TOL_MS either side; each true and each detected saccade is used at

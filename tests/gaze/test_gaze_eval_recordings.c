@@ -8,6 +8,7 @@
 
 #include "fv_sim_driver.h"
 #include "fv_sim_eval.h"
+#include "fv_sim_eye.h"
 #include "fv_test.h"
 #include "fv_trace_driver.h"
 
@@ -111,13 +112,66 @@ static void gaze_eval_sim_counts_add_up_and_prediction_gains(void **state)
     double latest = r.err[FV_SIM_EVAL_TRUTH_TRUE][FV_SIM_EVAL_LATEST_SAMPLE][h].p95_deg;
     print_message("sim:seed=1 p95 @ 20 ms: predicted %.3f latest %.3f (%.0f%% lower)\n", pred, latest,
                   100.0 * (1.0 - pred / latest));
-    /* the issue asks for 30%; what holds is 18.5% (docs/gaze.md: the saccades the tracker cannot see yet and the
-     * blinks alone leave fewer than 1% of the samples for every other error above 0.7 x latest): guard 16% */
-    assert_true(pred < 0.84 * latest);
+    /* the issue asks for 30%; what holds is 24.9% (docs/gaze.md: the saccades' first one or two sample periods,
+     * where their amplitude is not yet determined, hold the tail): guard 22% */
+    assert_true(pred < 0.78 * latest);
     /* against the smoothed samples and the raw future as well */
     for (int t = 0; t < 2; t++)
         assert_true(r.err[t][FV_SIM_EVAL_PREDICTED][h].p95_deg < 0.9 * r.err[t][FV_SIM_EVAL_LATEST_SAMPLE][h].p95_deg);
     assert_true(r.noise_deg > 0.08 && r.noise_deg < 0.14); /* 0.15 deg per eye, the mean of two: 0.106 */
+}
+
+/* Blinks are treated alike on the simulated eye and on recordings: a target at which the eye is closed has no
+ * truth and is not scored (a recording has no valid sample there; the simulated eye's true direction behind closed
+ * lids used to be scored, which no tracker can see). The count of samples scored against the true gaze is checked
+ * against one taken independently from the same simulated eye: every delivered sample whose target (receipt +
+ * horizon) is not in a blink; and a sample whose capture is in a blink is still scored when its target is not. */
+static void gaze_eval_blink_targets_are_not_scored_on_sim_as_on_recordings(void **state)
+{
+    (void)state;
+    fv_sim_eval_result r;
+    uint64_t events = 0;
+    eval("sim:seed=1", &r, &events);
+    fv_sim_eye_desc d;
+    fv_sim_eye_desc_defaults(&d);
+    d.seed = 1;
+    fv_sim_eye *eye = NULL, *ahead = NULL;
+    assert_int_equal(fv_sim_eye_create(&d, &eye), FV_OK);
+    assert_int_equal(fv_sim_eye_create(&d, &ahead), FV_OK);
+    uint64_t expect[FV_SIM_EVAL_HORIZONS] = {0}, delivered = 0, capture_in_blink_scored = 0;
+    int64_t first_dev = 0;
+    bool have_first = false, have_valid = false;
+    for (;;) {
+        fv_gaze_sample s;
+        fv_sim_truth tc;
+        assert_int_equal(fv_sim_eye_next(eye, &s, &tc), FV_OK);
+        if (!have_first) first_dev = s.t_device_ns, have_first = true;
+        if ((double)(s.t_device_ns - first_dev) >= 60e9) break; /* what the eval reads: 60 s of device time */
+        delivered++;
+        have_valid = have_valid || !tc.blink;
+        if (!have_valid) continue; /* nothing to predict from yet */
+        for (int h = 0; h < FV_SIM_EVAL_HORIZONS; h++) {
+            fv_sim_truth tt;
+            assert_true(fv_sim_eye_truth_at(ahead, s.t_host_ns + (int64_t)r.horizon_ms[h] * FV_NS_PER_MS, &tt));
+            expect[h] += !tt.blink;
+            if (r.horizon_ms[h] == 20) capture_in_blink_scored += tc.blink && !tt.blink;
+        }
+    }
+    fv_sim_eye_destroy(&eye);
+    fv_sim_eye_destroy(&ahead);
+    assert_int_equal(r.samples, delivered);
+    print_message("sim:seed=1: %llu samples; scored against the true gaze at 20 ms: %llu (%llu targets in a blink "
+                  "left out; %llu captures in a blink scored)\n",
+                  (unsigned long long)delivered, (unsigned long long)r.err[FV_SIM_EVAL_TRUTH_TRUE][0][2].n,
+                  (unsigned long long)(delivered - expect[2]), (unsigned long long)capture_in_blink_scored);
+    assert_true(delivered - expect[2] > 100); /* ~15 blinks/min: the rule is exercised */
+    assert_true(capture_in_blink_scored > 0);
+    for (int h = 0; h < FV_SIM_EVAL_HORIZONS; h++)
+        for (int m = 0; m < FV_SIM_EVAL_METHODS; m++)
+            assert_int_equal(r.err[FV_SIM_EVAL_TRUTH_TRUE][m][h].n, expect[h]);
+    /* the recording's own truths are undefined in the blinks too: never scored on more samples than the true gaze
+     * (they also lose the edges, where no valid sample brackets the target) */
+    for (int t = 0; t < 2; t++) assert_true(r.err[t][FV_SIM_EVAL_PREDICTED][2].n <= expect[2]);
 }
 
 int main(void)
@@ -125,6 +179,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gaze_eval_prediction_earns_its_place_on_real_recordings),
         cmocka_unit_test(gaze_eval_sim_counts_add_up_and_prediction_gains),
+        cmocka_unit_test(gaze_eval_blink_targets_are_not_scored_on_sim_as_on_recordings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,20 +1,23 @@
 /* @brief Where the simulated eye's p95 error at 20 ms comes from, and what bounds it: the gaze pipeline run on
  * fv_sim_eye directly (as `fovea gaze eval --gaze sim:seed=N` runs it: target = receipt + 20 ms, truth = the true
- * cyclopean gaze there, latest sample = the newest valid raw sample), each sample labelled from the truth (a blink
- * at its capture or target; a saccade that starts between capture and target; a saccade in flight at capture, by
- * its age), and ORACLES that replace the prediction on one group with what no causal predictor can beat:
+ * cyclopean gaze there, latest sample = the newest valid raw sample; a target at which the eye is closed has no
+ * truth and is not scored, as on a recording), each sample labelled from the truth (a blink at its capture; a
+ * saccade that starts between capture and target; a saccade in flight at capture, by its age), and ORACLES that
+ * replace the prediction on one group with what no causal predictor can beat:
  *   - in flight from onset + k ms: the true gaze at the target (a perfect landing-and-timing predictor that needs
  *     k ms of the saccade), for k = 0, 8, 17, 25 ms;
  *   - the true landing point (the saccade's end position) from onset + k ms;
- *   - blinks: the true gaze (what a predictor that sees through closed lids would give).
+ *   - captures in a blink (the target is after it): the true gaze (what a predictor that saw through closed
+ *     lids would give).
  * The figures are printed (docs/gaze.md quotes them). What they showed: the saccades not yet begun and the blinks
- * do NOT bound the gain below 30% (the previous reading); a predictor that knew the gaze in flight from one sample
- * period after onset would gain 33-56%. The loss is in the first one or two samples of each saccade, where every
+ * do NOT bound the gain below 30%; a predictor that knew the gaze in flight from one sample period after onset
+ * would gain 65-69%, from two periods 33-41%. The loss is in the first one or two samples of each saccade, where every
  * candidate (the landing fit included) is still far off: one displacement at an unknown phase of the saccade leaves
  * its amplitude uncertain by a factor of several.
  * The asserts pin what the figures rest on: the oracles are never worse than the pipeline; the pipeline beats the
- * latest sample on every seed; the candidate predict() reports as chosen is the one it predicts; and the in-flight
- * oracle from onset + 8 ms reaches 30% on average (the target is not bounded by what the tracker cannot see). */
+ * latest sample on every seed (by 22% on average over seeds 1-5: 23.4% measured, what `fovea gaze eval` reports);
+ * the candidate predict() reports as chosen is the one it predicts; and the in-flight oracle from onset + 8 ms
+ * reaches 30% on average (the target is not bounded by what the tracker cannot see). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,7 +35,7 @@
 
 enum { G_FIX = 0, G_ONSET_AHEAD, G_INFLIGHT_EARLY, G_INFLIGHT, G_BLINK, GROUPS };
 static const char *g_group_names[GROUPS] = {"fixation/pursuit", "saccade starts after capture",
-                                            "in flight < 1 sample", "in flight >= 1 sample", "blink"};
+                                            "in flight < 1 sample", "in flight >= 1 sample", "blink at capture"};
 enum { O_NONE = 0, O_FLIGHT_0, O_FLIGHT_8, O_FLIGHT_17, O_FLIGHT_25, O_LAND_8, O_LAND_17, O_BLINK, O_FLIGHT_8_BLINK,
        O_ALL_VISIBLE, ORACLES };
 static const char *g_oracle_names[ORACLES] = {
@@ -135,7 +138,8 @@ static void run_bound(const fv_sim_eye_desc *d, bound *out)
         fv_gaze_prediction pr;
         fv_gaze_pipeline_predict(p, target, &pr);
         fv_sim_truth tt;
-        if (!pr.combined_valid || !fv_sim_eye_truth_at(truth_eye, target, &tt)) continue;
+        /* a target in a blink has no truth and is not scored (as the eval does, as on a recording) */
+        if (!pr.combined_valid || !fv_sim_eye_truth_at(truth_eye, target, &tt) || tt.blink) continue;
         /* the group, from the truth */
         while (si < ns && sv[si].t1 < tc.t_ns) si++;
         int g = G_FIX;
@@ -146,7 +150,7 @@ static void run_bound(const fv_sim_eye_desc *d, bound *out)
         }
         double age_ms = in ? (double)(tc.t_ns - in->t0) * 1e-6 : -1.0;
         if (in) g = age_ms < 1000.0 / d->rate_hz ? G_INFLIGHT_EARLY : G_INFLIGHT;
-        if (tc.blink || tt.blink) g = G_BLINK;
+        if (tc.blink) g = G_BLINK;
         grp[n] = g;
         age_k[n] = in ? (int)fmin(AGES - 1, floor(age_ms * 1e-3 * d->rate_hz) - 1.0) : -1;
         detected[n] = fv_gaze_pipeline_event(p) == FV_GAZE_EVENT_SACCADE;
@@ -258,6 +262,7 @@ static void gaze_sim_bound_of_the_p95_gain(void **state)
     print_message("mean gain over %d seeds: pipeline %.1f%%, perfect in flight from onset+8 ms %.1f%%\n", seeds,
                   100.0 * gain_pipeline / seeds, 100.0 * gain_flight8 / seeds);
     assert_true(gain_flight8 / seeds >= 0.3);
+    if (seeds == 5) assert_true(gain_pipeline / seeds >= 0.22); /* 23.4% */
 }
 
 int main(void)

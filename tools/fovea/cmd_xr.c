@@ -15,9 +15,10 @@ static const char *const USAGE =
     "Make fovea the active runtime for one app:\n"
     "  XR_RUNTIME_JSON=$(fovea xr manifest) hello_xr -g Vulkan2\n"
     "or for the user: ln -sf $(fovea xr manifest) ~/.config/openxr/1/active_runtime.json\n"
-    "Environment read by the runtime: FOVEA_XR_GAZE (a --gaze URI: eye gaze for XR_EXT_eye_gaze_interaction),\n"
-    "FOVEA_XR_HMD (HMD profile), FOVEA_XR_SCALE (render scale), FOVEA_XR_OUT (PNG of the last frame),\n"
-    "FOVEA_XR_FRAMES (end the session after N frames), FOVEA_XR_STATS (frame statistics JSON).\n";
+    "Environment read by the runtime: FOVEA_XR_GAZE (a --gaze URI: eye gaze for XR_EXT_eye_gaze_interaction and\n"
+    "the quad-view insets of XR_VARJO_foveated_rendering), FOVEA_XR_HMD (HMD profile), FOVEA_XR_SCALE (render\n"
+    "scale), FOVEA_XR_OUT (PNG of the last frame; FOVEA_XR_OUT_ALL=1: of every frame), FOVEA_XR_DISTORT=0 (no lens\n"
+    "pass), FOVEA_XR_FRAMES (end the session after N frames), FOVEA_XR_STATS (frame statistics JSON).\n";
 
 int fv_cmd_xr(int argc, char **argv)
 {

@@ -57,6 +57,9 @@ typedef XrResult(XRAPI_PTR *PFN_xrNegotiateLoaderRuntimeInterface)(const XrNegot
                                                                    XrNegotiateRuntimeRequest *runtimeRequest);
 #endif
 
+/* ---- XR_VARJO_quad_views (extension 38) and XR_VARJO_foveated_rendering (extension 122, revision 2 with
+ * XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO): Debian's 1.0.20 header has both; nothing to declare here. */
+
 /* ---- XR_EXT_local_floor (extension 427): a gravity-aligned space at floor level below LOCAL. */
 #ifndef XR_EXT_local_floor
 #define XR_EXT_local_floor 1
