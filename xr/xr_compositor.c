@@ -22,6 +22,7 @@
 #include "fv_target.h"
 #include "fv_vk.h"
 #include "xr_internal.h"
+#include "xr_present.h"
 
 #define FV_XR_FENCE_TIMEOUT_NS 5000000000ull /* an app queue that does not finish a release in 5 s is hung */
 
@@ -53,6 +54,7 @@ struct fv_xr_compositor {
     void *distort;
     fv_plan_entry distort_plan;
     fv_target *target;
+    fv_xr_present *present;      /* a window when there is a display (xr_present.h), else headless */
     char out_dir[1024];
     fv_vk_compute cs;
     VkSampler sampler;
@@ -78,8 +80,13 @@ fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **
     fv_vk_desc d = {.app_name = "fovea OpenXR compositor",
                     .optional_device_extensions = g_optional_exts,
                     .optional_device_extension_count = 1};
-    fv_result res = fv_vk_create(&d, &c->vk);
+    fv_result res = fv_xr_present_create(inst->app_name, inst->view_w, inst->view_h, &c->present);
+    if (res == FV_OK) {
+        fv_xr_present_configure_vk(c->present, &d);
+        res = fv_vk_create(&d, &c->vk);
+    }
     if (res != FV_OK) {
+        fv_xr_present_destroy(&c->present);
         free(c);
         return res;
     }
@@ -87,6 +94,7 @@ fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **
         FV_ERROR(FV_XR_LOG, "the Vulkan device '%s' lacks VK_KHR_external_memory_fd: swapchain images cannot be shared "
                             "with the application", c->vk->info.name);
         fv_vk_destroy(&c->vk);
+        fv_xr_present_destroy(&c->present);
         free(c);
         return FV_ERR_UNSUPPORTED;
     }
@@ -117,12 +125,15 @@ void fv_xr_compositor_destroy(fv_xr_compositor **pc)
     if (!pc || !*pc) return;
     fv_xr_compositor *c = *pc;
     fv_xr_compositor_session_end(c);
+    fv_xr_present_detach(c->present, c->vk); /* the window's swapchain goes before the device, the window after */
     fv_vk_destroy(&c->vk);
+    fv_xr_present_destroy(&c->present);
     free(c);
     *pc = NULL;
 }
 
 VkPhysicalDevice fv_xr_compositor_phys(const fv_xr_compositor *c) { return c->vk->phys; }
+fv_xr_present *fv_xr_compositor_present(fv_xr_compositor *c) { return c ? c->present : NULL; }
 void fv_xr_compositor_device_uuid(const fv_xr_compositor *c, uint8_t out_uuid[VK_UUID_SIZE])
 {
     memcpy(out_uuid, c->uuid, VK_UUID_SIZE);
@@ -547,9 +558,12 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
         }
         FV_INFO(FV_XR_LOG, "distort: %s", c->distort_plan.reason);
     }
-    /* the target: PNG files of the last frame with FOVEA_XR_OUT=dir, else headless */
+    /* the target: the window when presenting in one (xr_present.h), PNG files of the last frame with
+     * FOVEA_XR_OUT=dir, else headless */
     const char *out = getenv("FOVEA_XR_OUT");
-    if (res == FV_OK && out && *out) {
+    if (res == FV_OK && fv_xr_present_windowed(c->present)) {
+        c->target = fv_xr_present_target(c->present);
+    } else if (res == FV_OK && out && *out) {
         snprintf(c->out_dir, sizeof c->out_dir, "%s", out);
         /* FOVEA_XR_OUT_ALL=1: every composited frame (frame_NNNNN.png, N = composited frames before it) */
         const char *all = getenv("FOVEA_XR_OUT_ALL");

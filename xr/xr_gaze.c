@@ -129,6 +129,16 @@ static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float ou
     return tracked;
 }
 
+int64_t fv_xr_gaze_newest_sample_ns(fv_xr_gaze *g)
+{
+    pthread_mutex_lock(&g->lock);
+    drain(g);
+    fv_gaze_prediction p;
+    fv_gaze_pipeline_predict(g->pipeline, fv_xr_now_ns(), &p);
+    pthread_mutex_unlock(&g->lock);
+    return p.combined_valid ? p.t_sample_ns : 0;
+}
+
 void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out)
 {
     pthread_mutex_lock(&g->lock);

@@ -82,6 +82,9 @@ typedef struct fv_xr_frame_stats {
     int64_t predicted_minus_photon_ns_max; /* |predicted display time - photon time of the vsync shown| */
     double predicted_error_ms_sum;         /* the same, summed over presented frames (mean = sum / presented) */
     uint64_t presented;
+    int64_t gaze_sample_ns;    /* the newest gaze sample when the last xrWaitFrame returned (0: none) */
+    double gaze_photon_ms_sum, gaze_photon_ms_max; /* its age at the photons of the vsync that showed the frame */
+    uint64_t gaze_photon_frames;
 } fv_xr_frame_stats;
 
 struct XrSession_T {
@@ -270,6 +273,8 @@ void fv_xr_compositor_destroy(fv_xr_compositor **c);
 VkPhysicalDevice fv_xr_compositor_phys(const fv_xr_compositor *c);
 void fv_xr_compositor_device_uuid(const fv_xr_compositor *c, uint8_t out_uuid[VK_UUID_SIZE]);
 uint32_t fv_xr_compositor_api_version(const fv_xr_compositor *c);
+/** Where the frames are shown (xr_present.h: a window or headless); NULL without a compositor. */
+struct fv_xr_present *fv_xr_compositor_present(fv_xr_compositor *c);
 /** Whether an app's physical device (of any instance on the same loader) is the compositor's (device UUID). */
 bool fv_xr_compositor_same_device(const fv_xr_compositor *c, VkPhysicalDevice phys);
 /** Formats the compositor can sample (colour) or hold (depth) and share with the app, preferred first. */
@@ -333,6 +338,8 @@ void fv_xr_gaze_update(fv_xr_gaze *g);
  *  not tracked (blink, lost, no samples yet). */
 bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3]);
 bool fv_xr_gaze_present(fv_xr_gaze *g);
+/** The host time of the newest sample the pipeline has (after taking what the source has now); 0 when none. */
+int64_t fv_xr_gaze_newest_sample_ns(fv_xr_gaze *g);
 /** Whether the gaze is tracked at t (not counted in the statistics: the runtime's own question). */
 bool fv_xr_gaze_tracked(fv_xr_gaze *g, int64_t t_ns);
 /** The prediction horizons the app asked for while tracked: requested time minus the newest sample's host time (the

@@ -12,6 +12,7 @@
 #include "fv_clock.h"
 #include "fv_sim_display.h"
 #include "xr_internal.h"
+#include "xr_present.h"
 
 #define MS_PER_NS 1e-6
 
@@ -114,9 +115,11 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
     if (lose && *lose) s->lose_after_frames = strtoull(lose, NULL, 10);
     const char *frames = getenv("FOVEA_XR_FRAMES");
     if (frames && *frames) s->exit_after_frames = strtoull(frames, NULL, 10);
-    /* The display clock: the simulated display at the HMD's refresh rate on the host clock (no window yet). */
+    /* The display clock: the window's swapchain clock when presenting in a window (xr_present.h), else the simulated
+     * display at the HMD's refresh rate on the host clock. */
+    s->display = !s->headless ? fv_xr_present_display(fv_xr_compositor_present(inst->comp)) : NULL;
     fv_sim_display_desc dd = {.clock = fv_clock_monotonic(), .refresh_hz = inst->hmd.refresh_hz};
-    if (fv_sim_display_create(&dd, &s->display) != FV_OK) {
+    if (!s->display && fv_sim_display_create(&dd, &s->display) != FV_OK) {
         r = XR_ERROR_RUNTIME_FAILURE;
         goto fail;
     }
@@ -204,6 +207,11 @@ static void write_stats(struct XrSession_T *s)
     fprintf(f, "  \"predicted_vs_photon_mean_ms\": %.4f,\n",
             st->presented ? st->predicted_error_ms_sum / (double)st->presented : 0.0);
     fprintf(f, "  \"headless\": %s,\n", s->headless ? "true" : "false");
+    fv_xr_present_write_stats(s->headless ? NULL : fv_xr_compositor_present(s->inst->comp), f);
+    fprintf(f, "  \"gaze_to_photon_frames\": %llu,\n", (unsigned long long)st->gaze_photon_frames);
+    fprintf(f, "  \"gaze_to_photon_ms_mean\": %.4f,\n",
+            st->gaze_photon_frames ? st->gaze_photon_ms_sum / (double)st->gaze_photon_frames : 0.0);
+    fprintf(f, "  \"gaze_to_photon_ms_max\": %.4f,\n", st->gaze_photon_ms_max);
     fprintf(f, "  \"validation_messages\": %u,\n",
             s->inst->comp ? fv_xr_compositor_validation_messages(s->inst->comp) : 0u);
     fprintf(f, "  \"gaze_locates\": %llu,\n", (unsigned long long)gs.count);
@@ -363,6 +371,12 @@ static void sleep_until_ns(int64_t t_ns)
     }
 }
 
+/* The host time of the newest gaze sample now (0 when no source or no sample). Instance lock held. */
+static void note_gaze_sample(struct XrSession_T *s)
+{
+    s->stats.gaze_sample_ns = s->inst->gaze ? fv_xr_gaze_newest_sample_ns(s->inst->gaze) : 0;
+}
+
 static double ema(double old, double v, uint64_t n) { return n <= 1 ? v : old + 0.1 * (v - old); }
 
 FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameState *state)
@@ -414,6 +428,8 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     if (slept) s->stats.oversleep_ms_ema = ema(s->stats.oversleep_ms_ema, (double)(t_resume - wake) * MS_PER_NS, s->stats.waited);
     s->stats.overhead_ms_sum += (double)t_work * MS_PER_NS;
     s->wait_return_ns = fv_xr_now_ns();
+    /* the newest gaze sample an app locating its gaze now would be predicted from (gaze-to-photon statistics) */
+    note_gaze_sample(s);
     pthread_mutex_unlock(&s->inst->lock);
     pthread_mutex_lock(&s->frame_lock);
     s->frames_waited++;
@@ -546,12 +562,17 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     /* a headless session (XR_MND_headless) may run a frame loop for its timing; it has nothing to show */
     bool shown = (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED) && !s->headless;
     int64_t t_comp = fv_xr_now_ns();
-    if (shown && info->layerCount > 0) {
+    if (shown && fv_xr_present_lost(fv_xr_compositor_present(s->inst->comp))) {
+        lose_display(s, "the window's X server went away");
+        shown = false;
+    }
+    if (shown && info->layerCount > 0 && !s->loss_pending) {
         double wait_ms = 0.0;
         fv_result fr = fv_xr_compositor_frame(s->inst->comp, s, info, &wait_ms);
         st->app_gpu_wait_ms_ema = ema(st->app_gpu_wait_ms_ema, wait_ms, st->composited + 1);
-        if (fr == FV_ERR_DEVICE_LOST) {
-            lose_display(s, "the compositor's GPU device was lost");
+        bool windowed = fv_xr_present_windowed(fv_xr_compositor_present(s->inst->comp));
+        if (fr == FV_ERR_DEVICE_LOST || (fr != FV_OK && windowed)) {
+            lose_display(s, windowed ? "the window could not be presented to" : "the compositor's GPU device was lost");
         } else if (fr != FV_OK) {
             pthread_mutex_unlock(&s->inst->lock);
             return XR_ERROR_RUNTIME_FAILURE;
@@ -572,6 +593,12 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
         if (err > st->predicted_minus_photon_ns_max) st->predicted_minus_photon_ns_max = err;
         st->predicted_error_ms_sum += (double)err * MS_PER_NS;
         st->presented++;
+        if (shown && info->layerCount > 0 && st->gaze_sample_ns > 0) { /* the gaze sample's age at the photons */
+            double g_ms = (double)(fv_display_photon_ns(s->display, &shown_at) - st->gaze_sample_ns) * MS_PER_NS;
+            st->gaze_photon_ms_sum += g_ms;
+            if (g_ms > st->gaze_photon_ms_max) st->gaze_photon_ms_max = g_ms;
+            st->gaze_photon_frames++;
+        }
         FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "frame %llu: app %.2f ms, composite %.2f ms, vsync %llu (planned %llu)",
                (unsigned long long)st->ended, (double)(t0 - s->begin_ns) * MS_PER_NS,
                (double)(t_done - t_comp) * MS_PER_NS, (unsigned long long)shown_at.index,
@@ -585,6 +612,15 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
         set_state(s, XR_SESSION_STATE_VISIBLE);
         set_state(s, XR_SESSION_STATE_FOCUSED);
         fv_xr_input_focus(s);
+    }
+    /* the window's events (its share of the runtime's time); closed: the runtime stops the session (the app then
+     * ends it and the session exits) */
+    int64_t t_poll = fv_xr_now_ns();
+    bool open = s->headless || fv_xr_present_poll(fv_xr_compositor_present(s->inst->comp));
+    st->overhead_ms_sum += (double)(fv_xr_now_ns() - t_poll) * MS_PER_NS;
+    if (!open && !s->exit_requested && !s->loss_pending) {
+        s->exit_requested = true;
+        go_stopping(s);
     }
     /* a fixed number of frames (FOVEA_XR_FRAMES, like `fovea run --frames`): the runtime stops the session as a
      * window's close button would; the app then ends it and the session exits */

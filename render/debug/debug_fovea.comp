@@ -7,6 +7,7 @@
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
 #include "debug_interface.h"
+#include "fv_sample_mask_interface.h"
 
 layout(local_size_x = FV_DEBUG_GROUP_X, local_size_y = FV_DEBUG_GROUP_Y, local_size_z = 1) in;
 layout(constant_id = 0) const uint VIEW = FV_GPU_DEBUG_VIEW_SAMPLES;
@@ -41,9 +42,11 @@ void main()
         vec3 shade = imageLoad(out_color, ivec3(p)).rgb;
         c = s == 0xffffffffu ? vec3(0.0) : self ? vec3(1.0) : mix(cell_colour(s), shade / (1.0 + shade), 0.35);
     } else {
-        // 1: shaded (white), 2: reused from the history by temporal reuse (grey), 0: reconstructed (black)
+        // shaded (white), interpolated by interp_fill (light grey), reused from the history by temporal reuse (grey),
+        // reconstructed (black): the sample mask's values (fv_sample_mask_interface.h)
         uint mv = imageLoad(mask_img, ivec3(p)).x;
-        float m = mv == 1u ? 1.0 : mv == 2u ? 0.4 : 0.0;
+        float m = mv == FV_SAMPLE_MASK_SHADED ? 1.0 : mv == FV_SAMPLE_MASK_INTERPOLATED ? 0.7
+                : mv == FV_SAMPLE_MASK_REUSED ? 0.4 : 0.0;
         vec4 g = frame.gaze_dir[p.z];
         vec3 d = g.w > 0.5 ? g.xyz : vec3(0.0, 0.0, -1.0);
         float ring = 0.0;

@@ -199,7 +199,7 @@ void main()
     float prob = sampling_prob(p);
     bool s = sampled(p, prob);
     imageStore(prob_img, ivec3(p), vec4(prob));
-    imageStore(mask_img, ivec3(p), uvec4(s ? 1u : 0u));
+    imageStore(mask_img, ivec3(p), uvec4(s ? FV_SAMPLE_MASK_SHADED : FV_SAMPLE_MASK_UNKNOWN));
     if (s) {
         uint B = pc.block, k = (p.y % B) * B + p.x % B;
         imageAtomicOr(blocks_img, ivec3(int((p.x / B) * pc.block_words + k / 32u), int(p.y / B), int(p.z)),

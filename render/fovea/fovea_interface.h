@@ -12,10 +12,13 @@
 #define FV_FOVEA_UINT uint32_t
 #endif
 
+#include "fv_sample_mask_interface.h" /* the mask's values and block bits, shared with interpolation */
+
 /* ---- "fovea": the sampling map (fovea.comp) ---- */
 #define FV_FOVEA_SET 1
 #define FV_FOVEA_BINDING_PROB 0  /* image2DArray r32f: sampling probability p per pixel (written) */
-#define FV_FOVEA_BINDING_MASK 1  /* uimage2DArray r32ui: 1 = shade this pixel, 0 = reconstruct it (written) */
+#define FV_FOVEA_BINDING_MASK 1  /* uimage2DArray r32ui: the sample mask (fv_sample_mask_interface.h): SHADED =
+                                  * shade this pixel, UNKNOWN = reconstruct it (written) */
 #define FV_FOVEA_BINDING_RANKS 2 /* storage uint[B * B]: rank of each pixel of a block in the R2 order (no turn);
                                   * from FV_FOVEA_SRGB_TABLE on, 256 floats (as bits): 8-bit sRGB -> linear */
 #define FV_FOVEA_SRGB_TABLE 256u
@@ -166,7 +169,7 @@ struct fv_recon_push {
 #define FV_TEMPORAL_GROUP 8
 
 
-#define FV_TEMPORAL_MASK_REUSED 2u  /* a "fovea mask" value: not shaded, taken from the history */
+#define FV_TEMPORAL_MASK_REUSED FV_SAMPLE_MASK_REUSED /* a "fovea mask" value (fv_sample_mask_interface.h) */
 #define FV_TEMPORAL_AGE_BITS 4u
 #define FV_TEMPORAL_AGE_MAX 15u
 #define FV_TEMPORAL_SKY 1.0e30      /* the history distance of a pixel where nothing was drawn */

@@ -8,7 +8,8 @@
 // radiance blended (FV_TEMPORAL_SAMPLE_WEIGHT) with a hit's history clamped to within FV_TEMPORAL_CLAMP_REL of it
 // (stale history cannot ghost); an unshaded pixel with a hit reuses the history (age + 1), is marked
 // FV_TEMPORAL_MASK_REUSED in the mask and its block's bit set, so reconstruction takes it as a sample; a miss is
-// unknown (0). Each pixel reads and writes only itself in the colour and the mask. Per eye the hits and reuses are
+// unknown (0). Pixels interpolation shaded or interpolated (fv_sample_mask_interface.h) are known like shaded ones.
+// Each pixel reads and writes only itself in the colour and the mask. Per eye the hits and reuses are
 // counted. No value is ever NaN or Inf: non-finite history or positions are misses.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -132,9 +133,8 @@ void main()
             out_v = vec4(h, pack_info(dist, age + 1u));
             imageStore(color_img, p, vec4(h, 1.0));
             imageStore(mask_img, p, uvec4(FV_TEMPORAL_MASK_REUSED));
-            uint B = pc.block, k = (uint(p.y) % B) * B + uint(p.x) % B;
-            imageAtomicOr(blocks_img, ivec3(int((uint(p.x) / B) * pc.block_words + k / 32u), int(uint(p.y) / B), p.z),
-                          1u << (k % 32u));
+            imageAtomicOr(blocks_img, fv_sample_block_word(uvec3(p), pc.block, pc.block_words),
+                          fv_sample_block_bit(uvec3(p), pc.block));
         }
         imageStore(cur_img, p, out_v);
     }

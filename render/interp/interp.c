@@ -7,6 +7,7 @@
 
 #include "interp_comp.spv.h"
 #include "interp_fill_comp.spv.h"
+#include "interp_fill_mark_comp.spv.h"
 #include "fv_shade_inputs_interface.h"
 #include "interp_interface.h"
 
@@ -40,17 +41,7 @@ static bool plan_off(const fv_plan_context *ctx, fv_plan_entry *out)
     const fv_quality_interp *q = &ctx->quality->interp;
     out->enabled = q->enabled;
     out->variant = 0;
-    if (!out->enabled) {
-        snprintf(out->reason, sizeof out->reason, "off — interp.enabled is false");
-    } else if (ctx->quality->fovea.enabled) {
-        /* Foveation's reconstruction (and temporal reuse) take every pixel outside foveation's sample mask as
-         * unknown, so they would replace the interpolated pixels and the corners only interpolation shaded: the
-         * work would be wasted. Until interpolation marks its pixels in that mask, foveation takes precedence. */
-        out->enabled = false;
-        snprintf(out->reason, sizeof out->reason,
-                 "off — fovea.enabled is on, and foveation's reconstruction would replace interpolated pixels "
-                 "(composition not finished)");
-    }
+    if (!out->enabled) snprintf(out->reason, sizeof out->reason, "off — interp.enabled is false");
     return !out->enabled;
 }
 
@@ -60,17 +51,24 @@ static void interp_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     const fv_quality_interp *q = &ctx->quality->interp;
     uint32_t s = 1u << (q->start_level <= FV_INTERP_MAX_LEVEL ? q->start_level : FV_INTERP_MAX_LEVEL);
     snprintf(out->reason, sizeof out->reason,
-             "coherent regions (τ %g%s) shaded at their corners, %ux%u px down to 2x2, the rest per pixel",
-             (double)q->threshold, q->light ? ", light" : "", s, s);
+             "coherent regions (τ %g%s) shaded at their corners, %ux%u px down to 2x2, the rest per pixel%s",
+             (double)q->threshold, q->light ? ", light" : "", s, s,
+             ctx->quality->fovea.enabled ? "; thinned by foveation" : "");
 }
 
+/* Foveation on: the fill also marks the shaded and filled pixels in foveation's sample mask, so that temporal reuse
+ * and reconstruction (after it) keep them. The variant is then foveation's block (as its own passes': they keep
+ * views of its images, so they are made again together), 0 without. */
 static void fill_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 {
     if (plan_off(ctx, out)) return;
-    snprintf(out->reason, sizeof out->reason, "%s",
+    bool mark = ctx->quality->fovea.enabled;
+    out->variant = mark ? ctx->quality->fovea.block : 0;
+    snprintf(out->reason, sizeof out->reason, "%s%s",
              ctx->quality->debug_view == FV_DEBUG_VIEW_INTERP
                  ? "view 'interp': the level each pixel was shaded or filled at"
-                 : "the unshaded pixels of coherent regions, bilinear from their region's four shaded corners");
+                 : "the unshaded pixels of coherent regions, bilinear from their region's four shaded corners",
+             mark ? "; marked in foveation's sample mask" : "");
 }
 
 /* ---- "interp": pyramid, classification, the list --------------------------------------------------------------- */
@@ -377,6 +375,9 @@ typedef struct fill {
     uint32_t width, height;
     fv_vk_compute cs;
     fv_image_id level;
+    bool mark;               /* interp_fill_mark: the frame has a sample mask (foveation) */
+    fv_image_id mask, blocks; /* its sample mask and block masks (mark only) */
+    uint32_t block;          /* the block side the block masks were made for, px */
 } fill;
 
 static void fill_fini(void *state)
@@ -394,18 +395,28 @@ static fv_result fill_init(const fv_pass_env *env, void **out_state)
     fl->vk = env->vk;
     fl->width = env->width;
     fl->height = env->height;
+    fl->mark = env->plan->variant != 0;
+    fl->block = env->plan->variant;
     const fv_vk_image *color = NULL;
     fv_result res = fv_images_find(env->images, "interp level", &fl->level); /* the interp pass (earlier) made it */
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
+    /* the sample mask's owner (foveation, earlier in the frame) made them; the contract is by name and
+     * fv_sample_mask_interface.h */
+    if (res == FV_OK && fl->mark) res = fv_images_find(env->images, "fovea mask", &fl->mask);
+    if (res == FV_OK && fl->mark) res = fv_images_find(env->images, "fovea blocks", &fl->blocks);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-    VkDescriptorSetLayoutBinding b[FV_INTERP_FILL_BINDING_COUNT] = {
+    VkDescriptorSetLayoutBinding b[FV_INTERP_FILL_MARK_BINDING_COUNT] = {
         {FV_INTERP_FILL_BINDING_LEVEL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
         {FV_INTERP_FILL_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+        {FV_INTERP_FILL_BINDING_MASK, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
+        {FV_INTERP_FILL_BINDING_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
-    fv_vk_compute_desc cd = {.name = "interp_fill", .code = fv_spv_interp_fill_comp,
-                             .code_size = sizeof fv_spv_interp_fill_comp, .shared_sets = shared,
-                             .shared_set_count = 1, .bindings = b, .binding_count = FV_INTERP_FILL_BINDING_COUNT,
+    fv_vk_compute_desc cd = {.name = fl->mark ? "interp_fill_mark" : "interp_fill",
+                             .code = fl->mark ? fv_spv_interp_fill_mark_comp : fv_spv_interp_fill_comp,
+                             .code_size = fl->mark ? sizeof fv_spv_interp_fill_mark_comp : sizeof fv_spv_interp_fill_comp,
+                             .shared_sets = shared, .shared_set_count = 1, .bindings = b,
+                             .binding_count = fl->mark ? FV_INTERP_FILL_MARK_BINDING_COUNT : FV_INTERP_FILL_BINDING_COUNT,
                              .set_count = 1, .push_bytes = sizeof(struct fv_interp_fill_push)};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &fl->cs);
     if (res != FV_OK) {
@@ -413,10 +424,18 @@ static fv_result fill_init(const fv_pass_env *env, void **out_state)
         fill_fini(fl);
         return res;
     }
-    fv_vk_write_image(env->vk, fl->cs.sets[0], FV_INTERP_FILL_BINDING_LEVEL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                      fv_images_image(env->images, fl->level)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    fv_vk_write_image(env->vk, fl->cs.sets[0], FV_INTERP_FILL_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                      color->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    VkImageLayout gl = VK_IMAGE_LAYOUT_GENERAL;
+    fv_vk_write_image(env->vk, fl->cs.sets[0], FV_INTERP_FILL_BINDING_LEVEL, si,
+                      fv_images_image(env->images, fl->level)->view, VK_NULL_HANDLE, gl);
+    fv_vk_write_image(env->vk, fl->cs.sets[0], FV_INTERP_FILL_BINDING_COLOR, si, color->view, VK_NULL_HANDLE, gl);
+    if (fl->mark) {
+        const fv_vk_image *mask = fv_images_image(env->images, fl->mask);
+        const fv_vk_image *blocks = fv_images_image(env->images, fl->blocks);
+        fv_vk_write_image(env->vk, fl->cs.sets[0], FV_INTERP_FILL_BINDING_MASK, si, mask->view, VK_NULL_HANDLE, gl);
+        fv_vk_write_image(env->vk, fl->cs.sets[0], FV_INTERP_FILL_BINDING_BLOCKS, si, blocks->view, VK_NULL_HANDLE,
+                          gl);
+    }
     *out_state = fl;
     return FV_OK;
 }
@@ -426,11 +445,17 @@ static void fill_record(void *state, const fv_pass_frame *f)
     fill *fl = state;
     if (!f->samples) return; /* a re-shaded pixel list: nothing was classified for it */
     VkCommandBuffer cmd = f->cmd;
+    uint32_t B = fl->mark ? fl->block : 1u;
     struct fv_interp_fill_push pc = {
-        .view = f->input->quality.debug_view == FV_DEBUG_VIEW_INTERP ? FV_INTERP_FILL_VIEW : 0u};
-    fv_vk_label_begin(fl->vk, cmd, pc.view ? "interp_fill (view)" : "interp_fill");
+        .view = f->input->quality.debug_view == FV_DEBUG_VIEW_INTERP ? FV_INTERP_FILL_VIEW : 0u,
+        .block = B, .block_words = (B * B + 31u) / 32u};
+    fv_vk_label_begin(fl->vk, cmd, pc.view ? "interp_fill (view)" : fl->mark ? "interp_fill_mark" : "interp_fill");
     fv_images_use(f->images, cmd, fl->level, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
+    if (fl->mark) {
+        fv_images_use(f->images, cmd, fl->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
+        fv_images_use(f->images, cmd, fl->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
+    }
     fv_vk_compute_bind(&fl->cs, cmd, 0, &f->scene_set, 1, 0, &pc);
     vkCmdDispatch(cmd, groups(fl->width), groups(fl->height), 2);
     f->counters->dispatches++;

@@ -27,7 +27,9 @@
  * pixel (level k >= 1) is FILLED by bilinear interpolation of its accepted node's four corners, all of them shaded.
  * With a sample list already made for the frame (foveation), a level-0 pixel that is no corner is shaded only when
  * that list holds it, and otherwise LEFT to the pass that made the list (reconstruct) to fill; corners are shaded
- * whatever that list says, so every filled pixel's corners exist. */
+ * whatever that list says, so every filled pixel's corners exist. Interpolation decides which pixels must be shaded,
+ * foveation thins the per-pixel rest; after shading, interp_fill_mark marks the shaded pixels and the filled ones in
+ * the frame's sample mask (fv_sample_mask_interface.h), so temporal reuse and reconstruction keep both. */
 #ifndef FV_INTERP_INTERFACE_H
 #define FV_INTERP_INTERFACE_H
 
@@ -105,17 +107,24 @@ struct fv_interp_push {
     FV_INTERP_UINT level_base[FV_INTERP_MAX_LEVEL + 1]; /* index (in nodes) of level k's first node; [0] unused */
 };
 
-/* ---- "interp_fill" (interp_fill.comp) ---- */
+/* ---- "interp_fill" (interp_fill.comp; interp_fill_mark.comp with the frame's sample mask) ---- */
 #define FV_INTERP_FILL_SET 1
 #define FV_INTERP_FILL_BINDING_LEVEL 0 /* uimage2DArray r32ui "interp level" (read) */
 #define FV_INTERP_FILL_BINDING_COLOR 1 /* image2DArray rgba32f: linear colour (filled pixels written) */
 #define FV_INTERP_FILL_BINDING_COUNT 2
+/* interp_fill_mark only: the sample mask and block masks (fv_sample_mask_interface.h; foveation's "fovea mask" and
+ * "fovea blocks"), shaded and filled pixels marked */
+#define FV_INTERP_FILL_BINDING_MASK 2   /* uimage2DArray r32ui (read, written) */
+#define FV_INTERP_FILL_BINDING_BLOCKS 3 /* uimage2DArray r32ui (bits OR-ed in) */
+#define FV_INTERP_FILL_MARK_BINDING_COUNT 4
 
 #define FV_INTERP_FILL_VIEW 1u /* push.view: write `--view interp`'s colours instead of filling */
 
 struct fv_interp_fill_push {
-    FV_INTERP_UINT view; /* 0: fill; FV_INTERP_FILL_VIEW: the view */
-    FV_INTERP_UINT pad[3];
+    FV_INTERP_UINT view;        /* 0: fill; FV_INTERP_FILL_VIEW: the view */
+    FV_INTERP_UINT block;       /* interp_fill_mark: the block masks' block side B, px (fovea.block) */
+    FV_INTERP_UINT block_words; /* ceil(B * B / 32) */
+    FV_INTERP_UINT pad;
 };
 
 #endif

@@ -53,6 +53,9 @@ const char *fv_window_clock_name(const fv_window *w);
 
 /** Handle window events now. false once the window was closed or Esc pressed. */
 bool fv_window_poll(fv_window *w);
+/** Ask the window to close, as its close button does (the next frames are not shown, waits for a size end, and
+ *  fv_window_poll says false). Only sets a flag: safe from Xlib's error handlers. */
+void fv_window_request_close(fv_window *w);
 /** The next key pressed since the last call (GLFW_KEY_* codes, e.g. 'F' = 70), 0 when none. Esc is not queued. */
 int fv_window_next_key(fv_window *w);
 /** Where the cursor is: the eye whose image it is over (0 left, 1 right) and its position in that eye's image,

@@ -111,6 +111,11 @@ static void on_resize(GLFWwindow *gw, int width, int height)
     if (w) w->need_recreate = true;
 }
 
+void fv_window_request_close(fv_window *w)
+{
+    if (w) w->close_requested = true;
+}
+
 bool fv_window_poll(fv_window *w)
 {
     if (!w) return false;

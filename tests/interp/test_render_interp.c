@@ -2,7 +2,7 @@
  * wall is filled from the start level, its shaded pixels are bit-identical to full-resolution shading and the list
  * holds exactly them; across a depth edge no region is interpolated; SSIM against full-resolution shading at the
  * default threshold; 1x1 and odd sizes, threshold 0 and huge: finite, and every filled pixel's corners shaded;
- * yielding to foveation; the plan. */
+ * composed with foveation; the plan. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +15,7 @@
 #include "fv_scene.h"
 #include "fv_test.h"
 #include "gpu_test.h"
+#include "fv_sample_mask_interface.h"
 #include "interp_interface.h"
 
 #define W 96
@@ -398,51 +399,107 @@ static void extremes_stay_finite_and_keep_corners_shaded(void **state)
     }
 }
 
-/* With foveation: foveation's reconstruction and temporal reuse take every pixel outside its sample mask as unknown
- * and would replace interpolated pixels, so the plan turns interpolation off and says why; a frame with both asked
- * shades exactly what foveation alone shades. Fails if interpolation runs under foveation again before it marks its
- * pixels in foveation's mask. */
-static void yields_to_foveation(void **state)
+/* With foveation: interpolation decides which pixels must be shaded (the corners of coherent regions, whatever
+ * foveation says), foveation thins the per-pixel rest (left to reconstruction), and the fill marks what it shaded and
+ * filled in foveation's sample mask, so reconstruction keeps both: fewer pixels shaded than by either alone, the
+ * mask agrees with the codes, every filled pixel in the final image is still the bilinear of its corners, the shaded
+ * ones are full-resolution shading's, and the image is as close to full resolution as foveation alone. */
+static void compose_at(float mar_slope, bool small_fovea)
 {
-    (void)state;
-    FV_NEED_GPU(g_r);
-    fv_quality q = fv_quality_default();
-    q.interp.enabled = true;
-    q.fovea.enabled = true;
-    fv_frame_plan p;
-    fv_plan_context ctx = {.scene = NULL, .multiview = true, .quality = &q};
-    fv_frame_plan_build_ctx(&ctx, &p);
-    const fv_plan_entry *e = fv_frame_plan_find(&p, "interp"), *f = fv_frame_plan_find(&p, "interp_fill");
-    assert_non_null(e);
-    assert_non_null(f);
-    assert_false(e->enabled);
-    assert_false(f->enabled);
-    assert_non_null(strstr(e->reason, "fovea.enabled"));
-
     fv_scene *s = NULL;
     assert_int_equal(fv_scene_load("cornell", &s), FV_OK);
     assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
-    uint64_t shaded[2];
-    for (int mode = 0; mode < 2; mode++) { /* fovea only, fovea + interp asked */
+    uint64_t shaded[4];
+    frame_read img[4];
+    uint32_t *mask[2] = {NULL, NULL};
+    uint64_t id = g_frame_id++; /* one frame id: every mode shades the same frame */
+    census c;
+    memset(&c, 0, sizeof c);
+    for (int mode = 0; mode < 4; mode++) { /* fovea only, interp only, both, neither (full resolution) */
         fv_frame_input in;
-        assert_int_equal(fv_renderer_frame_input(g_r, NULL, g_frame_id, 0.0, &in), FV_OK);
-        in.quality.fovea.enabled = true;
+        assert_int_equal(fv_renderer_frame_input(g_r, NULL, id, 0.0, &in), FV_OK);
+        in.quality.fovea.enabled = mode == 0 || mode == 2;
         in.quality.fovea.temporal = 0;
-        in.quality.fovea.mar_slope = 0.2f; /* a fovea that fits the small image */
-        in.quality.interp.enabled = mode == 1;
-        for (int e2 = 0; e2 < 2; e2++) {
-            in.gaze[e2].valid = true;
-            in.gaze[e2].dir_eye = fv_v3(0, 0, -1);
-            in.gaze[e2].uncertainty_deg = 0.5f;
+        if (mar_slope > 0) in.quality.fovea.mar_slope = mar_slope;
+        in.quality.interp.enabled = mode == 1 || mode == 2;
+        for (int e = 0; e < 2; e++) {
+            in.gaze[e].valid = true;
+            in.gaze[e].dir_eye = fv_v3(0, 0, -1);
+            in.gaze[e].uncertainty_deg = 0.5f;
         }
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         shaded[mode] = shade_pixels_of_last_frame(g_r);
+        read_frame(g_r, mode == 2, &img[mode]);
+        if (mode != 2) continue;
+        c = check_codes(&img[2], in.quality.interp.start_level, true);
+        assert_int_equal(shaded[mode], c.shaded);
+        for (int e = 0; e < 2; e++) {
+            mask[e] = malloc(NPIX * 4);
+            assert_non_null(mask[e]);
+            assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask[e], NPIX * 4, 4), FV_OK);
+        }
     }
-    g_frame_id++;
-    assert_true(shaded[0] > 0);
-    assert_int_equal(shaded[0], shaded[1]);
+    print_message("cornell %ux%u, fovea.mar_slope %s: shaded by fovea %llu, interp %llu, both %llu (%llu filled, %llu left to "
+                  "reconstruct)\n", W, H, small_fovea ? "0.2" : "0.05", (unsigned long long)shaded[0], (unsigned long long)shaded[1],
+                  (unsigned long long)shaded[2], (unsigned long long)c.filled, (unsigned long long)c.left);
+    assert_true(c.filled > 0);
+    if (small_fovea) assert_true(c.left > 0);
+    /* foveation thins interpolation's per-pixel rest; the corners of coherent regions stay shaded whatever
+     * foveation says (every filled pixel needs its four), so where foveation's samples are sparser than the
+     * regions' corners (a fovea small against the image) the pair shades more than foveation alone */
+    assert_true(shaded[2] < shaded[1]);
+    if (!small_fovea) assert_true(shaded[2] < shaded[0]);
+    /* the mask: shaded 1, filled 3, left 0 (no temporal reuse); filled pixels kept through reconstruction, shaded
+     * ones as full resolution shades them */
+    double worst_shaded = 0, worst_filled = 0;
+    const frame_read *both = &img[2], *full = &img[3];
+    for (int e = 0; e < 2; e++)
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t x = 0; x < W; x++) {
+                size_t i = (size_t)y * W + x;
+                uint32_t code = both->code[e][i], m = mask[e][i];
+                uint32_t want = (code & FV_INTERP_CODE_SHADED)   ? FV_SAMPLE_MASK_SHADED
+                                : (code & FV_INTERP_CODE_FILLED) ? FV_SAMPLE_MASK_INTERPOLATED
+                                                                 : FV_SAMPLE_MASK_UNKNOWN;
+                if (m != want) fail_msg("eye %d pixel (%u, %u): mask %u, code 0x%x", e, x, y, m, code);
+                const float *px = &both->rgba[e][4 * i];
+                if (code & FV_INTERP_CODE_SHADED)
+                    for (int ch = 0; ch < 3; ch++)
+                        worst_shaded = fmax(worst_shaded, fabs(px[ch] - full->rgba[e][4 * i + ch]) /
+                                                              fmax(fabs(full->rgba[e][4 * i + ch]), 1e-3));
+                if (!(code & FV_INTERP_CODE_FILLED)) continue;
+                uint32_t k = code & FV_INTERP_CODE_LEVEL_MASK, sp = 1u << k;
+                uint32_t x0 = (x >> k) << k, y0 = (y >> k) << k;
+                uint32_t x1 = x0 + sp < W - 1 ? x0 + sp : W - 1, y1 = y0 + sp < H - 1 ? y0 + sp : H - 1;
+                double tx = (double)(x - x0) / (x1 > x0 ? x1 - x0 : 1), ty = (double)(y - y0) / (y1 > y0 ? y1 - y0 : 1);
+                for (int ch = 0; ch < 3; ch++) {
+                    const float *im = both->rgba[e];
+                    double c00 = im[4 * ((size_t)y0 * W + x0) + ch], c10 = im[4 * ((size_t)y0 * W + x1) + ch];
+                    double c01 = im[4 * ((size_t)y1 * W + x0) + ch], c11 = im[4 * ((size_t)y1 * W + x1) + ch];
+                    double b = (c00 * (1 - tx) + c10 * tx) * (1 - ty) + (c01 * (1 - tx) + c11 * tx) * ty;
+                    worst_filled = fmax(worst_filled, fabs(px[ch] - b) / fmax(fabs(b), 1e-3));
+                }
+            }
+    double ssim_fovea = ssim_of(&img[0], full), ssim_both = ssim_of(both, full), ssim_interp = ssim_of(&img[1], full);
+    print_message("worst relative difference: shaded vs full resolution %.3g, filled vs its corners' bilinear %.3g; "
+                  "SSIM against full resolution: fovea %.5f, interp %.5f, both %.5f\n", worst_shaded, worst_filled,
+                  ssim_fovea, ssim_interp, ssim_both);
+    assert_true(worst_shaded < 1e-5);
+    assert_true(worst_filled < 1e-4); /* reconstruction replaced no interpolated pixel */
+    assert_true(ssim_interp >= 0.98);
+    assert_true(ssim_both >= ssim_fovea - 0.01); /* interpolation costs foveation next to nothing in quality */
+    for (int m = 0; m < 4; m++) free_frame(&img[m]);
+    for (int e = 0; e < 2; e++) free(mask[e]);
     fv_scene_destroy(&s);
     assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+}
+
+static void composes_with_foveation(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    compose_at(0.2f, true); /* a fovea that fits the small image: most of it periphery */
+    compose_at(0.05f, false); /* most of the small image foveal */
 }
 
 static void plan_says_why(void **state)
@@ -471,6 +528,22 @@ static void plan_says_why(void **state)
         for (int n = 0; n < 4; n++)
             if (strcmp(p.entries[i].pass, names[n]) == 0) order[n] = (int)i;
     assert_true(order[0] >= 0 && order[0] < order[1] && order[1] < order[2] && order[2] < order[3]);
+    /* with foveation: both run, foveation's list before interp's, the fill marks foveation's mask (its block as the
+     * variant: made again with foveation's images) before temporal reuse and reconstruction */
+    q.fovea.enabled = true;
+    fv_frame_plan_build_ctx(&ctx, &p);
+    e = fv_frame_plan_find(&p, "interp");
+    f = fv_frame_plan_find(&p, "interp_fill");
+    assert_true(e->enabled && f->enabled);
+    assert_int_equal(f->variant, q.fovea.block);
+    assert_non_null(strstr(f->reason, "sample mask"));
+    assert_non_null(strstr(e->reason, "foveation"));
+    const char *after[3] = {"compact", "temporal", "reconstruct"};
+    int pos[3] = {-1, -1, -1};
+    for (uint32_t i = 0; i < p.count; i++)
+        for (int n = 0; n < 3; n++)
+            if (strcmp(p.entries[i].pass, after[n]) == 0) pos[n] = (int)i;
+    assert_true(pos[0] >= 0 && pos[0] < order[0] && order[2] < pos[1] && order[2] < pos[2]);
 }
 
 int main(void)
@@ -481,7 +554,9 @@ int main(void)
         cmocka_unit_test(nothing_is_interpolated_across_a_depth_edge),
         cmocka_unit_test(ssim_against_full_resolution_at_the_default_threshold),
         cmocka_unit_test(extremes_stay_finite_and_keep_corners_shaded),
-        cmocka_unit_test(yields_to_foveation),
+        cmocka_unit_test(composes_with_foveation),
     };
+    const char *only = getenv("FV_TEST_ONLY"); /* a test's name (glob): run only that one, while debugging */
+    if (only && *only) cmocka_set_test_filter(only);
     return cmocka_run_group_tests(tests, setup, teardown);
 }

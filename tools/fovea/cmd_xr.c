@@ -18,7 +18,9 @@ static const char *const USAGE =
     "Environment read by the runtime: FOVEA_XR_GAZE (a --gaze URI: eye gaze for XR_EXT_eye_gaze_interaction and\n"
     "the quad-view insets of XR_VARJO_foveated_rendering), FOVEA_XR_HMD (HMD profile), FOVEA_XR_SCALE (render\n"
     "scale), FOVEA_XR_OUT (PNG of the last frame; FOVEA_XR_OUT_ALL=1: of every frame), FOVEA_XR_DISTORT=0 (no lens\n"
-    "pass), FOVEA_XR_FRAMES (end the session after N frames), FOVEA_XR_STATS (frame statistics JSON).\n";
+    "pass), FOVEA_XR_FRAMES (end the session after N frames), FOVEA_XR_STATS (frame statistics JSON),\n"
+    "FOVEA_XR_PRESENT=auto|window|headless (auto: a window when there is a display), FOVEA_XR_PRESENT_MODE=\n"
+    "fifo|mailbox|immediate (the window's present mode).\n";
 
 int fv_cmd_xr(int argc, char **argv)
 {
