@@ -20,7 +20,8 @@ static const char *const USAGE =
     "scale), FOVEA_XR_OUT (PNG of the last frame; FOVEA_XR_OUT_ALL=1: of every frame), FOVEA_XR_DISTORT=0 (no lens\n"
     "pass), FOVEA_XR_FRAMES (end the session after N frames), FOVEA_XR_STATS (frame statistics JSON),\n"
     "FOVEA_XR_PRESENT=auto|window|headless (auto: a window when there is a display), FOVEA_XR_PRESENT_MODE=\n"
-    "fifo|mailbox|immediate (the window's present mode).\n";
+    "fifo|mailbox|immediate (the window's present mode), FOVEA_XR_EGL_COPY=1 (OpenGL apps through EGL: copy the\n"
+    "images to the compositor even where GL can share its memory).\n";
 
 int fv_cmd_xr(int argc, char **argv)
 {
