@@ -7,7 +7,8 @@ frames, and the indirect light alone (`--view gi`, linear PFM) compared with the
 (relative L1: sum |a - b| / sum |b| over both eyes and the three channels). The points are run round-robin --repeats times (so load on the
 machine hits every method alike) and the median time is kept. Then, for each tree point, RSM sampling's time and
 sample count at the same error are interpolated (log-log, between the two sampling points around that error) and
-the speed-up is sampling's time over the tree's. A tree point whose error is outside the sampling curve's range is
+the speed-up is sampling's time over the tree's, for the whole shade pass and for the gather alone (the shade pass
+minus its time with GI off, timed in the same rounds: both methods share the direct light). A tree point whose error is outside the sampling curve's range is
 reported as such, not extrapolated.
 
 usage: tools/gi_tradeoff.py [--fovea BIN] [--scene NAME] [--eye-size WxH] [--rsm N] [--frames N] [--repeats N]
@@ -145,34 +146,44 @@ def main():
             d = os.path.join(a.out, "c%02d" % i)
             render(p["sets"], d, 1, "color")
             p["rel_l1_vs_truth"] = rel_l1(read_pfm(pfm_of(d)), truth)
+    # GI off: the shade pass without the gather (direct light only), timed in the same rounds, so that the
+    # gather's own time (shade - off) can be compared as well as the whole pass's.
+    off = {"sets": ["gi.enabled=off"], "times": []}
     for r in range(a.repeats):
-        for p in points:
+        for p in points + [off]:
             p["times"].append(shade(render(p["sets"], None, a.frames, a.view)))
-    for p in points:
+    for p in points + [off]:
         p["shade_ms"] = statistics.median(p["times"]) if p["times"] else float("nan")
+    off_ms = off["shade_ms"]
+    gather = lambda ms: max(ms - off_ms, 1e-3) if off_ms == off_ms else float("nan")
     samp = [(p["rel_l1"], p["shade_ms"], p["samples"]) for p in points if p["method"] == "rsm_sampling"]
+    samp_g = [(p["rel_l1"], gather(p["shade_ms"]), p["samples"]) for p in points if p["method"] == "rsm_sampling"]
+    print("GI off (direct light only): shade %.1f ms (median of %d)" % (off_ms, a.repeats))
     print("| point | clusters or samples per pixel | shade ms (median of %d) | relative L1 vs exact | PSNR dB | "
-          "sampling at equal error: samples, ms | speed-up |%s" % (a.repeats, " colour vs path truth |" if truth is not None else ""))
-    print("| --- | --- | --- | --- | --- | --- | --- |%s" % (" --- |" if truth is not None else ""))
+          "sampling at equal error: samples, ms | speed-up (shade) | speed-up (gather = shade - GI off) |%s"
+          % (a.repeats, " colour vs path truth |" if truth is not None else ""))
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |%s" % (" --- |" if truth is not None else ""))
     for p in points:
         extra = ""
         if p["method"] == "cut":
             m = interp(samp, p["rel_l1"])
-            if m:
+            mg = interp(samp_g, p["rel_l1"])
+            if m and mg:
                 p["equal_error_samples"], p["equal_error_ms"] = m[1], m[0]
                 p["speedup"] = m[0] / p["shade_ms"]
-                extra = "%.0f, %.1f | **%.2fx**" % (m[1], m[0], p["speedup"])
+                p["speedup_gather"] = mg[0] / gather(p["shade_ms"])
+                extra = "%.0f, %.1f | **%.2fx** | %.2fx" % (m[1], m[0], p["speedup"], p["speedup_gather"])
             else:
-                extra = "outside the sampling curve | —"
+                extra = "outside the sampling curve | — | —"
         else:
-            extra = "— | —"
+            extra = "— | — | —"
         if truth is not None:
             extra += " | %.4f" % p["rel_l1_vs_truth"]
         print("| %s | %s | %.1f | %.4f | %.2f | %s |" % (p["label"], p["clusters"], p["shade_ms"], p["rel_l1"],
                                                          p["psnr_db"], extra))
     with open(os.path.join(a.out, "gi_tradeoff.json"), "w") as f:
         json.dump({"args": vars(a), "exact_shade_ms": shade(ej), "lit_vpls": ej["gi"]["lit_vpls"],
-                   "points": points}, f, indent=1)
+                   "gi_off_shade_ms": off_ms, "points": points}, f, indent=1)
 
 
 if __name__ == "__main__":
