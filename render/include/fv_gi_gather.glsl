@@ -132,7 +132,8 @@ uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, 
     return used;
 }
 
-// Indirect irradiance at x (unit normal n), and how many clusters (or samples) it summed.
+// Indirect irradiance at x (unit normal n), and how many clusters (or samples) it summed (with gi.refine: the
+// flat clusters summed plus the tree nodes the refinement visited).
 vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
 {
     used = 0u;
