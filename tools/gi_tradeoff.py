@@ -7,12 +7,13 @@ frames, and the indirect light alone (`--view gi`, linear PFM) compared with the
 (relative L1: sum |a - b| / sum |b| over both eyes and the three channels). The points are run round-robin --repeats times (so load on the
 machine hits every method alike) and the median time is kept. Then, for each tree point, RSM sampling's time and
 sample count at the same error are interpolated (log-log, between the two sampling points around that error) and
-the speed-up is sampling's time over the tree's. A tree point whose error is outside the sampling curve's range is
+the speed-up is sampling's time over the tree's, for the whole shade pass and for the gather alone (the shade pass
+minus its time with GI off, timed in the same rounds: both methods share the direct light). A tree point whose error is outside the sampling curve's range is
 reported as such, not extrapolated.
 
 usage: tools/gi_tradeoff.py [--fovea BIN] [--scene NAME] [--eye-size WxH] [--rsm N] [--frames N] [--repeats N]
                             [--samples S1,S2,...] [--limits L1,...] [--thresholds D:N,...] [--refines R,...]
-                            [--bound F,...] [--view gi|color] [--set NAME=VALUE]... [--truth-spp N]
+                            [--bound F,...] [--view gi|color] [--set NAME=VALUE]... [--truth-spp N] [--stat median|min]
                             [--no-sampling] [--out DIR]
 """
 import argparse
@@ -87,6 +88,9 @@ def main():
                     help="also measure each point's colour against `fovea reference --mode path --bounces 1` at "
                          "this many samples per pixel (the physical one-bounce truth), and exact's and GI off's")
     ap.add_argument("--no-sampling", action="store_true", help="only the tree's points")
+    ap.add_argument("--stat", default="median", choices=["median", "min"],
+                    help="each point's time over the repeats: median, or min (the least disturbed round on a "
+                         "shared machine: load only adds time)")
     a = ap.parse_args()
 
     base = [a.fovea, "run", "--scene", a.scene, "--eye-size", a.eye_size, "--quality", "balanced",
@@ -145,34 +149,44 @@ def main():
             d = os.path.join(a.out, "c%02d" % i)
             render(p["sets"], d, 1, "color")
             p["rel_l1_vs_truth"] = rel_l1(read_pfm(pfm_of(d)), truth)
+    # GI off: the shade pass without the gather (direct light only), timed in the same rounds, so that the
+    # gather's own time (shade - off) can be compared as well as the whole pass's.
+    off = {"sets": ["gi.enabled=off"], "times": []}
     for r in range(a.repeats):
-        for p in points:
+        for p in points + [off]:
             p["times"].append(shade(render(p["sets"], None, a.frames, a.view)))
-    for p in points:
-        p["shade_ms"] = statistics.median(p["times"]) if p["times"] else float("nan")
+    for p in points + [off]:
+        p["shade_ms"] = (min if a.stat == "min" else statistics.median)(p["times"]) if p["times"] else float("nan")
+    off_ms = off["shade_ms"]
+    gather = lambda ms: max(ms - off_ms, 1e-3) if off_ms == off_ms else float("nan")
     samp = [(p["rel_l1"], p["shade_ms"], p["samples"]) for p in points if p["method"] == "rsm_sampling"]
-    print("| point | clusters or samples per pixel | shade ms (median of %d) | relative L1 vs exact | PSNR dB | "
-          "sampling at equal error: samples, ms | speed-up |%s" % (a.repeats, " colour vs path truth |" if truth is not None else ""))
-    print("| --- | --- | --- | --- | --- | --- | --- |%s" % (" --- |" if truth is not None else ""))
+    samp_g = [(p["rel_l1"], gather(p["shade_ms"]), p["samples"]) for p in points if p["method"] == "rsm_sampling"]
+    print("GI off (direct light only): shade %.1f ms (%s of %d)" % (off_ms, a.stat, a.repeats))
+    print("| point | clusters or samples per pixel | shade ms (%s of %d) | relative L1 vs exact | PSNR dB | "
+          "sampling at equal error: samples, ms | speed-up (shade) | speed-up (gather = shade - GI off) |%s"
+          % (a.stat, a.repeats, " colour vs path truth |" if truth is not None else ""))
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |%s" % (" --- |" if truth is not None else ""))
     for p in points:
         extra = ""
         if p["method"] == "cut":
             m = interp(samp, p["rel_l1"])
-            if m:
+            mg = interp(samp_g, p["rel_l1"])
+            if m and mg:
                 p["equal_error_samples"], p["equal_error_ms"] = m[1], m[0]
                 p["speedup"] = m[0] / p["shade_ms"]
-                extra = "%.0f, %.1f | **%.2fx**" % (m[1], m[0], p["speedup"])
+                p["speedup_gather"] = mg[0] / gather(p["shade_ms"])
+                extra = "%.0f, %.1f | **%.2fx** | %.2fx" % (m[1], m[0], p["speedup"], p["speedup_gather"])
             else:
-                extra = "outside the sampling curve | —"
+                extra = "outside the sampling curve | — | —"
         else:
-            extra = "— | —"
+            extra = "— | — | —"
         if truth is not None:
             extra += " | %.4f" % p["rel_l1_vs_truth"]
         print("| %s | %s | %.1f | %.4f | %.2f | %s |" % (p["label"], p["clusters"], p["shade_ms"], p["rel_l1"],
                                                          p["psnr_db"], extra))
     with open(os.path.join(a.out, "gi_tradeoff.json"), "w") as f:
         json.dump({"args": vars(a), "exact_shade_ms": shade(ej), "lit_vpls": ej["gi"]["lit_vpls"],
-                   "points": points}, f, indent=1)
+                   "gi_off_shade_ms": off_ms, "points": points}, f, indent=1)
 
 
 if __name__ == "__main__":

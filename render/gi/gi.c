@@ -82,16 +82,32 @@ static uint32_t candidates_for(uint32_t n, uint32_t start, uint32_t limit)
     return c;
 }
 
-/* The lights that get an RSM: spot and directional ones, in scene order, at most FV_GI_MAX_LIGHTS. */
-static uint32_t gi_lights_of_scene(const fv_scene *s, uint32_t *out_points)
+/* The lights that get an RSM: spot and directional ones, in scene order, at most FV_GI_MAX_LIGHTS. Also counted:
+ * the point lights (no cube RSM is built: no indirect light from them) and the spot or directional lights beyond
+ * the first FV_GI_MAX_LIGHTS (no RSM either). */
+static uint32_t gi_lights_of_scene(const fv_scene *s, uint32_t *out_points, uint32_t *out_beyond)
 {
-    uint32_t n = 0, points = 0;
+    uint32_t n = 0, points = 0, beyond = 0;
     for (uint32_t l = 0; s && l < s->light_count; l++) {
         if (s->lights[l].type == FV_LIGHT_POINT) points++;
         else if (n < FV_GI_MAX_LIGHTS) n++;
+        else beyond++;
     }
     *out_points = points;
+    *out_beyond = beyond;
     return n;
+}
+
+/* What the plan says of the lights GI leaves out ("" when none), put after the count of those with an RSM. */
+static void left_out(uint32_t points, uint32_t beyond, char *out, size_t cap)
+{
+    out[0] = '\0';
+    if (points && beyond)
+        snprintf(out, cap, " (left out: %u point, no cube RSM; %u beyond %u)", points, beyond, FV_GI_MAX_LIGHTS);
+    else if (points)
+        snprintf(out, cap, " (%u point light%s left out: no cube RSM)", points, plural(points));
+    else if (beyond)
+        snprintf(out, cap, " (left out: %u beyond the first %u)", beyond, FV_GI_MAX_LIGHTS);
 }
 
 static void gi_plan(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -108,14 +124,16 @@ static void gi_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         snprintf(out->reason, sizeof out->reason, "off — gi.enabled is false: no indirect light");
         return;
     }
-    uint32_t points = 0;
-    uint32_t n = gi_lights_of_scene(s, &points);
+    uint32_t points = 0, beyond = 0;
+    uint32_t n = gi_lights_of_scene(s, &points, &beyond);
     if (!n) {
         snprintf(out->reason, sizeof out->reason,
-                 "off — no light that casts indirect light (%u point light%s: no cube RSM is built)", points,
-                 plural(points));
+                 "off — only point lights (%u): the RSM is per spot or directional light, a point light's would be a "
+                 "cube (6 faces), not built; direct light only", points);
         return;
     }
+    char rest[96];
+    left_out(points, beyond, rest, sizeof rest);
     uint32_t size = q->rsm_size ? q->rsm_size : 1;
     uint32_t start, limit;
     fv_gi_tree_levels(size, q, &start, &limit);
@@ -127,9 +145,9 @@ static void gi_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     else snprintf(limit_txt, sizeof limit_txt, "%ux%u", size >> limit, size >> limit);
     snprintf(what, sizeof what,
              "%u light%s%s: RSM %upx (%u VPLs each), cut at %s from %ux%u (depth %.2g, normal %.2g), %s; rebuilt %s",
-             n, plural(n), points ? " (point lights: none, no cube RSM)" : "", size, size * size, limit_txt,
-             size >> start, size >> start, (double)q->depth_threshold, (double)q->normal_threshold,
-             mode_name(q->mode), animated ? "every frame (animated)" : "when a light or the scene moves");
+             n, plural(n), rest, size, size * size, limit_txt, size >> start, size >> start,
+             (double)q->depth_threshold, (double)q->normal_threshold, mode_name(q->mode),
+             animated ? "every frame (animated)" : rest[0] ? "on change" : "when a light or the scene moves");
     size_t len = strlen(what);
     if (len >= sizeof out->reason) len = sizeof out->reason - 1;
     memcpy(out->reason, what, len);

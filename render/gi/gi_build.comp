@@ -91,21 +91,29 @@ void reduce(uint i)
             o.pos += w * ch[j].pos;
             nsum += w * ch[j].normal.xyz;
         }
-        float extent = 0.0, rmin = 3.0e38;
+        float extent = 0.0, rmin = 3.0e38, slab = 0.0;
         bool valid = true;
         float nlen = length(nsum);
         vec3 nmean = nlen > 1e-6 ? nsum / nlen : vec3(0.0);
         for (int j = 0; j < 4; j++) {
             if (ch[j].info.z < 0.5) continue;
-            extent = max(extent, distance(ch[j].pos.xyz, o.pos.xyz) + ch[j].normal.w);
+            vec3 dp = ch[j].pos.xyz - o.pos.xyz;
+            extent = max(extent, length(dp) + ch[j].normal.w);
             rmin = min(rmin, ch[j].info.y);
             float cl = length(ch[j].normal.xyz);
             vec3 cn = cl > 1e-6 ? ch[j].normal.xyz / cl : vec3(0.0);
+            float cs = dot(cn, nmean);
             valid = valid && ch[j].info.x > 0.5 && abs(ch[j].pos.w - o.pos.w) < pc.params.x &&
-                    nlen > 1e-6 && dot(cn, nmean) > pc.params.y;
+                    nlen > 1e-6 && cs > pc.params.y;
+            // slab: every VPL of child j lies within r_j sin + h_j |cos| of its centre along nmean (r_j its
+            // extent, h_j its own slab along its normal, the angle between the two normals); r_j without a normal
+            float sn = sqrt(max(1.0 - cs * cs, 0.0));
+            float across = cl > 1e-6 && nlen > 1e-6 ? min(ch[j].normal.w * sn + ch[j].info.w * abs(cs), ch[j].normal.w)
+                                                    : ch[j].normal.w;
+            slab = max(slab, abs(dot(nmean, dp)) + across);
         }
         o.normal = vec4(nsum, extent);
-        o.info = vec4(valid ? 1.0 : 0.0, rmin, 1.0, 0.0);
+        o.info = vec4(valid ? 1.0 : 0.0, rmin, 1.0, nlen > 1e-6 ? min(slab, extent) : extent);
     }
     nodes[base + level_offset(N, k + 1u) + t] = o;
 }
@@ -210,7 +218,7 @@ void main()
             fv_gi_node c = nodes[node];
             fv_gi_cluster o;
             o.flux = vec4(max(c.flux.rgb, vec3(0.0)) * (1.0 / 3.14159265358979), c.normal.w * c.normal.w);
-            o.pos = vec4(c.pos.xyz, 0.0);
+            o.pos = vec4(c.pos.xyz, c.info.w);
             o.normal = vec4(c.normal.xyz, float(node));
             cut[scan[pc.scan.y + i / FV_GI_BUILD_GROUP] + scan[i]] = o;
         }

@@ -117,7 +117,7 @@ static fv_gi_node reduce(const fv_gi_node ch[4], float depth_threshold, float no
         nsum[1] += w * ch[j].normal.y;
         nsum[2] += w * ch[j].normal.z;
     }
-    float extent = 0.0f, rmin = 3.0e38f;
+    float extent = 0.0f, rmin = 3.0e38f, slab = 0.0f;
     bool valid = true;
     float nlen = v3len(nsum);
     float nmean[3] = {0, 0, 0};
@@ -134,9 +134,13 @@ static fv_gi_node reduce(const fv_gi_node ch[4], float depth_threshold, float no
         if (cl > 1e-6f) dot = (cn[0] * nmean[0] + cn[1] * nmean[1] + cn[2] * nmean[2]) / cl;
         valid = valid && ch[j].info.x > 0.5f && fabsf(ch[j].pos.w - o.pos.w) < depth_threshold && nlen > 1e-6f &&
                 dot > normal_threshold;
+        float sn = sqrtf(fmaxf(1.0f - dot * dot, 0.0f));
+        float across = cl > 1e-6f && nlen > 1e-6f ? fminf(ch[j].normal.w * sn + ch[j].info.w * fabsf(dot), ch[j].normal.w)
+                                                  : ch[j].normal.w;
+        slab = fmaxf(slab, fabsf(nmean[0] * d[0] + nmean[1] * d[1] + nmean[2] * d[2]) + across);
     }
     o.normal = (fv_gpu_vec4){nsum[0], nsum[1], nsum[2], extent};
-    o.info = (fv_gpu_vec4){valid ? 1.0f : 0.0f, rmin, 1.0f, 0.0f};
+    o.info = (fv_gpu_vec4){valid ? 1.0f : 0.0f, rmin, 1.0f, nlen > 1e-6f ? fminf(slab, extent) : extent};
     return o;
 }
 

@@ -60,6 +60,21 @@ float fv_gi_cluster_bound(fv_gi_node c, vec3 x, vec3 n)
     return phi * cos_max / (FV_PI * (dmin * dmin + rmin * rmin));
 }
 
+// The receiver's horizon: true when every VPL below a node (centre pos, mean normal nm, extent r, slab h: see
+// fv_gi_node) lies on or behind the plane through x normal to n, so each of them, and any cluster of them, gives
+// max(0, n.(x_i - x)) = 0 here. A VPL is x_i = pos + a + b nh (nh = nm / |nm|, a across nh, |a| <= r, |b| <= h),
+// so n.(x_i - x) <= n.(pos - x) + r sin(n, nh) + h |cos(n, nh)| (and <= n.(pos - x) + r always). The tolerance
+// 1e-4 (|pos - x| + r) absorbs the float noise of coplanar points (a floor's VPLs seen from the floor): what it
+// drops is a receiver cosine below 1e-4 (d + r) / d_i. Refinement skips such a node's whole subtree.
+bool fv_gi_behind(vec3 pos, vec3 nm, float r, float h, vec3 x, vec3 n)
+{
+    float nl = length(nm);
+    float cs = nl > 1e-6 ? dot(n, nm) / nl : 0.0;
+    float sn = sqrt(max(1.0 - cs * cs, 0.0));
+    vec3 v = pos - x;
+    return dot(n, v) + min(r * sn + h * abs(cs), r) <= 1e-4 * (length(v) + r);
+}
+
 // First node of level k in a tree of side n (a power of two; level k has s = n >> k nodes per side):
 // sum_{j<k} (n/2^j)^2 = 4 (n^2 - s^2) / 3, exact in integers (n^2 - s^2 = s^2 (4^k - 1)).
 uint fv_gi_level_offset(uint n, uint k)
@@ -72,9 +87,12 @@ uint fv_gi_level_offset(uint n, uint k)
 
 // The cut's near-field refinement: the irradiance at x from node `node` (its index in the tree buffer; trees of npl
 // nodes, side N, `levels` levels) summed over its descendants, each split while its extent^2 exceeds tau2 d^2 and
-// it is above the VPLs, added to e; returns how many nodes were summed. Depth first without a stack (a quad-tree
-// node's place is its level and (x, y) in that level: its children are (2x + i, 2y + j), its next sibling follows
-// from x & 1, y & 1), so no per-lane array is indexed.
+// it is above the VPLs, added to e; returns how many nodes were visited. A node the receiver cannot see
+// (fv_gi_behind) is dropped with its subtree. A node kept whole is at least extent / tau away, so it is summed as
+// a point (no d^2 + r^2 softening: that guard against 1/d^4 is the bound where a cluster may be arbitrarily near,
+// and for a cluster kept whole it is only a bias, d^2 / (d^2 + r^2) >= 1 / (1 + tau^2)); a VPL keeps its own
+// disk. Depth first without a stack (a quad-tree node's place is its level and (x, y) in that level: its children
+// are (2x + i, 2y + j), its next sibling follows from x & 1, y & 1), so no per-lane array is indexed.
 uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, vec3 n, inout vec3 e)
 {
     uint base = (node / npl) * npl, local = node - base;
@@ -84,17 +102,19 @@ uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, 
     uint k = k0, cx = i0 % s0, cy = i0 / s0, used = 0u;
     for (uint guard = 0u; guard < 4u * N * N; guard++) {
         fv_gi_node c = gi_nodes[base + fv_gi_level_offset(N, k) + cy * (N >> k) + cx];
-        vec3 v = x - c.pos.xyz;
-        bool lit = c.flux.w > 0.0;
-        if (lit && k > 0u && c.normal.w * c.normal.w > tau2 * dot(v, v)) {
-            k--; // descend to the first child
-            cx *= 2u;
-            cy *= 2u;
-            continue;
-        }
-        if (lit) {
-            e += fv_gi_cluster_irradiance(c, x, n);
-            used++;
+        used++;
+        if (c.flux.w > 0.0) {
+            vec3 v = x - c.pos.xyz;
+            bool near = k > 0u && c.normal.w * c.normal.w > tau2 * dot(v, v);
+            if (!near) {
+                if (k > 0u) c.normal.w = 0.0; // a cluster kept whole: a point (see above)
+                e += fv_gi_cluster_irradiance(c, x, n);
+            } else if (!fv_gi_behind(c.pos.xyz, c.normal.xyz, c.normal.w, c.info.w, x, n)) {
+                k--; // near and seen: descend to the first child
+                cx *= 2u;
+                cy *= 2u;
+                continue;
+            }
         }
         // next: the next sibling, or up while this is the last child (x and y odd); done back at the start node
         while (k < k0 && (cx & 1u) == 1u && (cy & 1u) == 1u) {
@@ -112,7 +132,8 @@ uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, 
     return used;
 }
 
-// Indirect irradiance at x (unit normal n), and how many clusters (or samples) it summed.
+// Indirect irradiance at x (unit normal n), and how many clusters (or samples) it summed (with gi.refine: the
+// flat clusters summed plus the tree nodes the refinement visited).
 vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
 {
     used = 0u;
@@ -128,7 +149,7 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
         // E = (Phi/pi) max(0, n_c.v) max(0, -n.v) / (d^2 (d^2 + r^2)).
         // gi.refine (tau > 0): a cluster whose extent r exceeds tau d at this pixel (the near field, where one
         // point light is furthest from its VPLs' sum) is replaced by its children, recursively, until each is
-        // within tau or a VPL; the far field stays the flat cut.
+        // within tau or a VPL; the far field stays the flat cut, summed as points (r <= tau d: no softening).
         uint count = min(gi.counts.w, uint(gi_cut.length()));
         float tau2 = uintBitsToFloat(gi.opts.w);
         bool refine = tau2 > 0.0 && tau2 <= 1.0;
@@ -143,6 +164,9 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
             }
             used = count;
         } else {
+            // near clusters (extent over tau d) are refined (fv_gi_refine: the walk tests the cut node itself
+            // first); the others are at least extent / tau away and are summed as points, like the walk's (a VPL
+            // of a leaf cut then loses its disk's r^2 <= tau^2 d^2)
             for (uint i = 0u; i < count; i++) {
                 fv_gi_cluster c = gi_cut[i];
                 vec3 v = x - c.pos.xyz;
@@ -152,7 +176,7 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
                     continue;
                 }
                 float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
-                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * (d2 + c.flux.w)));
+                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * d2));
                 used++;
             }
         }
@@ -223,7 +247,10 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
                     fv_gi_node c = gi_nodes[base + off[k] + idx];
                     if (!(c.flux.w > 0.0)) continue;
                     bool leaf = bound ? k == 0u : (k <= limit || c.info.x > 0.5);
-                    if (!leaf && bound) leaf = fv_gi_cluster_bound(c, x, n) <= tol;
+                    if (!leaf && bound) {
+                        if (fv_gi_behind(c.pos.xyz, c.normal.xyz, c.normal.w, c.info.w, x, n)) continue;
+                        leaf = fv_gi_cluster_bound(c, x, n) <= tol;
+                    }
                     if (leaf || sp + 4u > uint(FV_GI_STACK)) {
                         e += fv_gi_cluster_irradiance(c, x, n);
                         used++;

@@ -36,13 +36,14 @@ struct fv_gi_node {
     FV_VEC4 normal; /* xyz flux-weighted mean unit normal (|n| <= 1: shorter where the children disagree), w the
                      * cluster's extent: radius (m) of a sphere about pos that holds every texel's disk */
     FV_VEC4 info;   /* x 1 = valid cluster (Ki & Oh's test, children valid), y smallest texel radius below (m),
-                     * z 1 = some geometry below, w 0 */
+                     * z 1 = some geometry below, w the slab: every VPL below lies within this distance (m) of the
+                     * plane through pos normal to the mean normal (0 for a VPL; the extent without a normal) */
 };
 
 /** One cluster of the flat cut list, ready to gather (no indirection, the constants folded). */
 struct fv_gi_cluster {
     FV_VEC4 flux;   /* rgb flux / pi (W), w extent^2 (m^2) */
-    FV_VEC4 pos;    /* xyz world (m), w 0 */
+    FV_VEC4 pos;    /* xyz world (m), w the node's slab (fv_gi_node.info.w) */
     FV_VEC4 normal; /* xyz mean normal (|n| <= 1), w the node's index in the tree buffer (exact as a float) */
 };
 

@@ -3,7 +3,8 @@
  * against the CPU reference's exact VPL sum in double on cornell; the cut's error against exact falling with the
  * limit level and vanishing when every VPL is its own cluster; traverse giving the cut's image; colour bleeding in
  * cornell; finite images at the extremes (zero-flux light, a 1x1 RSM, thresholds that validate nothing or
- * everything). Every test runs with the validation layer (the group teardown fails on any message). */
+ * everything); point lights left out (no cube RSM) and the plan saying so. Every test runs with the validation
+ * layer (the group teardown fails on any message). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -334,6 +335,9 @@ static void cut_error_falls_with_the_limit_level(void **state)
         printf("  limit 16, refine %g: relative L1 %.4g\n", (double)taus[k], er[k]);
     }
     assert_true(er[0] < err[0] && er[1] < er[0] && er[2] < er[1]);
+    /* clusters kept whole are summed as points (no d^2 + r^2 bias): refine 0.5 from the limit-16 cut is then below
+     * even the limit-leaf cut's error (measured 0.027 against 0.038; with the softening it was 0.072) */
+    assert_true(er[0] < err[2]);
     assert_true(er[2] < 1e-5);
     /* bound mode: refines where it matters; at a fine tolerance it is within the 64 cut's error */
     q = gi_quality(n, FV_GI_BOUND, FV_GI_LIMIT_16);
@@ -493,6 +497,62 @@ static void extremes_stay_finite(void **state)
     free(img);
 }
 
+/* ---- point lights: no cube RSM, said so ------------------------------------------------------------------------ */
+
+/* Point lights get no RSM (a cube RSM is not built): with only point lights the plan turns GI off and says why;
+ * beside a spot, the plan names the point light left out, only the spot has a tree, and the indirect light is the
+ * spot's alone, to float precision (nothing of the point light's power leaks into the RSM). */
+static void point_lights_are_left_out_and_said_so(void **state)
+{
+    (void)state;
+    NEED_GPU();
+    size_t px = (size_t)W * H;
+    float *spot = malloc(px * 4 * sizeof *spot), *both = malloc(px * 4 * sizeof *both);
+    assert_true(spot && both);
+    fv_quality q = gi_quality(32, FV_GI_CUT, FV_GI_LIMIT_LEAF);
+    fv_scene *s = cornell();
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    gi_view(q, 0, spot);
+    fv_light point = s->lights[0];
+    snprintf(point.name, sizeof point.name, "bulb");
+    point.type = FV_LIGHT_POINT;
+    point.position_m.y -= 0.1f;
+    assert_int_equal(fv_scene_add_light(s, &point, NULL), FV_OK);
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    gi_view(q, 0, both);
+    const fv_plan_entry *e = fv_frame_plan_find(fv_renderer_plan(g_r), "gi");
+    assert_non_null(e);
+    printf("  spot + point: %s %s\n", e->enabled ? "on " : "off", e->reason);
+    assert_true(e->enabled);
+    assert_non_null(strstr(e->reason, "1 light (1 point light left out: no cube RSM)"));
+    fv_gi_header h;
+    assert_int_equal(fv_gi_read_tree(fv_renderer_pass_state(g_r, "gi"), &h, NULL, 0, NULL, 0, NULL), FV_OK);
+    assert_int_equal(h.counts.z, 1);
+    assert_int_equal(h.light[0].info.x, FV_GI_KIND_SPOT);
+    double e_same = rel_l1(both, spot, px);
+    printf("  indirect light, spot + point against spot alone: relative L1 %.3g\n", e_same);
+    assert_true(e_same < 1e-6);
+    assert_true(rel_l1(spot, both, px) < 1e-6);
+    fv_scene_destroy(&s);
+    /* only a point light */
+    s = cornell();
+    s->lights[0].type = FV_LIGHT_POINT;
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    gi_view(q, 0, both);
+    draw(&q, 0, spot);
+    assert_finite(spot, px * 4);
+    e = fv_frame_plan_find(fv_renderer_plan(g_r), "gi");
+    assert_non_null(e);
+    printf("  point only: %s %s\n", e->enabled ? "on " : "off", e->reason);
+    assert_false(e->enabled);
+    assert_non_null(strstr(e->reason, "off — only point lights (1)"));
+    assert_non_null(strstr(e->reason, "cube"));
+    assert_null(fv_renderer_pass_state(g_r, "gi"));
+    fv_scene_destroy(&s);
+    free(spot);
+    free(both);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -502,6 +562,7 @@ int main(void)
         cmocka_unit_test(cut_error_falls_with_the_limit_level),
         cmocka_unit_test(floor_near_the_red_wall_is_redder),
         cmocka_unit_test(extremes_stay_finite),
+        cmocka_unit_test(point_lights_are_left_out_and_said_so),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -1,7 +1,8 @@
 /* @brief The light quad-tree's pure parts (fv_gi_math): a cluster's irradiance at its extremes (zero flux, a
  * receiver at the VPL, normals facing away, a zero extent, huge and tiny distances) finite and bounded by the disk's
  * own exitance; the bottom-up build on fabricated leaves (sums, weighted means, extent, validity) including normals
- * that cancel and unlit children; the cut's coverage; levels of every RSM size; light views finite for any light. */
+ * that cancel and unlit children; the slab holding every VPL below; the cut's coverage; levels of every RSM size;
+ * light views finite for any light. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -158,12 +159,62 @@ static void levels_and_views_for_every_size(void **state)
         }
 }
 
+/* The slab (info.w) of every inner node holds every VPL below it: |nh.(x_i - pos)| <= slab (nh the unit mean
+ * normal), and slab <= extent; on leaves spread over a floor, a wall and a tilted, bumpy patch with some unlit and
+ * some without geometry. Flat parts give a thin slab (what lets the gather drop a coplanar subtree). */
+static void slab_holds_every_vpl_below(void **state)
+{
+    (void)state;
+    enum { N = 16 };
+    fv_gi_node tree[4 * N * N]; /* more than fv_gi_nodes_for(16) = 341 */
+    assert_true(fv_gi_nodes_for(N) <= 4 * N * N);
+    memset(tree, 0, sizeof tree);
+    uint32_t seed = 12345u;
+    for (uint32_t y = 0; y < N; y++)
+        for (uint32_t x = 0; x < N; x++) {
+            seed = seed * 1664525u + 1013904223u;
+            float u = (float)x / N, v = (float)y / N, jitter = (float)(seed >> 8) / 16777216.0f - 0.5f;
+            fv_gi_node *l = &tree[y * N + x];
+            if (x < 6) *l = leaf(u, 0.0f, v, 0, 1, 0, 1.0f + jitter, 0.3f + 0.1f * v);          /* floor */
+            else if (x < 11) *l = leaf(0.4f, u, v, -1, 0, 0, 0.5f, 0.5f);                      /* wall */
+            else *l = leaf(u, 0.2f * u + 0.01f * jitter, v, -0.196f, 0.98f, 0, 2.0f, 0.4f);   /* tilted, bumpy */
+            if ((seed >> 4) % 7 == 0) l->flux = (fv_gpu_vec4){0, 0, 0, 0};                      /* unlit */
+            if ((seed >> 4) % 11 == 0) memset(l, 0, sizeof *l);                                /* no geometry */
+        }
+    fv_gi_build_cpu(tree, N, 0.25f, 0.6f, false);
+    uint32_t levels = fv_gi_log2(N) + 1, thin = 0;
+    for (uint32_t k = 1; k < levels; k++) {
+        uint32_t s = N >> k;
+        for (uint32_t i = 0; i < s * s; i++) {
+            const fv_gi_node *c = &tree[fv_gi_level_offset(N, k) + i];
+            if (c->info.z < 0.5f) continue;
+            float nl = sqrtf(c->normal.x * c->normal.x + c->normal.y * c->normal.y + c->normal.z * c->normal.z);
+            assert_true(isfinite(c->info.w) && c->info.w >= 0.0f && c->info.w <= c->normal.w);
+            if (nl > 1e-6f && c->info.w < 1e-3f * c->normal.w) thin++;
+            uint32_t cx = i % s, cy = i / s;
+            for (uint32_t y = cy << k; y < (cy + 1) << k; y++)
+                for (uint32_t x = cx << k; x < (cx + 1) << k; x++) {
+                    const fv_gi_node *l = &tree[y * N + x];
+                    if (l->info.z < 0.5f) continue;
+                    float d[3] = {l->pos.x - c->pos.x, l->pos.y - c->pos.y, l->pos.z - c->pos.z};
+                    float off = nl > 1e-6f ? fabsf(d[0] * c->normal.x + d[1] * c->normal.y + d[2] * c->normal.z) / nl
+                                           : sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                    if (!(off <= c->info.w * (1.0f + 1e-5f) + 1e-6f))
+                        fail_msg("level %u node %u: VPL (%u, %u) %.7g from the plane, slab %.7g", k, i, x, y,
+                                 (double)off, (double)c->info.w);
+                }
+        }
+    }
+    assert_true(thin > 0); /* the floor's and the wall's own clusters are flat */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(irradiance_is_finite_and_bounded_at_the_extremes),
         cmocka_unit_test(build_sums_weights_and_validates),
         cmocka_unit_test(levels_and_views_for_every_size),
+        cmocka_unit_test(slab_holds_every_vpl_below),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -241,11 +241,25 @@ static double gi_detail(const fv_renderer *r, const char *key, uint32_t k)
     return NAN;
 }
 
+/* The GI plan entry's reason when GI was asked for (gi.enabled) but left some or all lights out (point lights: no
+ * cube RSM); NULL otherwise. */
+static const char *gi_left_out(const fv_renderer *r)
+{
+    const fv_plan_entry *e = fv_frame_plan_find(fv_renderer_plan(r), "gi");
+    if (!e || strstr(e->reason, "gi.enabled")) return NULL;
+    return !e->enabled || strstr(e->reason, "left out") ? e->reason : NULL;
+}
+
 void fv_measure_add_gi_json(const fv_measure *mc, const fv_renderer *r, cJSON *j)
 {
     fv_measure *m = (fv_measure *)mc;
-    if (!isfinite(pass_median(m, "gi"))) return;
+    const char *why = gi_left_out(r);
+    if (!isfinite(pass_median(m, "gi"))) {
+        if (why) fv_cli_json_add_string(cJSON_AddObjectToObject(j, "gi"), "off", why);
+        return;
+    }
     cJSON *jg = cJSON_AddObjectToObject(j, "gi");
+    if (why) fv_cli_json_add_string(jg, "left_out", why);
     add_ms_or_null(jg, "clusters_per_pixel_mean", gi_detail(r, "clusters_per_pixel", 0));
     add_ms_or_null(jg, "clusters_per_pixel_max", gi_detail(r, "clusters_per_pixel", 1));
     add_ms_or_null(jg, "cut_clusters", gi_detail(r, "cut_clusters", 0));
@@ -261,7 +275,12 @@ void fv_measure_add_gi_json(const fv_measure *mc, const fv_renderer *r, cJSON *j
 void fv_measure_print_gi(const fv_measure *mc, const fv_renderer *r, FILE *f)
 {
     fv_measure *m = (fv_measure *)mc;
-    if (!isfinite(pass_median(m, "gi"))) return;
+    const char *why = gi_left_out(r);
+    if (!isfinite(pass_median(m, "gi"))) {
+        if (why) fprintf(f, "  gi: %s\n", why); /* asked for, not run: say why (e.g. only point lights) */
+        return;
+    }
+    if (why) fprintf(f, "  gi plan: %s\n", why);
     double mean = gi_detail(r, "clusters_per_pixel", 0), max = gi_detail(r, "clusters_per_pixel", 1);
     if (isfinite(mean)) fprintf(f, "  gi: %.0f clusters per pixel (mean), %.0f (max);", mean, max);
     else fprintf(f, "  gi: clusters per pixel not counted in this mode;");
