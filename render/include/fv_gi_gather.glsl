@@ -91,33 +91,47 @@ uint fv_gi_level_offset(uint n, uint k)
 
 #define FV_GI_STACK 48
 
-// The cut's near-field refinement: the irradiance at x from the subtree whose walk record is gi_cut[first] (see
-// fv_gi_cluster), each node split while its extent^2 exceeds tau2 d^2 and it is above the VPLs, added to e; returns
-// how many nodes were visited. A node the receiver cannot see (fv_gi_behind) is dropped with its subtree. A node kept
-// whole is at least extent / tau away, so it is summed as a point (no d^2 + r^2 softening: that guard against 1/d^4
-// is the bound where a cluster may be arbitrarily near, and for a cluster kept whole it is only a bias,
-// d^2 / (d^2 + r^2) >= 1 / (1 + tau^2)); a VPL keeps its own disk. The records are in depth-first pre-order with
-// each node's subtree size, so the walk is one index and one loop: descend = the next record, skip = + the size (no
-// stack, no per-lane array, no level arithmetic); an unlit node (zero flux and extent) is never split and adds 0.
-uint fv_gi_refine(uint first, float tau2, vec3 x, vec3 n, inout vec3 e)
+// The cut with near-field refinement: the irradiance at x from the first `count` cut entries, each replaced by its
+// subtree where near (extent^2 above tau2 d^2), added to e; returns how many records (cut nodes and the tree nodes
+// below them) were visited. Each cut entry names its node's walk record (fv_gi_cluster), and one loop visits, per
+// entry, that record and, while it splits, the records of its subtree: a node near (extent over tau d) and above the
+// receiver (fv_gi_behind: else dropped with its subtree) is replaced by its children (the next record); any other
+// is summed and its subtree skipped (+ its subtree size). Kept whole, a node is at least extent / tau away and is
+// summed as a point (no d^2 + r^2 softening: that guard against 1/d^4 is the bound where a cluster may be
+// arbitrarily near, and for a cluster kept whole it is only a bias, d^2 / (d^2 + r^2) >= 1 / (1 + tau^2)): a cut
+// entry that is not split with the cut's own formula (flux / pi, as the flat loop), a node below it with the cluster
+// formula at r = 0; a VPL reached by splitting keeps its disk. An unlit node (zero flux and extent) is never split
+// and adds 0. One flat loop, not a loop per entry: each lane walks its own sequence, so a SIMD group costs the
+// longest lane's total, not the sum over entries of the longest lane's walk.
+uint fv_gi_cut_refined(uint count, float tau2, vec3 x, vec3 n, inout vec3 e)
 {
     uint len = uint(gi_cut.length());
-    uint i = first, end = min(first + 1u, len), used = 0u;
-    while (i < end) {
+    uint j = 0u, i = 0u, end = 0u, top = 0u, used = 0u;
+    for (;;) {
+        if (i >= end) { // this entry's subtree is done: the next cut entry's record
+            if (j >= count) break;
+            top = min(uint(gi_cut[j].normal.w), len - 1u);
+            j++;
+            i = top;
+            end = top + 1u;
+        }
         fv_gi_cluster c = gi_cut[i];
         uint size = max(uint(c.normal.w), 1u);
-        if (i == first) end = min(first + size, len);
+        if (i == top) end = min(top + size, len);
         used++;
         float r = c.flux.w;
         vec3 v = x - c.pos.xyz;
-        bool near = size > 1u && r * r > tau2 * dot(v, v);
-        if (near) {
+        float d2 = dot(v, v);
+        bool split = r * r > tau2 * d2;
+        if (size > 1u && split) {
             if (!fv_gi_behind(c.pos.xyz, c.normal.xyz, r, c.pos.w, x, n)) {
                 i++; // near and seen: descend to the first child
                 continue;
             }
+        } else if (i == top && !split) { // a cut entry kept whole: the flat cut's point formula
+            float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
+            if (d2 > 1e-20) e += (c.flux.rgb * (1.0 / 3.14159265358979)) * (k / (d2 * d2));
         } else {
-            // a cluster kept whole: a point (see above); a VPL: its disk
             e += fv_gi_disk_irradiance(c.flux.rgb, c.pos.xyz, c.normal.xyz, size > 1u ? 0.0 : r, x, n);
         }
         i += size; // past this subtree
@@ -156,21 +170,7 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
             }
             used = count;
         } else {
-            // near clusters (extent over tau d) are refined (fv_gi_refine: the walk tests the cut node itself
-            // first); the others are at least extent / tau away and are summed as points, like the walk's (a VPL
-            // of a leaf cut then loses its disk's r^2 <= tau^2 d^2)
-            for (uint i = 0u; i < count; i++) {
-                fv_gi_cluster c = gi_cut[i];
-                vec3 v = x - c.pos.xyz;
-                float d2 = dot(v, v);
-                if (c.flux.w > tau2 * d2) {
-                    used += fv_gi_refine(uint(c.normal.w), tau2, x, n, e);
-                    continue;
-                }
-                float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
-                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * d2));
-                used++;
-            }
+            used = fv_gi_cut_refined(count, tau2, x, n, e);
         }
     } else if (mode == FV_GI_MODE_EXACT) {
         for (uint l = 0u; l < lights; l++) {
