@@ -39,6 +39,16 @@ void fv_gi_build_cpu(fv_gi_node *tree, uint32_t n, float depth_threshold, float 
  *  at most cap node indices (relative to the tree). */
 uint32_t fv_gi_cut_cpu(const fv_gi_node *tree, uint32_t n, uint32_t start, uint32_t limit, uint32_t *out, uint32_t cap);
 
+/** The walk records' order (see fv_gi_cluster): the pre-order position within its light's tree of the node of level
+ *  k at (x, y) (level k has n >> k nodes per side), and back from a position to the node's index in the tree
+ *  (fv_gi_level_offset(n, k) + y * (n >> k) + x; n if pos is outside the tree). Subtree size of a level-k node:
+ *  fv_gi_subtree(k) = (4^(k+1) - 1) / 3. */
+uint32_t fv_gi_subtree(uint32_t k);
+uint32_t fv_gi_walk_pos(uint32_t n, uint32_t k, uint32_t x, uint32_t y);
+uint32_t fv_gi_walk_node(uint32_t n, uint32_t pos);
+/** The walk record of node `node` of a tree (gi_build.comp's WALK stage). */
+fv_gi_cluster fv_gi_walk_record(const fv_gi_node *tree, uint32_t n, uint32_t node);
+
 /** The irradiance (W/m^2 per channel) at x with unit normal nrm from one cluster, in double:
  *  Phi max(0, n_c.v/d) max(0, -n.v/d) / (pi (d^2 + r^2)), v = x - x_c. 0 at d = 0 and for zero flux. */
 void fv_gi_cluster_irradiance(const fv_gi_node *c, const double x[3], const double nrm[3], double out[3]);

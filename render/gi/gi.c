@@ -286,7 +286,8 @@ static fv_result create_tree(gi *g)
     uint64_t blocks = (nodes + FV_GI_BUILD_GROUP - 1) / FV_GI_BUILD_GROUP + 1;
     FV_TRY(fv_vk_buffer_create(vk, nodes * sizeof(fv_gi_node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT, FV_VK_MEM_DEVICE, "gi nodes", &g->nodes));
-    FV_TRY(fv_vk_buffer_create(vk, sizeof(fv_gi_header) + sizeof(fv_gi_cluster) * nodes,
+    /* the cut's room, then every node's walk record (fv_gi_cluster) */
+    FV_TRY(fv_vk_buffer_create(vk, sizeof(fv_gi_header) + sizeof(fv_gi_cluster) * 2 * nodes,
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                FV_VK_MEM_DEVICE, "gi header and cut", &g->header));
@@ -521,6 +522,9 @@ static void gi_record(void *state, const fv_pass_frame *f)
         dispatch(g, cmd, &pc, s * s * g->lights, f->counters);
     }
     global_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
+    pc.ids.x = FV_GI_STAGE_WALK; /* reads the finished pyramid; the cut's stages do not read what it writes */
+    dispatch(g, cmd, &pc, g->nodes_per_light * g->lights, f->counters);
+    global_barrier(cmd, CS, VK_ACCESS_SHADER_WRITE_BIT, CS, RW);
     timestamp(g, cmd, f->slot, 2);
     pc.ids.x = FV_GI_STAGE_SCAN_LOCAL;
     dispatch(g, cmd, &pc, pc.scan.z * FV_GI_BUILD_GROUP, f->counters);
@@ -617,11 +621,28 @@ fv_result fv_gi_read_tree(void *state, fv_gi_header *out_header, fv_gi_node *out
         fv_gi_cluster *c = n ? calloc(n, sizeof *c) : NULL;
         if (n && !c) return FV_ERR_NO_MEMORY;
         fv_result res = read_buffer(g->vk, &g->header, sizeof(fv_gi_header), c, n * sizeof *c);
-        for (size_t i = 0; res == FV_OK && i < n; i++) out_cut[i] = (uint32_t)c[i].normal.w;
+        /* each entry names its walk record (fv_gi_cluster); back to the node's index in the tree */
+        for (size_t i = 0; res == FV_OK && i < n; i++) {
+            uint64_t w = (uint64_t)c[i].normal.w;
+            uint64_t rel = w >= nodes ? w - nodes : 0, l = rel / g->nodes_per_light;
+            out_cut[i] = (uint32_t)(l * g->nodes_per_light +
+                                    fv_gi_walk_node(g->n, (uint32_t)(rel - l * g->nodes_per_light)));
+        }
         free(c);
         FV_TRY(res);
     }
     return FV_OK;
+}
+
+fv_result fv_gi_read_walk(void *state, fv_gi_cluster *out, size_t cap)
+{
+    gi *g = state;
+    if (!g || !out) return FV_ERR_INVALID_ARG;
+    uint64_t nodes = (uint64_t)g->nodes_per_light * g->lights;
+    size_t n = cap < nodes ? cap : nodes;
+    return n ? read_buffer(g->vk, &g->header, sizeof(fv_gi_header) + nodes * sizeof(fv_gi_cluster), out,
+                           n * sizeof *out)
+             : FV_OK;
 }
 
 const fv_pass fv_gi_pass = {

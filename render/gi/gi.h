@@ -24,4 +24,7 @@ extern const fv_pass fv_gi_pass;
 FV_MUST_CHECK fv_result fv_gi_read_tree(void *state, fv_gi_header *out_header, fv_gi_node *out_nodes, size_t node_cap,
                                         uint32_t *out_cut, size_t cut_cap, uint32_t *out_nodes_per_light);
 
+/** For tests: copy back up to cap walk records (fv_gi_cluster: every light's tree in pre-order, light after light). */
+FV_MUST_CHECK fv_result fv_gi_read_walk(void *state, fv_gi_cluster *out, size_t cap);
+
 #endif

@@ -118,6 +118,58 @@ void reduce(uint i)
     nodes[base + level_offset(N, k + 1u) + t] = o;
 }
 
+// Subtree size of a level-k node, (4^(k+1) - 1) / 3, and the pre-order position of the level-k node (x, y) in its
+// light's tree (render/gi/gi_math.c fv_gi_subtree, fv_gi_walk_pos).
+uint subtree(uint k)
+{
+    return ((1u << (2u * k + 2u)) - 1u) / 3u;
+}
+
+uint walk_pos(uint k, uint x, uint y)
+{
+    uint pos = 0u;
+    for (uint j = pc.ids.w - 1u; j > k; j--) {
+        uint sh = j - 1u - k;
+        pos += 1u + (((x >> sh) & 1u) + 2u * ((y >> sh) & 1u)) * subtree(j - 1u);
+    }
+    return pos;
+}
+
+// Node `node` (an index into nodes[]): its light, level and (x, y).
+void node_place(uint node, out uint l, out uint k, out uint x, out uint y)
+{
+    uint N = pc.ids.z;
+    l = node / pc.tree.w;
+    uint t = node - l * pc.tree.w;
+    k = 0u;
+    while (k + 1u < pc.ids.w && t >= level_offset(N, k + 1u)) k++;
+    t -= level_offset(N, k);
+    x = t % (N >> k);
+    y = t / (N >> k);
+}
+
+// The index in cut[] of node `node`'s walk record.
+uint walk_index(uint node)
+{
+    uint l, k, x, y;
+    node_place(node, l, k, x, y);
+    return pc.tree.w * pc.tree.z + l * pc.tree.w + walk_pos(k, x, y);
+}
+
+void walk(uint i)
+{
+    if (i >= pc.tree.w * pc.tree.z) return;
+    uint l, k, x, y;
+    node_place(i, l, k, x, y);
+    fv_gi_node c = nodes[i];
+    bool lit = c.flux.w > 0.0;
+    fv_gi_cluster o;
+    o.flux = lit ? vec4(max(c.flux.rgb, vec3(0.0)), c.normal.w) : vec4(0.0);
+    o.pos = vec4(c.pos.xyz, c.info.w);
+    o.normal = vec4(c.normal.xyz, float(subtree(k)));
+    cut[pc.tree.w * pc.tree.z + l * pc.tree.w + walk_pos(k, x, y)] = o;
+}
+
 // Candidate i of the cut (all lights): its light, level and index in the level; coarse levels first.
 bool candidate(uint i, out uint l, out uint k, out uint idx)
 {
@@ -212,6 +264,8 @@ void main()
             }
             header.counts.w = carry;
         }
+    } else if (stage == FV_GI_STAGE_WALK) {
+        walk(i);
     } else if (stage == FV_GI_STAGE_SCATTER) {
         uint node;
         if (in_cut(i, node)) {
@@ -219,7 +273,7 @@ void main()
             fv_gi_cluster o;
             o.flux = vec4(max(c.flux.rgb, vec3(0.0)) * (1.0 / 3.14159265358979), c.normal.w * c.normal.w);
             o.pos = vec4(c.pos.xyz, c.info.w);
-            o.normal = vec4(c.normal.xyz, float(node));
+            o.normal = vec4(c.normal.xyz, float(walk_index(node)));
             cut[scan[pc.scan.y + i / FV_GI_BUILD_GROUP] + scan[i]] = o;
         }
     }

@@ -27,7 +27,8 @@
 #define FV_GI_STAGE_REDUCE 1      /* level ids.y -> ids.y + 1: sums, weighted means, validity */
 #define FV_GI_STAGE_SCAN_LOCAL 2  /* cut flags of the candidates, exclusive scan per block, block totals */
 #define FV_GI_STAGE_SCAN_BLOCKS 3 /* one group: scan the block totals; cut counts into the header */
-#define FV_GI_STAGE_SCATTER 4     /* write each cut node's index at its prefix */
+#define FV_GI_STAGE_SCATTER 4     /* write each cut node (and its walk record's index) at its prefix */
+#define FV_GI_STAGE_WALK 5        /* every node's walk record, in pre-order after the cut's room (fv_gi_cluster) */
 
 struct fv_gi_build_push {
     FV_UVEC4 ids;   /* x stage, y level, z RSM side N, w levels */

@@ -196,3 +196,48 @@ void fv_gi_cluster_irradiance(const fv_gi_node *c, const double x[3], const doub
     out[1] = fmax(c->flux.y, 0.0) * k;
     out[2] = fmax(c->flux.z, 0.0) * k;
 }
+
+uint32_t fv_gi_subtree(uint32_t k)
+{
+    return k >= 15 ? 0xffffffffu : ((1u << (2 * k + 2)) - 1u) / 3u;
+}
+
+uint32_t fv_gi_walk_pos(uint32_t n, uint32_t k, uint32_t x, uint32_t y)
+{
+    uint32_t top = fv_gi_log2(n), pos = 0;
+    for (uint32_t j = top; j > k; j--) {
+        uint32_t sh = j - 1 - k;
+        uint32_t digit = ((x >> sh) & 1u) + 2u * ((y >> sh) & 1u);
+        pos += 1u + digit * fv_gi_subtree(j - 1);
+    }
+    return pos;
+}
+
+uint32_t fv_gi_walk_node(uint32_t n, uint32_t pos)
+{
+    uint32_t k = fv_gi_log2(n), x = 0, y = 0;
+    if (pos >= fv_gi_subtree(k)) return fv_gi_nodes_for(n);
+    while (pos > 0) { /* pos is inside the subtree of the level-k node (x, y), past the node itself */
+        pos--;
+        uint32_t s = fv_gi_subtree(k - 1), digit = pos / s;
+        pos -= digit * s;
+        k--;
+        x = 2 * x + (digit & 1u);
+        y = 2 * y + (digit >> 1);
+    }
+    return fv_gi_level_offset(n, k) + y * (n >> k) + x;
+}
+
+fv_gi_cluster fv_gi_walk_record(const fv_gi_node *tree, uint32_t n, uint32_t node)
+{
+    uint32_t k = 0;
+    while ((n >> (k + 1)) && node >= fv_gi_level_offset(n, k + 1)) k++;
+    const fv_gi_node *c = &tree[node];
+    bool lit = c->flux.w > 0.0f;
+    fv_gi_cluster o;
+    o.flux = lit ? (fv_gpu_vec4){fmaxf(c->flux.x, 0.0f), fmaxf(c->flux.y, 0.0f), fmaxf(c->flux.z, 0.0f), c->normal.w}
+                 : (fv_gpu_vec4){0, 0, 0, 0};
+    o.pos = (fv_gpu_vec4){c->pos.x, c->pos.y, c->pos.z, c->info.w};
+    o.normal = (fv_gpu_vec4){c->normal.x, c->normal.y, c->normal.z, (float)fv_gi_subtree(k)};
+    return o;
+}

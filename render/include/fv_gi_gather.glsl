@@ -25,16 +25,22 @@ layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_NODES) readonl
 // receiver at a cluster sees at most Phi / (pi r^2) (the disk's own exitance) — bounded by the physics, not by a
 // tuning constant. n_c is the mean normal (shorter than unit where the children disagree: normals that cancel give
 // no light instead of NaN). A receiver exactly at x_c (d = 0) gets 0; zero flux gives 0.
+// The formula from a cluster's parts: flux phi, centre p, mean normal nm, extent r.
+vec3 fv_gi_disk_irradiance(vec3 phi, vec3 p, vec3 nm, float r, vec3 x, vec3 n)
+{
+    vec3 v = x - p;
+    float d2 = dot(v, v);
+    if (!(d2 > 1e-20)) return vec3(0.0);
+    float inv_d = inversesqrt(d2);
+    float cos_c = max(dot(nm, v) * inv_d, 0.0);
+    float cos_r = max(-dot(n, v) * inv_d, 0.0);
+    return max(phi, vec3(0.0)) * (cos_c * cos_r / (FV_PI * (d2 + r * r)));
+}
+
 vec3 fv_gi_cluster_irradiance(fv_gi_node c, vec3 x, vec3 n)
 {
-    vec3 v = x - c.pos.xyz;
-    float d2 = dot(v, v);
-    if (!(d2 > 1e-20) || !(c.flux.w > 0.0)) return vec3(0.0);
-    float inv_d = inversesqrt(d2);
-    float cos_c = max(dot(c.normal.xyz, v) * inv_d, 0.0);
-    float cos_r = max(-dot(n, v) * inv_d, 0.0);
-    float r = c.normal.w;
-    return max(c.flux.rgb, vec3(0.0)) * (cos_c * cos_r / (FV_PI * (d2 + r * r)));
+    if (!(c.flux.w > 0.0)) return vec3(0.0);
+    return fv_gi_disk_irradiance(c.flux.rgb, c.pos.xyz, c.normal.xyz, c.normal.w, x, n);
 }
 
 // Upper bound on what any VPL below cluster c can give x: every VPL i lies in the sphere (x_c, extent) and gives at
@@ -85,49 +91,50 @@ uint fv_gi_level_offset(uint n, uint k)
 
 #define FV_GI_STACK 48
 
-// The cut's near-field refinement: the irradiance at x from node `node` (its index in the tree buffer; trees of npl
-// nodes, side N, `levels` levels) summed over its descendants, each split while its extent^2 exceeds tau2 d^2 and
-// it is above the VPLs, added to e; returns how many nodes were visited. A node the receiver cannot see
-// (fv_gi_behind) is dropped with its subtree. A node kept whole is at least extent / tau away, so it is summed as
-// a point (no d^2 + r^2 softening: that guard against 1/d^4 is the bound where a cluster may be arbitrarily near,
-// and for a cluster kept whole it is only a bias, d^2 / (d^2 + r^2) >= 1 / (1 + tau^2)); a VPL keeps its own
-// disk. Depth first without a stack (a quad-tree node's place is its level and (x, y) in that level: its children
-// are (2x + i, 2y + j), its next sibling follows from x & 1, y & 1), so no per-lane array is indexed.
-uint fv_gi_refine(uint node, uint npl, uint N, uint levels, float tau2, vec3 x, vec3 n, inout vec3 e)
+// The cut with near-field refinement: the irradiance at x from the first `count` cut entries, each replaced by its
+// subtree where near (extent^2 above tau2 d^2), added to e; returns how many records (cut nodes and the tree nodes
+// below them) were visited. Each cut entry names its node's walk record (fv_gi_cluster), and one loop visits, per
+// entry, that record and, while it splits, the records of its subtree: a node near (extent over tau d) and above the
+// receiver (fv_gi_behind: else dropped with its subtree) is replaced by its children (the next record); any other
+// is summed and its subtree skipped (+ its subtree size). Kept whole, a node is at least extent / tau away and is
+// summed as a point (no d^2 + r^2 softening: that guard against 1/d^4 is the bound where a cluster may be
+// arbitrarily near, and for a cluster kept whole it is only a bias, d^2 / (d^2 + r^2) >= 1 / (1 + tau^2)): a cut
+// entry that is not split with the cut's own formula (flux / pi, as the flat loop), a node below it with the cluster
+// formula at r = 0; a VPL reached by splitting keeps its disk. An unlit node (zero flux and extent) is never split
+// and adds 0. One flat loop, not a loop per entry: each lane walks its own sequence, so a SIMD group costs the
+// longest lane's total, not the sum over entries of the longest lane's walk.
+uint fv_gi_cut_refined(uint count, float tau2, vec3 x, vec3 n, inout vec3 e)
 {
-    uint base = (node / npl) * npl, local = node - base;
-    uint k0 = 0u;
-    while (k0 + 1u < levels && local >= fv_gi_level_offset(N, k0 + 1u)) k0++;
-    uint s0 = N >> k0, i0 = local - fv_gi_level_offset(N, k0);
-    uint k = k0, cx = i0 % s0, cy = i0 / s0, used = 0u;
-    for (uint guard = 0u; guard < 4u * N * N; guard++) {
-        fv_gi_node c = gi_nodes[base + fv_gi_level_offset(N, k) + cy * (N >> k) + cx];
+    uint len = uint(gi_cut.length());
+    uint j = 0u, i = 0u, end = 0u, top = 0u, used = 0u;
+    for (;;) {
+        if (i >= end) { // this entry's subtree is done: the next cut entry's record
+            if (j >= count) break;
+            top = min(uint(gi_cut[j].normal.w), len - 1u);
+            j++;
+            i = top;
+            end = top + 1u;
+        }
+        fv_gi_cluster c = gi_cut[i];
+        uint size = max(uint(c.normal.w), 1u);
+        if (i == top) end = min(top + size, len);
         used++;
-        if (c.flux.w > 0.0) {
-            vec3 v = x - c.pos.xyz;
-            bool near = k > 0u && c.normal.w * c.normal.w > tau2 * dot(v, v);
-            if (!near) {
-                if (k > 0u) c.normal.w = 0.0; // a cluster kept whole: a point (see above)
-                e += fv_gi_cluster_irradiance(c, x, n);
-            } else if (!fv_gi_behind(c.pos.xyz, c.normal.xyz, c.normal.w, c.info.w, x, n)) {
-                k--; // near and seen: descend to the first child
-                cx *= 2u;
-                cy *= 2u;
+        float r = c.flux.w;
+        vec3 v = x - c.pos.xyz;
+        float d2 = dot(v, v);
+        bool split = r * r > tau2 * d2;
+        if (size > 1u && split) {
+            if (!fv_gi_behind(c.pos.xyz, c.normal.xyz, r, c.pos.w, x, n)) {
+                i++; // near and seen: descend to the first child
                 continue;
             }
+        } else if (i == top && !split) { // a cut entry kept whole: the flat cut's point formula
+            float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
+            if (d2 > 1e-20) e += (c.flux.rgb * (1.0 / 3.14159265358979)) * (k / (d2 * d2));
+        } else {
+            e += fv_gi_disk_irradiance(c.flux.rgb, c.pos.xyz, c.normal.xyz, size > 1u ? 0.0 : r, x, n);
         }
-        // next: the next sibling, or up while this is the last child (x and y odd); done back at the start node
-        while (k < k0 && (cx & 1u) == 1u && (cy & 1u) == 1u) {
-            k++;
-            cx >>= 1u;
-            cy >>= 1u;
-        }
-        if (k == k0) break;
-        if ((cx & 1u) == 0u) cx++;
-        else {
-            cx--;
-            cy++;
-        }
+        i += size; // past this subtree
     }
     return used;
 }
@@ -153,7 +160,6 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
         uint count = min(gi.counts.w, uint(gi_cut.length()));
         float tau2 = uintBitsToFloat(gi.opts.w);
         bool refine = tau2 > 0.0 && tau2 <= 1.0;
-        uint npl = max(gi.opts.y, 1u);
         if (!refine) { // the flat cut alone: the tight loop
             for (uint i = 0u; i < count; i++) {
                 fv_gi_cluster c = gi_cut[i];
@@ -164,21 +170,7 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
             }
             used = count;
         } else {
-            // near clusters (extent over tau d) are refined (fv_gi_refine: the walk tests the cut node itself
-            // first); the others are at least extent / tau away and are summed as points, like the walk's (a VPL
-            // of a leaf cut then loses its disk's r^2 <= tau^2 d^2)
-            for (uint i = 0u; i < count; i++) {
-                fv_gi_cluster c = gi_cut[i];
-                vec3 v = x - c.pos.xyz;
-                float d2 = dot(v, v);
-                if (c.flux.w > tau2 * d2) {
-                    used += fv_gi_refine(uint(c.normal.w), npl, N, levels, tau2, x, n, e);
-                    continue;
-                }
-                float k = max(dot(c.normal.xyz, v), 0.0) * max(-dot(n, v), 0.0);
-                if (d2 > 1e-20) e += c.flux.rgb * (k / (d2 * d2));
-                used++;
-            }
+            used = fv_gi_cut_refined(count, tau2, x, n, e);
         }
     } else if (mode == FV_GI_MODE_EXACT) {
         for (uint l = 0u; l < lights; l++) {

@@ -40,11 +40,18 @@ struct fv_gi_node {
                      * plane through pos normal to the mean normal (0 for a VPL; the extent without a normal) */
 };
 
-/** One cluster of the flat cut list, ready to gather (no indirection, the constants folded). */
+/** One cluster of the flat cut list, ready to gather (no indirection, the constants folded). The same buffer holds,
+ *  after the cut's room (nodes of every light: entries [W, 2W), W = nodes per light * lights), each light's tree again
+ *  as walk records in depth-first pre-order (a node, then its four children's subtrees in the order (2x, 2y),
+ *  (2x+1, 2y), (2x, 2y+1), (2x+1, 2y+1)), the same 48-byte struct read differently: flux = (rgb flux (W, >= 0),
+ *  extent (m)), pos = (xyz, slab), normal = (xyz mean normal, the node's subtree size in records: 1 for a VPL; the
+ *  next record after the subtree is this one + that size). An unlit node's record has zero flux and extent. The
+ *  refinement (fv_gi_refine) walks it with one index: descend = +1, skip = + subtree size, 3 vec4 loads a node. */
 struct fv_gi_cluster {
     FV_VEC4 flux;   /* rgb flux / pi (W), w extent^2 (m^2) */
     FV_VEC4 pos;    /* xyz world (m), w the node's slab (fv_gi_node.info.w) */
-    FV_VEC4 normal; /* xyz mean normal (|n| <= 1), w the node's index in the tree buffer (exact as a float) */
+    FV_VEC4 normal; /* xyz mean normal (|n| <= 1), w the index of the node's walk record in this buffer's array
+                     * (exact as a float) */
 };
 
 /** One light's RSM and tree. */

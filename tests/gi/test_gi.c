@@ -107,6 +107,16 @@ static void tree_matches_cpu(float depth_thr, float normal_thr, fv_gi_average av
     assert_int_equal(h.counts.w, cn);
     assert_int_equal(h.light[0].info.w, cn);
     for (uint32_t i = 0; i < cn; i++) assert_int_equal(cut[i], cpu_cut[i]);
+    /* the walk records (the refinement's pre-order copy of the tree) equal the GPU tree's own nodes re-laid out */
+    fv_gi_cluster *walk = calloc(per, sizeof *walk);
+    assert_non_null(walk);
+    assert_int_equal(fv_gi_read_walk(st, walk, per), FV_OK);
+    for (uint32_t i = 0; i < per; i++) {
+        fv_gi_cluster want = fv_gi_walk_record(gpu, n, fv_gi_walk_node(n, i));
+        if (memcmp(&want, &walk[i], sizeof want) != 0)
+            fail_msg("walk record %u (node %u) differs from the tree's node", i, fv_gi_walk_node(n, i));
+    }
+    free(walk);
     /* the cut covers the light: its flux is every leaf's */
     double leaves = 0, in_cut = 0;
     for (uint32_t i = 0; i < n * n; i++) leaves += gpu[i].flux.w;

@@ -2,7 +2,7 @@
  * receiver at the VPL, normals facing away, a zero extent, huge and tiny distances) finite and bounded by the disk's
  * own exitance; the bottom-up build on fabricated leaves (sums, weighted means, extent, validity) including normals
  * that cancel and unlit children; the slab holding every VPL below; the cut's coverage; levels of every RSM size;
- * light views finite for any light. */
+ * light views finite for any light; the walk records' pre-order. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -208,6 +208,47 @@ static void slab_holds_every_vpl_below(void **state)
     assert_true(thin > 0); /* the floor's and the wall's own clusters are flat */
 }
 
+/* The walk records' pre-order: positions and nodes are inverse, every subtree is contiguous (a node's children follow
+ * it, each child's subtree right after its elder sibling's), and the record of an unlit node has zero flux and extent
+ * (the walk never splits it and it adds 0). */
+static void walk_order_is_a_preorder(void **state)
+{
+    (void)state;
+    for (uint32_t n = 1; n <= 64; n *= 2) {
+        uint32_t top = fv_gi_log2(n), total = fv_gi_nodes_for(n);
+        assert_int_equal(fv_gi_subtree(top), total);
+        assert_int_equal(fv_gi_walk_node(n, total), total); /* outside */
+        for (uint32_t k = 0; k <= top; k++) {
+            uint32_t s = n >> k;
+            for (uint32_t y = 0; y < s; y++)
+                for (uint32_t x = 0; x < s; x++) {
+                    uint32_t p = fv_gi_walk_pos(n, k, x, y);
+                    assert_true(p < total);
+                    assert_int_equal(fv_gi_walk_node(n, p), fv_gi_level_offset(n, k) + y * s + x);
+                    if (k == 0) continue;
+                    uint32_t next = p + 1;
+                    for (uint32_t d = 0; d < 4; d++) {
+                        assert_int_equal(fv_gi_walk_pos(n, k - 1, 2 * x + (d & 1), 2 * y + (d >> 1)), next);
+                        next += fv_gi_subtree(k - 1);
+                    }
+                    assert_int_equal(next, p + fv_gi_subtree(k));
+                }
+        }
+    }
+    fv_gi_node t[5];
+    t[0] = leaf(0, 0, 0, 0, 1, 0, 1, 0);
+    t[1] = leaf(1, 0, 0, 0, 1, 0, 0, 0); /* unlit */
+    t[2] = leaf(0, 0, 1, 0, 1, 0, 2, 0);
+    t[3] = leaf(1, 0, 1, 0, 1, 0, 3, 0);
+    fv_gi_build_cpu(t, 2, 1.0f, 0.5f, false);
+    fv_gi_cluster r = fv_gi_walk_record(t, 2, 4);
+    assert_true(r.normal.w == 5.0f && r.flux.w == t[4].normal.w && r.pos.w == t[4].info.w && r.flux.x == 6.0f);
+    r = fv_gi_walk_record(t, 2, 1);
+    assert_true(r.normal.w == 1.0f && r.flux.x == 0.0f && r.flux.w == 0.0f);
+    r = fv_gi_walk_record(t, 2, 3);
+    assert_true(r.normal.w == 1.0f && r.flux.x == 3.0f && r.flux.w == 0.01f && r.pos.x == 1.0f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -215,6 +256,7 @@ int main(void)
         cmocka_unit_test(build_sums_weights_and_validates),
         cmocka_unit_test(levels_and_views_for_every_size),
         cmocka_unit_test(slab_holds_every_vpl_below),
+        cmocka_unit_test(walk_order_is_a_preorder),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
