@@ -153,7 +153,7 @@ static const fv_knob g_knobs[] = {
     {.name = "gi.normal_threshold", .type = FV_KNOB_FLOAT, .min = -1, .max = 1, .unit = "", AT(gi.normal_threshold),
      .fast = F(0.3f), .high = F(0.9f), .exact = F(0.9f),
      .doc = "a cluster is valid when each child's normal has a dot product above this with the mean normal"},
-    {.name = "gi.samples", .type = FV_KNOB_INT, .min = 1, .max = 8192, .unit = "", AT(gi.samples),
+    {.name = "gi.samples", .type = FV_KNOB_INT, .min = 1, .max = 65536, .unit = "", AT(gi.samples),
      .fast = I(128), .high = I(1024), .exact = I(4096),
      .doc = "RSM samples per pixel of gi.mode=rsm_sampling"},
     {.name = "gi.bound_fraction", .type = FV_KNOB_FLOAT, .min = 0.00001, .max = 1, .unit = "", AT(gi.bound_fraction),
