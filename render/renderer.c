@@ -520,6 +520,15 @@ static void record_passes(fv_renderer *r, VkCommandBuffer cmd, uint32_t slot, co
             if (s && (uint32_t)t + 1 > s->counter_count) s->counter_count = (uint32_t)t + 1;
         }
     }
+    for (uint32_t i = 0; !replay && i < r->pass_count; i++) {
+        const fv_pass *p = r->table[i];
+        if (!r->plan.entries[i].enabled || !r->pass_state[i] || !p->record_end) continue;
+        fv_pass_counters unused = {0};
+        fv_pass_frame f = {.cmd = cmd, .slot = slot, .input = in, .images = &r->images, .scene = &r->scene,
+                           .scene_set = fv_scene_gpu_set(&r->scene, slot), .shade_inputs = &r->shade_inputs,
+                           .counters = &unused};
+        p->record_end(r->pass_state[i], &f);
+    }
 }
 
 fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in_raw)

@@ -3,9 +3,10 @@
 measured against `gi.mode=exact` on the same views, scene and RSM (the sum both approximate).
 
 Every point is one `fovea run` (the same views at scene time 0): the shade pass's median GPU time over the timed
-frames, and the indirect light alone (`--view gi`, linear PFM) compared with the exact sum's by `fovea compare`
-(relative L1: sum |a - b| / sum |b| over both eyes and the three channels). The points are run round-robin --repeats times (so load on the
-machine hits every method alike) and the median time is kept. Then, for each tree point, RSM sampling's time and
+frames, the clusters (tree nodes, samples) per pixel the shading pass measured on the GPU (the run's `gi`
+`clusters_per_pixel_mean` / `_max`, every mode), and the indirect light alone (`--view gi`, linear PFM) compared
+with the exact sum's by `fovea compare` (relative L1: sum |a - b| / sum |b| over both eyes and the three channels).
+The points are run round-robin --repeats times (so load on the machine hits every method alike) and the median time is kept. Then, for each tree point, RSM sampling's time and
 sample count at the same error are interpolated (log-log, between the two sampling points around that error) and
 the speed-up is sampling's time over the tree's, for the whole shade pass and for the gather alone (the shade pass
 minus its time with GI off, timed in the same rounds: both methods share the direct light). A tree point whose error is outside the sampling curve's range is
@@ -124,7 +125,12 @@ def main():
     exact_pfm = pfm_of(exact_dir)
     exact_img = read_pfm(exact_pfm)
     shade = lambda j: next(p["gpu_ms_median"] for p in j["passes"] if p["name"] == "shade")
-    print("exact: %d lit VPLs, shade %.1f ms" % (ej["gi"]["lit_vpls"], shade(ej)), flush=True)
+    per_pixel = lambda p: ("%.1f (max %.0f)" % (p["clusters"], p["clusters_max"])
+                           if p.get("clusters") is not None else "not measured")
+    print("exact: %d lit VPLs (measured: %s per pixel), shade %.1f ms"
+          % (ej["gi"]["lit_vpls"], per_pixel({"clusters": ej["gi"]["clusters_per_pixel_mean"],
+                                               "clusters_max": ej["gi"]["clusters_per_pixel_max"]}), shade(ej)),
+          flush=True)
     for i, p in enumerate(points):
         d = os.path.join(a.out, "p%02d" % i)
         j = render(p["sets"], d, 1, a.view)
@@ -133,7 +139,8 @@ def main():
         p["psnr_db"] = c["psnr_db"]
         p["ssim"] = c["ssim"]
         p["clusters"] = j["gi"]["clusters_per_pixel_mean"]
-        print("%s: %.4f" % (p["label"], p["rel_l1"]), flush=True)
+        p["clusters_max"] = j["gi"]["clusters_per_pixel_max"]
+        print("%s: %.4f, %s clusters per pixel" % (p["label"], p["rel_l1"], per_pixel(p)), flush=True)
         p["times"] = []
     truth = None
     if a.truth_spp:
@@ -162,7 +169,8 @@ def main():
     samp = [(p["rel_l1"], p["shade_ms"], p["samples"]) for p in points if p["method"] == "rsm_sampling"]
     samp_g = [(p["rel_l1"], gather(p["shade_ms"]), p["samples"]) for p in points if p["method"] == "rsm_sampling"]
     print("GI off (direct light only): shade %.1f ms (%s of %d)" % (off_ms, a.stat, a.repeats))
-    print("| point | clusters or samples per pixel | shade ms (%s of %d) | relative L1 vs exact | PSNR dB | "
+    print("| point | clusters, nodes or samples per pixel (measured: mean, max) | shade ms (%s of %d) | "
+          "relative L1 vs exact | PSNR dB | "
           "sampling at equal error: samples, ms | speed-up (shade) | speed-up (gather = shade - GI off) |%s"
           % (a.stat, a.repeats, " colour vs path truth |" if truth is not None else ""))
     print("| --- | --- | --- | --- | --- | --- | --- | --- |%s" % (" --- |" if truth is not None else ""))
@@ -182,7 +190,7 @@ def main():
             extra = "— | — | —"
         if truth is not None:
             extra += " | %.4f" % p["rel_l1_vs_truth"]
-        print("| %s | %s | %.1f | %.4f | %.2f | %s |" % (p["label"], p["clusters"], p["shade_ms"], p["rel_l1"],
+        print("| %s | %s | %.1f | %.4f | %.2f | %s |" % (p["label"], per_pixel(p), p["shade_ms"], p["rel_l1"],
                                                          p["psnr_db"], extra))
     with open(os.path.join(a.out, "gi_tradeoff.json"), "w") as f:
         json.dump({"args": vars(a), "exact_shade_ms": shade(ej), "lit_vpls": ej["gi"]["lit_vpls"],

@@ -18,7 +18,9 @@
     (VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |                     \
      VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT)
 #define READER_STAGES (VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT)
-#define QUERIES 4 /* per slot: before the RSM, after it, after the pyramid, after the cut */
+#define BUILD_QUERIES 4 /* per slot: before the RSM, after it, after the pyramid, after the cut */
+#define QUERY_STATS 4   /* per slot: after the gather's stats were copied back (every frame) */
+#define QUERIES 5
 
 _Static_assert(sizeof(fv_gi_header) <= 256, "the header fits the shading inputs' 256-byte dummy buffer");
 _Static_assert(FV_GI_CUT == FV_GI_MODE_CUT && FV_GI_TRAVERSE == FV_GI_MODE_TRAVERSE && FV_GI_BOUND == FV_GI_MODE_BOUND &&
@@ -52,8 +54,13 @@ typedef struct gi {
     VkSampler nearest;
     fv_vk_buffer nodes, header, scan;
     fv_vk_buffer readback[FV_MAX_FRAMES_IN_FLIGHT]; /* the header after a rebuild (cut counts) */
+    fv_vk_buffer stats[FV_MAX_FRAMES_IN_FLIGHT];    /* fv_gi_stats the shading passes count into (device) */
+    fv_vk_buffer stats_readback[FV_MAX_FRAMES_IN_FLIGHT];
     VkQueryPool queries;
     bool built_in_slot[FV_MAX_FRAMES_IN_FLIGHT];
+    bool counted_in_slot[FV_MAX_FRAMES_IN_FLIGHT]; /* the slot's frame copies its stats back */
+    uint64_t counted_seq[FV_MAX_FRAMES_IN_FLIGHT];  /* which frame (frames_counted at its end) */
+    uint64_t frames_counted, measured_seq;
     bool animated;
     /* this frame's decision (prepare -> record) */
     bool have_key, rebuild;
@@ -65,6 +72,9 @@ typedef struct gi {
     double stage_ms[3];                /* rsm, pyramid, cut */
     uint32_t cut_clusters, lit_vpls;
     uint64_t rebuilds;
+    /* what the newest frame read back measured: clusters (nodes, samples) per pixel that ran the gather */
+    bool measured;
+    double per_pixel_mean, per_pixel_max, gathered_pixels;
 } gi;
 
 static const char *plural(uint64_t n) { return n == 1 ? "" : "s"; }
@@ -178,7 +188,8 @@ static void gi_fini(void *state)
     fv_vk *vk = g->vk;
     /* the GPU is idle: shading goes back to the dummies (GI off at the cost of one load) */
     if (fv_shade_inputs_bind_buffer(g->inputs, FV_GI_BINDING_HEADER, VK_NULL_HANDLE, 0, 0) != FV_OK ||
-        fv_shade_inputs_bind_buffer(g->inputs, FV_GI_BINDING_NODES, VK_NULL_HANDLE, 0, 0) != FV_OK)
+        fv_shade_inputs_bind_buffer(g->inputs, FV_GI_BINDING_NODES, VK_NULL_HANDLE, 0, 0) != FV_OK ||
+        fv_shade_inputs_bind_buffer(g->inputs, FV_GI_BINDING_STATS, VK_NULL_HANDLE, 0, 0) != FV_OK)
         FV_ERROR(MOD, "the GI slots of the shading inputs could not be reset to the dummies");
     if (g->queries) vkDestroyQueryPool(vk->device, g->queries, NULL);
     fv_vk_compute_fini(vk, &g->build);
@@ -196,7 +207,11 @@ static void gi_fini(void *state)
     fv_vk_buffer_destroy(vk, &g->nodes);
     fv_vk_buffer_destroy(vk, &g->header);
     fv_vk_buffer_destroy(vk, &g->scan);
-    for (uint32_t i = 0; i < FV_MAX_FRAMES_IN_FLIGHT; i++) fv_vk_buffer_destroy(vk, &g->readback[i]);
+    for (uint32_t i = 0; i < FV_MAX_FRAMES_IN_FLIGHT; i++) {
+        fv_vk_buffer_destroy(vk, &g->readback[i]);
+        fv_vk_buffer_destroy(vk, &g->stats[i]);
+        fv_vk_buffer_destroy(vk, &g->stats_readback[i]);
+    }
     free(g);
 }
 
@@ -298,6 +313,13 @@ static fv_result create_tree(gi *g)
         snprintf(name, sizeof name, "gi header readback %u", i);
         FV_TRY(fv_vk_buffer_create(vk, sizeof(fv_gi_header), VK_BUFFER_USAGE_TRANSFER_DST_BIT, FV_VK_MEM_READBACK, name,
                                    &g->readback[i]));
+        snprintf(name, sizeof name, "gi stats slot %u", i);
+        FV_TRY(fv_vk_buffer_create(vk, sizeof(fv_gi_stats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                   FV_VK_MEM_DEVICE, name, &g->stats[i]));
+        snprintf(name, sizeof name, "gi stats readback %u", i);
+        FV_TRY(fv_vk_buffer_create(vk, sizeof(fv_gi_stats), VK_BUFFER_USAGE_TRANSFER_DST_BIT, FV_VK_MEM_READBACK, name,
+                                   &g->stats_readback[i]));
     }
     FV_TRY(fv_vk_sampler_create(vk, false, false, "gi rsm sampler (nearest)", &g->nearest));
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -355,6 +377,8 @@ static fv_result gi_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = create_tree(g);
     if (res == FV_OK) res = fv_shade_inputs_bind_buffer(g->inputs, FV_GI_BINDING_HEADER, g->header.buffer, 0, VK_WHOLE_SIZE);
     if (res == FV_OK) res = fv_shade_inputs_bind_buffer(g->inputs, FV_GI_BINDING_NODES, g->nodes.buffer, 0, VK_WHOLE_SIZE);
+    for (uint32_t i = 0; res == FV_OK && i < g->slots; i++)
+        res = fv_shade_inputs_bind_stats(g->inputs, FV_GI_BINDING_STATS, i, g->stats[i].buffer, 0, sizeof(fv_gi_stats));
     if (res != FV_OK) {
         FV_ERROR(MOD, "GI (%u light%s, RSM %upx) could not be created: %s", g->lights, plural(g->lights), g->n,
                  fv_result_str(res));
@@ -373,9 +397,9 @@ static fv_result gi_init(const fv_pass_env *env, void **out_state)
 static void collect(gi *g, uint32_t slot, bool settled)
 {
     if (!g->built_in_slot[slot]) return;
-    uint64_t t[QUERIES];
-    VkResult r = g->queries ? vkGetQueryPoolResults(g->vk->device, g->queries, slot * QUERIES, QUERIES, sizeof t, t,
-                                                    sizeof t[0], VK_QUERY_RESULT_64_BIT)
+    uint64_t t[BUILD_QUERIES];
+    VkResult r = g->queries ? vkGetQueryPoolResults(g->vk->device, g->queries, slot * QUERIES, BUILD_QUERIES, sizeof t,
+                                                    t, sizeof t[0], VK_QUERY_RESULT_64_BIT)
                             : VK_NOT_READY;
     if (!settled && r != VK_SUCCESS) return;
     g->built_in_slot[slot] = false;
@@ -387,6 +411,28 @@ static void collect(gi *g, uint32_t slot, bool settled)
     if (r != VK_SUCCESS) return;
     double period = g->vk->info.timestamp_period_ns > 0 ? g->vk->info.timestamp_period_ns : 1.0;
     for (int i = 0; i < 3; i++) g->stage_ms[i] = t[i + 1] >= t[i] ? (double)(t[i + 1] - t[i]) * period * 1e-6 : 0.0;
+}
+
+/* What the shading passes counted in the slot's last frame (fv_gi_stats, copied back at its end), kept when it is the
+ * newest frame read so far. `settled` as for collect. */
+static void collect_stats(gi *g, uint32_t slot, bool settled)
+{
+    if (!g->counted_in_slot[slot]) return;
+    uint64_t t;
+    VkResult r = g->queries ? vkGetQueryPoolResults(g->vk->device, g->queries, slot * QUERIES + QUERY_STATS, 1,
+                                                    sizeof t, &t, sizeof t, VK_QUERY_RESULT_64_BIT)
+                            : VK_NOT_READY;
+    if (!settled && r != VK_SUCCESS) return;
+    g->counted_in_slot[slot] = false;
+    if (g->counted_seq[slot] < g->measured_seq || fv_vk_buffer_invalidate(g->vk, &g->stats_readback[slot]) != FV_OK)
+        return;
+    const fv_gi_stats *st = g->stats_readback[slot].mapped;
+    double sum = (double)st->counts.x + 4294967296.0 * (double)st->counts.y, pixels = (double)st->counts.w;
+    g->measured_seq = g->counted_seq[slot];
+    g->measured = true;
+    g->per_pixel_mean = pixels > 0 ? sum / pixels : 0.0; /* no pixel ran the gather: none summed */
+    g->per_pixel_max = (double)st->counts.z;
+    g->gathered_pixels = pixels;
 }
 
 static bool key_equal(const build_key *a, const build_key *b)
@@ -405,6 +451,7 @@ static void gi_prepare(void *state, const fv_pass_frame *f)
 {
     gi *g = state;
     collect(g, f->slot, true);
+    collect_stats(g, f->slot, true);
     build_key k;
     memset(&k, 0, sizeof k);
     k.q = f->input->quality.gi;
@@ -466,14 +513,33 @@ static void timestamp(gi *g, VkCommandBuffer cmd, uint32_t slot, uint32_t i)
     if (g->queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->queries, slot * QUERIES + i);
 }
 
+/* A barrier on the whole of one small buffer. */
+static void buffer_barrier(VkCommandBuffer cmd, VkBuffer b, VkPipelineStageFlags src, VkAccessFlags src_access,
+                           VkPipelineStageFlags dst, VkAccessFlags dst_access)
+{
+    VkBufferMemoryBarrier bb = {.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER, .srcAccessMask = src_access,
+                                .dstAccessMask = dst_access, .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .buffer = b, .size = VK_WHOLE_SIZE};
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 0, NULL, 1, &bb, 0, NULL);
+}
+
 static void gi_record(void *state, const fv_pass_frame *f)
 {
     gi *g = state;
+    VkCommandBuffer cmd = f->cmd;
+    /* The slot's stats start at zero each frame, before any shading pass counts into them (compute atomics). The
+     * slot's last frame wrote them in shading and read them in its copy back: both finish before the clear. */
+    VkBuffer stats = g->stats[f->slot].buffer;
+    buffer_barrier(cmd, stats, CS | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_ACCESS_TRANSFER_WRITE_BIT);
+    vkCmdFillBuffer(cmd, stats, 0, sizeof(fv_gi_stats), 0);
+    buffer_barrier(cmd, stats, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, CS, RW);
+    if (g->queries) vkCmdResetQueryPool(cmd, g->queries, f->slot * QUERIES + QUERY_STATS, 1);
     if (!g->rebuild) return;
     g->rebuild = false;
-    VkCommandBuffer cmd = f->cmd;
     fv_vk_label_begin(g->vk, cmd, "gi rebuild (rsm, pyramid, cut)");
-    if (g->queries) vkCmdResetQueryPool(cmd, g->queries, f->slot * QUERIES, QUERIES);
+    if (g->queries) vkCmdResetQueryPool(cmd, g->queries, f->slot * QUERIES, BUILD_QUERIES);
     timestamp(g, cmd, f->slot, 0);
     /* Earlier frames' shading read the header and the nodes (compute, fragment) and earlier builds wrote them:
      * wait for both before the header is rewritten and the tree rebuilt. */
@@ -548,25 +614,40 @@ static void gi_record(void *state, const fv_pass_frame *f)
     fv_vk_label_end(g->vk, cmd);
 }
 
-/* Clusters (or samples) each pixel sums: the cut for cut and traverse (the same clusters for every pixel), every
- * lit VPL for exact, at most samples x lights for rsm_sampling; bound and a refined cut vary per pixel and are not
- * counted (NaN). */
-static void clusters_per_pixel(const gi *g, double *out_mean, double *out_max)
+/* After the frame's shading: the stats the shading passes counted -> the slot's readback buffer, for the host after
+ * the slot's fence (collect_stats); the timestamp after the copy tells details() it is done. */
+static void gi_record_end(void *state, const fv_pass_frame *f)
 {
-    fv_gi_mode m = g->key.q.mode;
-    bool refined = m == FV_GI_CUT && g->key.q.refine > 0.0f;
-    double v = refined                               ? NAN
-               : m == FV_GI_CUT || m == FV_GI_TRAVERSE ? (double)g->cut_clusters
-               : m == FV_GI_EXACT                    ? (double)g->lit_vpls
-               : m == FV_GI_RSM_SAMPLING             ? (double)g->key.q.samples * g->lights
-                                                     : NAN;
-    *out_mean = *out_max = v;
+    gi *g = state;
+    VkCommandBuffer cmd = f->cmd;
+    buffer_barrier(cmd, g->stats[f->slot].buffer, CS, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferCopy copy = {0, 0, sizeof(fv_gi_stats)};
+    vkCmdCopyBuffer(cmd, g->stats[f->slot].buffer, g->stats_readback[f->slot].buffer, 1, &copy);
+    buffer_barrier(cmd, g->stats_readback[f->slot].buffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    timestamp(g, cmd, f->slot, QUERY_STATS);
+    g->counted_in_slot[f->slot] = true;
+    g->counted_seq[f->slot] = ++g->frames_counted;
+}
+
+/* Clusters (or tree nodes, or samples) summed per pixel that ran the gather in the newest frame read back: the mean,
+ * the most, and the pixels, as the shading passes counted them on the GPU (fv_gi_stats), in every mode. NaN before
+ * any frame was read back. */
+static void clusters_per_pixel(const gi *g, double *out_mean, double *out_max, double *out_pixels)
+{
+    *out_mean = g->measured ? g->per_pixel_mean : NAN;
+    *out_max = g->measured ? g->per_pixel_max : NAN;
+    *out_pixels = g->measured ? g->gathered_pixels : NAN;
 }
 
 static uint32_t gi_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     gi *g = state;
-    for (uint32_t s = 0; s < g->slots; s++) collect(g, s, false);
+    for (uint32_t s = 0; s < g->slots; s++) {
+        collect(g, s, false);
+        collect_stats(g, s, false);
+    }
     const char *keys[] = {"rsm_ms", "pyramid_ms", "cut_ms", "cut_clusters", "lit_vpls", "rebuilds", "rsm_size", "lights"};
     double vals[] = {g->stage_ms[0], g->stage_ms[1], g->stage_ms[2], (double)g->cut_clusters, (double)g->lit_vpls,
                      (double)g->rebuilds, (double)g->n, (double)g->lights};
@@ -578,8 +659,8 @@ static uint32_t gi_details(void *state, fv_pass_detail *out, uint32_t cap)
     }
     if (n < cap) {
         snprintf(out[n].key, sizeof out[n].key, "clusters_per_pixel");
-        clusters_per_pixel(g, &out[n].value[0], &out[n].value[1]);
-        out[n++].count = 2;
+        clusters_per_pixel(g, &out[n].value[0], &out[n].value[1], &out[n].value[2]);
+        out[n++].count = 3;
     }
     return n;
 }
@@ -651,6 +732,7 @@ const fv_pass fv_gi_pass = {
     .init = gi_init,
     .prepare = gi_prepare,
     .record = gi_record,
+    .record_end = gi_record_end,
     .fini = gi_fini,
     .details = gi_details,
 };

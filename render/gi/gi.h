@@ -8,7 +8,10 @@
  * slots of the shading inputs (header + cut, nodes). The RSM, the tree and the cut are rebuilt only when a light,
  * what it sees or a gi.* knob changes. Point lights cast no indirect light (no cube RSM; the plan says so).
  * Knobs: fv_quality.gi. The tree's buffers are written on the GPU and made visible to compute and fragment reads
- * at the end of a rebuild; the RSM images are the pass's own (colour: SHADER_READ_ONLY_OPTIMAL between builds). */
+ * at the end of a rebuild; the RSM images are the pass's own (colour: SHADER_READ_ONLY_OPTIMAL between builds).
+ * Every frame the pass clears the slot's stats (fv_gi_stats, the third GI slot of the shading inputs) before shading,
+ * the shading pass counts into them what each pixel's gather summed (clusters, tree nodes or samples), and
+ * record_end copies them back: details() reports the newest frame's clusters per pixel (mean, max, pixels). */
 #ifndef FV_GI_H
 #define FV_GI_H
 

@@ -17,6 +17,51 @@ layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_NODES) readonl
     fv_gi_node gi_nodes[];
 };
 
+// Counting (a shading pass that defines FV_GI_STATS before including the shading function): each invocation notes
+// what its pixel's gather summed (fv_gi_stats_note, from the shading hook), and the pass calls fv_gi_stats_flush once
+// at the end of main, in uniform control flow, which adds the notes to the slot's fv_gi_stats: per subgroup (the
+// sum, the max and the pixels reduced first) or per pixel (FV_GI_STATS_ATOMIC). Without FV_GI_STATS both are empty
+// and the stats buffer is not declared (the debug views and the other shaders that include the gather).
+#ifdef FV_GI_STATS
+layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_STATS) buffer FvGiStats {
+    fv_gi_stats gi_stats;
+};
+uint fv_gi_noted_clusters = 0u; // this invocation's: clusters summed, pixels that ran the gather
+uint fv_gi_noted_pixels = 0u;
+#endif
+
+void fv_gi_stats_note(uint used)
+{
+#ifdef FV_GI_STATS
+    if (gi.counts.x == 0u) return; // GI off: no gather ran
+    fv_gi_noted_clusters += used;
+    fv_gi_noted_pixels++;
+#endif
+}
+
+void fv_gi_stats_flush()
+{
+#ifdef FV_GI_STATS
+    // With GI off the stats binding is the slot's dummy: never written. counts.x is the same for every invocation,
+    // so this returns for the whole subgroup or for none of it.
+    if (gi.counts.x == 0u) return;
+#if FV_GI_STATS == FV_GI_STATS_SUBGROUP
+    uint pixels = subgroupAdd(fv_gi_noted_pixels);
+    uint sum = subgroupAdd(fv_gi_noted_clusters); // < 2^32: at most 2^21 per pixel (every VPL of two 1024^2 RSMs)
+    uint most = subgroupMax(fv_gi_noted_clusters);
+    if (!subgroupElect()) return;
+#else
+    uint pixels = fv_gi_noted_pixels, sum = fv_gi_noted_clusters, most = sum;
+#endif
+    if (pixels == 0u) return;
+    // 64-bit sum from 32-bit atomics: the addition that wraps the low word carries one into the high word.
+    uint before = atomicAdd(gi_stats.counts.x, sum);
+    if (before > 0xffffffffu - sum) atomicAdd(gi_stats.counts.y, 1u);
+    atomicMax(gi_stats.counts.z, most);
+    atomicAdd(gi_stats.counts.w, pixels);
+#endif
+}
+
 // Irradiance (W/m^2 per channel) at x (unit normal n) from one cluster taken as a Lambertian disk of flux Phi:
 //   E = Phi * max(0, n_c.(x - x_c)/d) * max(0, n.(x_c - x)/d) / (pi * (d^2 + r^2))
 // (Ki & Oh 2007 eq. 1 / Dachsbacher & Stamminger 2005, with the Lambertian 1/pi that the papers fold into Phi).

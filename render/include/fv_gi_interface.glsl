@@ -16,6 +16,13 @@
 #define FV_GI_MAX_LEVELS 11       /* log2(FV_GI_MAX_RSM) + 1 */
 #define FV_GI_BINDING_HEADER (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 0) /* fv_gi_header + fv_gi_cluster cut[] */
 #define FV_GI_BINDING_NODES (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 1)  /* fv_gi_node[] */
+/* fv_gi_stats, one per frame in flight */
+#define FV_GI_BINDING_STATS (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + FV_SHADE_INPUTS_SLOT_STATS)
+
+/* How a shading pass counts the gather's work (FV_GI_STATS, defined before the shading function is included; not
+ * defined: no counting, the stats buffer is not declared). */
+#define FV_GI_STATS_SUBGROUP 1 /* reduce over the subgroup, then one set of atomics per subgroup */
+#define FV_GI_STATS_ATOMIC 2   /* atomics per pixel (devices without arithmetic subgroup operations in compute) */
 
 /* Gather modes (fv_gi_header.counts.y; knob gi.mode). */
 #define FV_GI_MODE_CUT 0          /* the flat cut list, the same for every pixel */
@@ -75,7 +82,17 @@ struct fv_gi_header {
 #endif
 };
 
+/** What the gather did in one frame, summed over the shading passes' pixels that ran it (GI on and a surface hit):
+ *  written with atomics by shading compiled with FV_GI_STATS, cleared by the GI pass before shading, read back
+ *  after. */
+struct fv_gi_stats {
+    FV_UVEC4 counts; /* x, y: the clusters (tree nodes, samples) summed, low and high 32 bits; z the most at one pixel;
+                      * w the pixels that ran the gather */
+};
+
 #ifndef FV_GLSL
+typedef struct fv_gi_stats fv_gi_stats;
+_Static_assert(sizeof(fv_gi_stats) == 16, "fv_gi_stats layout");
 typedef struct fv_gi_node fv_gi_node;
 typedef struct fv_gi_light fv_gi_light;
 typedef struct fv_gi_header fv_gi_header;

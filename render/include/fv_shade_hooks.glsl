@@ -64,12 +64,15 @@ float fv_hook_visibility(uint light, fv_surface s)
 }
 
 // Indirect irradiance reaching the surface, W/m^2 per channel (one-bounce GI from the light quad-tree, render/gi:
-// fv_gi_gather.glsl). 0 while the GI pass is off (its header is the zero dummy: one load).
+// fv_gi_gather.glsl). 0 while the GI pass is off (its header is the zero dummy: one load). The clusters it summed
+// are noted for the GI stats where the shading pass counts (FV_GI_STATS).
 #include "fv_gi_gather.glsl"
 vec3 fv_hook_indirect_irradiance(fv_surface s)
 {
     uint clusters;
-    return fv_gi_irradiance(s.pos_world, s.normal, clusters);
+    vec3 e = fv_gi_irradiance(s.pos_world, s.normal, clusters);
+    fv_gi_stats_note(clusters);
+    return e;
 }
 
 // Outgoing radiance from light that entered elsewhere below the surface (subsurface scattering, dipole over the

@@ -83,6 +83,10 @@ typedef struct fv_pass {
     void (*prepare)(void *state, const fv_pass_frame *frame);
     /** Record the frame's work. Records only: never submits, waits or allocates device memory. */
     void (*record)(void *state, const fv_pass_frame *frame);
+    /** After every pass recorded a whole frame (not a pixel-list replay): copy back what later passes wrote for this
+     *  one (e.g. stats the shading passes counted), for the host to read after the slot's fence. Records only; no
+     *  timestamp range of its own. NULL: nothing. */
+    void (*record_end)(void *state, const fv_pass_frame *frame);
     /** Free everything (the GPU is idle). */
     void (*fini)(void *state);
     /** What it decided for the last prepared frame, as named numbers (NULL: nothing to say). Returns the count. */

@@ -24,6 +24,7 @@ typedef struct fv_shade_inputs {
     fv_vk_image dummy;     /* 1x1, 1 layer, depth 1 (nothing occludes) */
     fv_image_id shadow_map; /* the image table's id of the bound shadow maps, or FV_IMAGE_MAX for the dummy */
     fv_vk_buffer dummy_buffer;  /* 256 zero bytes: an unbound technique buffer */
+    fv_vk_buffer dummy_stats[FV_MAX_FRAMES_IN_FLIGHT]; /* 256 bytes per slot: an unbound stats buffer (never written) */
     fv_vk_image dummy_array;    /* 1x1, 1 layer, rgba32f zero: an unbound technique image */
     VkSampler linear;           /* clamp-to-edge linear, for technique images that ask for it */
     fv_image_id bound_image[FV_SHADE_INPUTS_BINDING_COUNT]; /* technique images of the table, FV_IMAGE_MAX if none */
@@ -46,6 +47,13 @@ VkDescriptorSet fv_shade_inputs_set(const fv_shade_inputs *si, uint32_t slot);
  *  technique buffer. */
 FV_MUST_CHECK fv_result fv_shade_inputs_bind_buffer(fv_shade_inputs *si, uint32_t binding, VkBuffer buffer,
                                                     VkDeviceSize offset, VkDeviceSize range);
+/** Bind slot `slot`'s stats buffer of a technique (binding …_BUFFER0 + FV_SHADE_INPUTS_SLOT_STATS): shading passes
+ *  that count the technique's work write it with atomics during that slot's frames; the technique clears it before
+ *  they run and reads it back after. VK_NULL_HANDLE binds the slot's dummy. The GPU must be idle. FV_ERR_INVALID_ARG
+ *  for another binding or a slot out of range. (fv_shade_inputs_bind_buffer with VK_NULL_HANDLE on a stats binding
+ *  binds every slot's dummy; with a buffer it is FV_ERR_INVALID_ARG: stats are per slot.) */
+FV_MUST_CHECK fv_result fv_shade_inputs_bind_stats(fv_shade_inputs *si, uint32_t binding, uint32_t slot,
+                                                   VkBuffer buffer, VkDeviceSize offset, VkDeviceSize range);
 /** Bind an image of the table (its view is a 2D array) at a technique image binding (…_IMAGE0 + k), sampled in
  *  SHADER_READ_ONLY_OPTIMAL with the nearest (linear = false) or linear clamp sampler; id FV_IMAGE_MAX binds the
  *  dummy. fv_shade_inputs_use then transitions it for the consumer. */

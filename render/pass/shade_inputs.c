@@ -12,6 +12,13 @@ static bool shade_inputs_is_buffer(uint32_t binding)
     return binding >= 2 && (binding - 2) % (FV_SHADE_INPUTS_SLOT_BUFFERS + FV_SHADE_INPUTS_SLOT_IMAGES) <
                                FV_SHADE_INPUTS_SLOT_BUFFERS;
 }
+/* Buffer FV_SHADE_INPUTS_SLOT_STATS of each technique: its per-slot stats. */
+static bool shade_inputs_is_stats(uint32_t binding)
+{
+    return binding >= 2 && (binding - 2) % (FV_SHADE_INPUTS_SLOT_BUFFERS + FV_SHADE_INPUTS_SLOT_IMAGES) ==
+                               FV_SHADE_INPUTS_SLOT_STATS;
+}
+_Static_assert(FV_SHADE_INPUTS_SLOT_STATS < FV_SHADE_INPUTS_SLOT_BUFFERS, "the stats buffer is a technique buffer");
 _Static_assert(FV_SHADE_INPUTS_BINDING_GI_IMAGE0 == FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + FV_SHADE_INPUTS_SLOT_BUFFERS &&
                    FV_SHADE_INPUTS_BINDING_SSS_BUFFER0 == FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + FV_SHADE_INPUTS_SLOT_IMAGES &&
                    FV_SHADE_INPUTS_BINDING_SSS_IMAGE0 == FV_SHADE_INPUTS_BINDING_SSS_BUFFER0 + FV_SHADE_INPUTS_SLOT_BUFFERS &&
@@ -77,6 +84,12 @@ fv_result fv_shade_inputs_init(fv_shade_inputs *si, fv_vk *vk, uint32_t slots)
                                   &si->shadow[i]);
         if (res != FV_OK) break;
         memset(si->shadow[i].mapped, 0, sizeof(fv_gpu_shadow));
+        /* Stats buffers: written (atomics) by shading passes that count a technique's work, so one per slot (frames in
+         * flight never share one); the dummy is never written (the technique's code checks its header first). */
+        snprintf(name, sizeof name, "no technique stats slot %u", i);
+        res = fv_vk_buffer_create(vk, 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE, name,
+                                  &si->dummy_stats[i]);
+        if (res != FV_OK) break;
         snprintf(name, sizeof name, "shading inputs set %u", i);
         res = fv_vk_descriptor_set(vk, si->pool, si->layout, name, &si->sets[i]);
         if (res != FV_OK) break;
@@ -99,7 +112,10 @@ void fv_shade_inputs_fini(fv_shade_inputs *si)
 {
     if (!si || !si->vk) return;
     fv_vk *vk = si->vk;
-    for (uint32_t i = 0; i < FV_MAX_FRAMES_IN_FLIGHT; i++) fv_vk_buffer_destroy(vk, &si->shadow[i]);
+    for (uint32_t i = 0; i < FV_MAX_FRAMES_IN_FLIGHT; i++) {
+        fv_vk_buffer_destroy(vk, &si->shadow[i]);
+        fv_vk_buffer_destroy(vk, &si->dummy_stats[i]);
+    }
     fv_vk_image_destroy(vk, &si->dummy);
     fv_vk_image_destroy(vk, &si->dummy_array);
     fv_vk_buffer_destroy(vk, &si->dummy_buffer);
@@ -148,10 +164,28 @@ fv_result fv_shade_inputs_bind_buffer(fv_shade_inputs *si, uint32_t binding, VkB
     if (!si || !si->vk || binding >= FV_SHADE_INPUTS_BINDING_COUNT || !shade_inputs_is_buffer(binding))
         return FV_ERR_INVALID_ARG;
     bool dummy = buffer == VK_NULL_HANDLE;
+    if (shade_inputs_is_stats(binding)) {
+        for (uint32_t i = 0; dummy && i < si->slots; i++)
+            FV_TRY(fv_shade_inputs_bind_stats(si, binding, i, VK_NULL_HANDLE, 0, 0));
+        return dummy ? FV_OK : FV_ERR_INVALID_ARG;
+    }
     for (uint32_t i = 0; i < si->slots; i++)
         fv_vk_write_buffer(si->vk, si->sets[i], binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                            dummy ? si->dummy_buffer.buffer : buffer, dummy ? 0 : offset,
                            dummy ? 256 : (range ? range : VK_WHOLE_SIZE));
+    return FV_OK;
+}
+
+fv_result fv_shade_inputs_bind_stats(fv_shade_inputs *si, uint32_t binding, uint32_t slot, VkBuffer buffer,
+                                    VkDeviceSize offset, VkDeviceSize range)
+{
+    if (!si || !si->vk || binding >= FV_SHADE_INPUTS_BINDING_COUNT || !shade_inputs_is_stats(binding) ||
+        slot >= si->slots)
+        return FV_ERR_INVALID_ARG;
+    bool dummy = buffer == VK_NULL_HANDLE;
+    fv_vk_write_buffer(si->vk, si->sets[slot], binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                       dummy ? si->dummy_stats[slot].buffer : buffer, dummy ? 0 : offset,
+                       dummy ? 256 : (range ? range : VK_WHOLE_SIZE));
     return FV_OK;
 }
 

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "shade_atomic_comp.spv.h"
 #include "shade_comp.spv.h"
 #include "shade_interface.h"
 
@@ -110,10 +111,21 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
         {FV_SHADE_BINDING_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
         {FV_SHADE_BINDING_PIXELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
     };
+    /* The GI gather's work is counted per subgroup where compute shaders have arithmetic subgroup operations (one
+     * set of atomics per subgroup), else per pixel (shade_atomic.comp: no subgroup capability in its SPIR-V). */
+    VkPhysicalDeviceSubgroupProperties sg = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &sg};
+    vkGetPhysicalDeviceProperties2(vk->phys, &p2);
+    bool subgroups = (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                     (sg.supportedOperations & VK_SUBGROUP_FEATURE_BASIC_BIT) &&
+                     (sg.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
+    if (!subgroups)
+        FV_INFO(MOD, "no arithmetic subgroup operations in compute shaders: GI work counted with atomics per pixel");
     const uint32_t modes[2] = {FV_SHADE_MODE_ALL, FV_SHADE_MODE_LIST};
     VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
     _Static_assert(FV_SCENE_SET == 0 && FV_SHADE_INPUTS_SET == 1 && FV_SHADE_SET == 2, "shade's set order");
-    fv_vk_compute_desc cd = {.name = "shade", .code = fv_spv_shade_comp, .code_size = sizeof fv_spv_shade_comp,
+    fv_vk_compute_desc cd = {.name = "shade", .code = subgroups ? fv_spv_shade_comp : fv_spv_shade_atomic_comp,
+                             .code_size = subgroups ? sizeof fv_spv_shade_comp : sizeof fv_spv_shade_atomic_comp,
                              .shared_sets = shared, .shared_set_count = 2, .bindings = b,
                              .binding_count = FV_SHADE_BINDING_COUNT, .set_count = env->slots,
                              .push_bytes = sizeof(struct fv_shade_push), .spec = modes, .spec_count = 1,

@@ -3,7 +3,9 @@
  * against the CPU reference's exact VPL sum in double on cornell; the cut's error against exact falling with the
  * limit level and vanishing when every VPL is its own cluster; traverse giving the cut's image; colour bleeding in
  * cornell; finite images at the extremes (zero-flux light, a 1x1 RSM, thresholds that validate nothing or
- * everything); point lights left out (no cube RSM) and the plan saying so. Every test runs with the validation
+ * everything); point lights left out (no cube RSM) and the plan saying so; the clusters per pixel the shading
+ * pass measures on the GPU against the known counts (the cut's size, the lit VPLs) and bounds (refinement, bound,
+ * sampling), full-resolution and foveated. Every test runs with the validation
  * layer (the group teardown fails on any message). */
 #include <math.h>
 #include <stdio.h>
@@ -563,6 +565,111 @@ static void point_lights_are_left_out_and_said_so(void **state)
     free(both);
 }
 
+/* A GI detail of the last frame (NaN when missing). */
+static double gi_detail(const char *key, uint32_t k)
+{
+    fv_pass_detail d[16];
+    uint32_t n = fv_renderer_pass_details(g_r, "gi", d, 16);
+    for (uint32_t i = 0; i < n; i++)
+        if (strcmp(d[i].key, key) == 0) return k < d[i].count ? d[i].value[k] : NAN;
+    return NAN;
+}
+
+/* Clusters per pixel as measured on the GPU for q's frame: mean, max, pixels that ran the gather (all finite). */
+static void measured(const fv_quality *q, double out[3])
+{
+    draw(q, 0, NULL);
+    for (uint32_t k = 0; k < 3; k++) {
+        out[k] = gi_detail("clusters_per_pixel", k);
+        assert_true(isfinite(out[k])); /* measured in every mode: never null again */
+    }
+}
+
+static void clusters_per_pixel_are_measured_in_every_mode(void **state)
+{
+    (void)state;
+    NEED_GPU();
+    fv_scene *s = cornell();
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    const uint32_t n = 64;
+    fv_quality q = gi_quality(n, FV_GI_CUT, FV_GI_LIMIT_16);
+    double m[3];
+    measured(&q, m);
+    /* The pixels that ran the gather: every pixel of both eyes with a surface (full resolution here). */
+    uint16_t *id = malloc((size_t)W * H * sizeof *id);
+    assert_non_null(id);
+    double hit = 0;
+    for (int e = 0; e < 2; e++) {
+        assert_int_equal(fv_renderer_read_image(g_r, "gbuffer material id", e, id, (size_t)W * H * 2, 2), FV_OK);
+        for (size_t i = 0; i < (size_t)W * H; i++) hit += id[i] != 0;
+    }
+    free(id);
+    double cut = gi_detail("cut_clusters", 0), lit = gi_detail("lit_vpls", 0);
+    printf("  cut: %.0f clusters per pixel (mean), %.0f (max) over %.0f pixels (%.0f with a surface); cut %.0f, "
+           "%.0f lit VPLs\n", m[0], m[1], m[2], hit, cut, lit);
+    assert_true(hit > 0 && cut > 1 && lit > cut);
+    assert_true(m[2] == hit);
+    /* The flat cut: every pixel sums the whole cut. */
+    assert_true(m[0] == cut && m[1] == cut);
+    /* traverse: the same clusters for every pixel */
+    q.gi.mode = FV_GI_TRAVERSE;
+    measured(&q, m);
+    printf("  traverse: %.1f (mean), %.0f (max)\n", m[0], m[1]);
+    assert_true(m[0] == cut && m[1] == cut && m[2] == hit);
+    /* exact: every lit VPL at every pixel */
+    q.gi.mode = FV_GI_EXACT;
+    measured(&q, m);
+    printf("  exact: %.1f (mean), %.0f (max)\n", m[0], m[1]);
+    assert_true(m[0] == lit && m[1] == lit && m[2] == hit);
+    /* the cut with near-field refinement: each pixel visits the whole cut and, where a cluster is near, the tree
+     * nodes below it; at most every walk record once more */
+    q.gi.mode = FV_GI_CUT;
+    double prev = cut;
+    const float taus[2] = {0.2f, 0.5f};
+    for (int k = 0; k < 2; k++) {
+        q.gi.refine = taus[k];
+        measured(&q, m);
+        printf("  cut, refine %.1f: %.1f (mean), %.0f (max)\n", (double)taus[k], m[0], m[1]);
+        assert_true(m[0] > cut && m[1] > m[0] && m[1] <= cut + 4.0 / 3.0 * n * n);
+        assert_true(k == 0 || m[0] < prev); /* a larger tau splits less: fewer nodes per pixel */
+        assert_true(m[2] == hit);
+        prev = m[0];
+    }
+    q.gi.refine = 0.0f;
+    /* bound: per-pixel clusters, each a whole subtree: between one and every lit VPL */
+    q.gi.mode = FV_GI_BOUND;
+    measured(&q, m);
+    printf("  bound: %.1f (mean), %.0f (max)\n", m[0], m[1]);
+    assert_true(m[0] >= 1 && m[0] <= m[1] && m[1] <= lit && m[2] == hit);
+    /* rsm_sampling: the samples that land on the map, at most gi.samples per light */
+    q.gi.mode = FV_GI_RSM_SAMPLING;
+    q.gi.samples = 64;
+    measured(&q, m);
+    printf("  rsm_sampling 64: %.1f (mean), %.0f (max)\n", m[0], m[1]);
+    assert_true(m[0] > 0 && m[0] <= m[1] && m[1] <= 64 && m[2] == hit);
+    /* foveated (a steep acuity fall-off: a sparse list): the listed pixels only, fewer than the full frame's */
+    q.gi.mode = FV_GI_CUT;
+    q.fovea.enabled = true;
+    q.fovea.mar_slope = 1.0f;
+    q.fovea.mar_w0_deg = 1.0f;
+    q.fovea.min_prob = 0.01f;
+    measured(&q, m);
+    fv_render_stats st;
+    assert_int_equal(fv_renderer_frame_stats(g_r, g_frame - 1, &st), FV_OK);
+    printf("  cut, foveated: %.1f (mean) over %.0f pixels (%llu shaded)\n", m[0], m[2],
+           (unsigned long long)st.pixels_shaded);
+    assert_true(m[0] == cut && m[1] == cut && m[2] > 0 && m[2] < hit && m[2] <= (double)st.pixels_shaded);
+    /* GI off: no GI pass, nothing reported; on again: measured again */
+    q.gi.enabled = false;
+    draw(&q, 0, NULL);
+    assert_null(fv_renderer_pass_state(g_r, "gi"));
+    q.gi.enabled = true;
+    q.fovea.enabled = false;
+    measured(&q, m);
+    assert_true(m[0] == cut && m[2] == hit);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -573,6 +680,7 @@ int main(void)
         cmocka_unit_test(floor_near_the_red_wall_is_redder),
         cmocka_unit_test(extremes_stay_finite),
         cmocka_unit_test(point_lights_are_left_out_and_said_so),
+        cmocka_unit_test(clusters_per_pixel_are_measured_in_every_mode),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

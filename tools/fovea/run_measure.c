@@ -262,6 +262,7 @@ void fv_measure_add_gi_json(const fv_measure *mc, const fv_renderer *r, cJSON *j
     if (why) fv_cli_json_add_string(jg, "left_out", why);
     add_ms_or_null(jg, "clusters_per_pixel_mean", gi_detail(r, "clusters_per_pixel", 0));
     add_ms_or_null(jg, "clusters_per_pixel_max", gi_detail(r, "clusters_per_pixel", 1));
+    add_ms_or_null(jg, "gather_pixels", gi_detail(r, "clusters_per_pixel", 2));
     add_ms_or_null(jg, "cut_clusters", gi_detail(r, "cut_clusters", 0));
     add_ms_or_null(jg, "lit_vpls", gi_detail(r, "lit_vpls", 0));
     add_ms_or_null(jg, "rebuilds", gi_detail(r, "rebuilds", 0));
@@ -282,8 +283,11 @@ void fv_measure_print_gi(const fv_measure *mc, const fv_renderer *r, FILE *f)
     }
     if (why) fprintf(f, "  gi plan: %s\n", why);
     double mean = gi_detail(r, "clusters_per_pixel", 0), max = gi_detail(r, "clusters_per_pixel", 1);
-    if (isfinite(mean)) fprintf(f, "  gi: %.0f clusters per pixel (mean), %.0f (max);", mean, max);
-    else fprintf(f, "  gi: clusters per pixel not counted in this mode;");
+    double pixels = gi_detail(r, "clusters_per_pixel", 2);
+    if (isfinite(mean))
+        fprintf(f, "  gi: %.1f clusters per pixel (mean), %.0f (max), measured over the last frame's %.0f gathering "
+                   "pixels;", mean, max, pixels);
+    else fprintf(f, "  gi: clusters per pixel not measured (no frame read back);");
     fprintf(f, " cut %.0f of %.0f lit VPLs; last rebuild (GPU ms): rsm %.3f, pyramid %.3f, cut %.3f; gather inside "
                "shade (median %.3f ms)\n",
             gi_detail(r, "cut_clusters", 0), gi_detail(r, "lit_vpls", 0), gi_detail(r, "rsm_ms", 0),

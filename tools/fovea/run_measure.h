@@ -56,7 +56,8 @@ void fv_measure_print(const fv_measure *m, FILE *f);
  *  retired frame) as the object "fovea" of j, or a table. Nothing when foveation is off. */
 void fv_measure_add_fovea_json(const fv_measure *m, const fv_renderer *r, cJSON *j);
 void fv_measure_print_fovea(const fv_measure *m, const fv_renderer *r, FILE *f);
-/** One-bounce GI, when its pass ran: clusters per pixel (mean, max; null where the mode does not count them),
+/** One-bounce GI, when its pass ran: clusters per pixel as the shading pass measured them on the GPU in the newest
+ *  frame read back (mean, max, and the pixels that ran the gather; null before any frame was read back),
  *  the cut's size, the GPU time of the last rebuild's stages (rsm, pyramid, cut) and the median of the gather's
  *  pass (it runs inside "shade", with the direct light) as the object "gi" of j, or a line. Nothing when GI is off. */
 void fv_measure_add_gi_json(const fv_measure *m, const fv_renderer *r, cJSON *j);
