@@ -1,10 +1,12 @@
 /* @brief The shading inputs (set 1 of shading passes, render/include/fv_shade_inputs_interface.h): per frame in flight the
  * shadow block (fv_gpu_shadow) that the shadow pass fills before recording, and the shadow-map image (a 1x1 dummy
  * until a pass binds one); and the technique slots (GI, SSS): read-only storage buffers and sampled image arrays
- * that a producing pass binds once (a small dummy otherwise). Owned by the renderer; producers fill it, consumers
- * bind it. One owner thread. A producer that writes a bound buffer on the GPU makes its writes visible to compute
- * and fragment shader reads itself (a memory barrier at the end of its record); bound images get their barrier
- * from fv_shade_inputs_use. */
+ * that a producing pass binds once (a small dummy otherwise), and per slot a writable stats buffer that shading
+ * counts the technique's work into (a per-slot dummy, never written, until the technique binds its own). Owned by
+ * the renderer; producers fill it, consumers bind it. One owner thread. A producer that writes a bound buffer on the
+ * GPU makes its writes visible to compute and fragment shader reads itself (a memory barrier at the end of its
+ * record), and clears and reads back its stats buffer itself (before and after shading, with their barriers);
+ * bound images get their barrier from fv_shade_inputs_use. */
 #ifndef FV_SHADE_INPUTS_H
 #define FV_SHADE_INPUTS_H
 
