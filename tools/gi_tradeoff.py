@@ -15,7 +15,11 @@ reported as such, not extrapolated.
 usage: tools/gi_tradeoff.py [--fovea BIN] [--scene NAME] [--eye-size WxH] [--rsm N] [--frames N] [--repeats N]
                             [--samples S1,S2,...] [--limits L1,...] [--thresholds D:N,...] [--refines R,...]
                             [--bound F,...] [--view gi|color] [--set NAME=VALUE]... [--truth-spp N] [--stat median|min]
-                            [--no-sampling] [--out DIR]
+                            [--no-sampling] [--out DIR] [--plot PNG]
+       tools/gi_tradeoff.py --replot DIR/gi_tradeoff.json --plot PNG   (redraw a finished run's plot)
+
+--plot draws, by gnuplot, shade-pass time against relative L1 (log-log) for RSM sampling (a curve over its sample
+counts) and the tree's points, with the speed-up at equal error written beside each tree point.
 """
 import argparse
 import json
@@ -69,6 +73,59 @@ def interp(points, err):
     return None
 
 
+def plot(res, png):
+    """Shade-pass time against relative L1 vs exact (log-log): RSM sampling as a curve, the tree as points, each
+    labelled with its speed-up at equal error; the GI-off time (direct light, in both) as a line."""
+    pts = res["points"]
+    samp = sorted((p["rel_l1"], p["shade_ms"], p["samples"]) for p in pts if p["method"] == "rsm_sampling")
+    tree = [p for p in pts if p["method"] == "cut"]
+    if not samp and not tree:
+        sys.stderr.write("gi_tradeoff: nothing to plot\n")
+        sys.exit(1)
+    dat = png + ".dat"
+    with open(dat, "w") as f:
+        f.write("# RSM sampling: rel_l1 shade_ms samples\n")
+        for e, t, s in samp:
+            f.write("%g %g %d\n" % (e, t, s))
+        f.write("\n\n# tree: rel_l1 shade_ms speed-up (0: outside the sampling curve)\n")
+        for p in tree:
+            f.write("%g %g %g \"%s\"\n" % (p["rel_l1"], p["shade_ms"], p.get("speedup", 0.0),
+                                           p["label"].replace("cut limit ", "L").replace(" thr ", " ")
+                                           .replace(" refine ", " t")))
+    a = res["args"]
+    title = "%s %s per eye, RSM %d: shade pass (%s of %d rounds) against error vs exact" % (
+        a["scene"], a["eye_size"], a["rsm"], a["stat"], a["repeats"])
+    off = res.get("gi_off_shade_ms")
+    script = "\n".join([
+        "set terminal pngcairo size 900,600 noenhanced" if gnuplot_has("pngcairo") else "set terminal png size 900,600",
+        "set output '%s'" % png,
+        "set title '%s'" % title,
+        "set logscale xy", "set grid",
+        "set xlabel 'relative L1 of the indirect light vs gi.mode=exact'",
+        "set ylabel 'shade pass, ms (direct light + the gather)'",
+        "set key top left",
+        "set xrange [*:*] reverse",
+        ("set arrow from graph 0, first %g to graph 1, first %g nohead dt 2 lc rgb 'gray40'\n"
+         "set label 'GI off (direct light alone): %.0f ms' at graph 0.02, first %g offset 0,0.7 tc rgb 'gray40'"
+         % (off, off, off, off) if off and off == off else ""),
+        "plot '%s' index 0 using 1:2 with linespoints pt 7 lw 2 lc rgb '#c0392b' title 'RSM sampling (samples)', "
+        "'' index 0 using 1:2:(sprintf('%%d', $3)) with labels offset 0,1 tc rgb '#c0392b' notitle, "
+        "'' index 1 using 1:2 with points pt 5 ps 1.5 lc rgb '#2471a3' title 'light tree (speed-up at equal error)', "
+        "'' index 1 using 1:2:($3 > 0 ? sprintf('%%.1fx', $3) : '') with labels offset 0,-1.2 tc rgb '#2471a3' "
+        "notitle" % dat,
+    ])
+    p = subprocess.run(["gnuplot"], input=script, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    if p.returncode != 0:
+        sys.stderr.write("gi_tradeoff: gnuplot failed: %s\n" % p.stderr[-2000:])
+        sys.exit(1)
+    print("plot: %s" % png)
+
+
+def gnuplot_has(term):
+    p = subprocess.run(["gnuplot", "-e", "set terminal %s" % term], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    return p.returncode == 0 and not p.stderr
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--fovea", default="build/release/tools/fovea/fovea")
@@ -92,7 +149,15 @@ def main():
     ap.add_argument("--stat", default="median", choices=["median", "min"],
                     help="each point's time over the repeats: median, or min (the least disturbed round on a "
                          "shared machine: load only adds time)")
+    ap.add_argument("--plot", default="", help="also draw time against error to this PNG (gnuplot)")
+    ap.add_argument("--replot", default="", help="only redraw --plot from a finished run's gi_tradeoff.json")
     a = ap.parse_args()
+    if a.replot:
+        if not a.plot:
+            ap.error("--replot needs --plot PNG")
+        with open(a.replot) as f:
+            plot(json.load(f), a.plot)
+        return
 
     base = [a.fovea, "run", "--scene", a.scene, "--eye-size", a.eye_size, "--quality", "balanced",
             "--set", "fovea.enabled=off", "--set", "distort.enabled=off", "--set", "gi.rsm_size=%d" % a.rsm]
@@ -195,6 +260,9 @@ def main():
     with open(os.path.join(a.out, "gi_tradeoff.json"), "w") as f:
         json.dump({"args": vars(a), "exact_shade_ms": shade(ej), "lit_vpls": ej["gi"]["lit_vpls"],
                    "gi_off_shade_ms": off_ms, "points": points}, f, indent=1)
+    if a.plot:
+        with open(os.path.join(a.out, "gi_tradeoff.json")) as f:
+            plot(json.load(f), a.plot)
 
 
 if __name__ == "__main__":
