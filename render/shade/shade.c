@@ -119,8 +119,13 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
     bool subgroups = (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
                      (sg.supportedOperations & VK_SUBGROUP_FEATURE_BASIC_BIT) &&
                      (sg.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
+    /* FOVEA_SHADE_SUBGROUPS=0 takes the per-pixel path where subgroups exist (tests/gi runs it on lavapipe). */
+    const char *force = getenv("FOVEA_SHADE_SUBGROUPS");
+    if (force && strcmp(force, "0") == 0) subgroups = false;
     if (!subgroups)
-        FV_INFO(MOD, "no arithmetic subgroup operations in compute shaders: GI work counted with atomics per pixel");
+        FV_INFO(MOD, "%s: GI work counted with atomics per pixel",
+                force && strcmp(force, "0") == 0 ? "FOVEA_SHADE_SUBGROUPS=0"
+                                                 : "no arithmetic subgroup operations in compute shaders");
     const uint32_t modes[2] = {FV_SHADE_MODE_ALL, FV_SHADE_MODE_LIST};
     VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
     _Static_assert(FV_SCENE_SET == 0 && FV_SHADE_INPUTS_SET == 1 && FV_SHADE_SET == 2, "shade's set order");

@@ -672,6 +672,9 @@ static void clusters_per_pixel_are_measured_in_every_mode(void **state)
 
 int main(void)
 {
+    /* FV_TEST_FILTER: one test by name (CMakeLists runs clusters_per_pixel_are_measured_in_every_mode again with
+     * FOVEA_SHADE_SUBGROUPS=0: the shade pass's per-pixel counting path, which lavapipe would not otherwise take) */
+    if (getenv("FV_TEST_FILTER")) cmocka_set_test_filter(getenv("FV_TEST_FILTER"));
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(pyramid_and_cut_equal_the_cpu_build),
         cmocka_unit_test(rsm_flux_is_the_light_power_for_two_sizes),
