@@ -24,6 +24,7 @@
 #include <stb/stb_image.h>
 
 #include "fv_test.h"
+#include "xr_test_child.h"
 
 static const char *g_app, *g_manifest;
 
@@ -49,21 +50,12 @@ static void run_app(run *r, const char *name, const char *arg, bool layer)
     pid_t pid = fork();
     assert_true(pid >= 0);
     if (pid == 0) {
-        int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fd < 0) _exit(126);
-        dup2(fd, 1);
-        dup2(fd, 2);
-        setenv("XR_RUNTIME_JSON", g_manifest, 1);
-        if (layer) setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
-        else unsetenv("XR_ENABLE_API_LAYERS");
-        setenv("FOVEA_VALIDATION", "1", 1);
+        xr_test_child_env(log_path, g_manifest, layer, SCALE, stats);
         setenv("FOVEA_LOG", "info", 1);
         setenv("FOVEA_XR_EGL_COPY", g_copy, 1);
-        setenv("FOVEA_XR_SCALE", SCALE, 1);
         setenv("FOVEA_XR_DISTORT", "0", 1);
         setenv("FOVEA_XR_OUT", r->dir, 1);
         setenv("FOVEA_XR_OUT_ALL", "1", 1);
-        setenv("FOVEA_XR_STATS", stats, 1);
         unsetenv("FOVEA_XR_GAZE");
         unsetenv("FOVEA_XR_FRAMES");
         unsetenv("DISPLAY");

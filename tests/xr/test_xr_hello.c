@@ -30,6 +30,7 @@
 #include <stb/stb_image.h>
 
 #include "fv_test.h"
+#include "xr_test_child.h"
 
 static const char *g_hello_xr, *g_manifest;
 static bool g_window;           /* argv[3] = "window" */
@@ -76,17 +77,9 @@ static int run_hello(const char *graphics, const char *dir, char *log_path, size
     if (pid == 0) {
         dup2(in[0], 0);
         close(in[1]);
-        int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fd < 0) _exit(126);
-        dup2(fd, 1);
-        dup2(fd, 2);
-        setenv("XR_RUNTIME_JSON", g_manifest, 1);
-        setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
-        setenv("FOVEA_VALIDATION", "1", 1);
-        setenv("FOVEA_XR_SCALE", SCALE, 1);
+        xr_test_child_env(log_path, g_manifest, true, SCALE, stats);
         snprintf(cmd_env, sizeof cmd_env, "%d", frames);
         setenv("FOVEA_XR_FRAMES", cmd_env, 1);
-        setenv("FOVEA_XR_STATS", stats, 1);
         unsetenv("FOVEA_XR_GAZE");
         unsetenv("WAYLAND_DISPLAY");
         if (g_window) { /* in the window on our Xvfb, FIFO */

@@ -25,6 +25,7 @@
 #include <stb/stb_image.h>
 
 #include "fv_test.h"
+#include "xr_test_child.h"
 
 static const char *g_app, *g_manifest;
 
@@ -57,18 +58,10 @@ static int run_app(run *r, const char *name, const char *gaze, int frames, bool 
     pid_t pid = fork();
     assert_true(pid >= 0);
     if (pid == 0) {
-        int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fd < 0) _exit(126);
-        dup2(fd, 1);
-        dup2(fd, 2);
-        setenv("XR_RUNTIME_JSON", g_manifest, 1);
-        setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
-        setenv("FOVEA_VALIDATION", "1", 1);
-        setenv("FOVEA_XR_SCALE", SCALE, 1);
+        xr_test_child_env(log_path, g_manifest, true, SCALE, stats);
         setenv("FOVEA_XR_DISTORT", "0", 1);
         setenv("FOVEA_XR_OUT", r->dir, 1);
         setenv("FOVEA_XR_OUT_ALL", "1", 1);
-        setenv("FOVEA_XR_STATS", stats, 1);
         if (*gaze) setenv("FOVEA_XR_GAZE", gaze, 1);
         else unsetenv("FOVEA_XR_GAZE");
         unsetenv("FOVEA_XR_FRAMES");

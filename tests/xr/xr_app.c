@@ -191,3 +191,29 @@ int xr_app_run_session(XrInstance inst, XrSession session, XrViewConfigurationTy
     }
     return n;
 }
+
+int xr_app_args(int argc, char **argv, const char *usage, int *frames, const xr_app_flag *flags, int flag_count,
+                int (*other)(void *ctx, int argc, char **argv, int *i), void *ctx)
+{
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
+            *frames = atoi(argv[++i]);
+            continue;
+        }
+        int took = 0;
+        for (int f = 0; f < flag_count && !took; f++)
+            if (!strcmp(argv[i], flags[f].name)) *flags[f].value = true, took = 1;
+        if (!took && other) took = other(ctx, argc, argv, &i);
+        if (took == 2) return 2;
+        if (!took) {
+            fprintf(stderr, "usage: %s %s\n", argv[0], usage);
+            return 2;
+        }
+    }
+    if (*frames < 1 || *frames > 100000) {
+        const char *name = strrchr(argv[0], '/');
+        fprintf(stderr, "%s: --frames %d: expected 1..100000\n", name ? name + 1 : argv[0], *frames);
+        return 2;
+    }
+    return 0;
+}

@@ -50,6 +50,18 @@ XrTime xr_app_frame(xr_app *a);
 int xr_app_run_session(XrInstance inst, XrSession session, XrViewConfigurationType config, int frames,
                        void (*frame)(void *ctx, int n, bool visible), void *ctx);
 
+/** A flag of an app's command line: `name` (e.g. "--gl") sets *value. */
+typedef struct xr_app_flag {
+    const char *name;
+    bool *value;
+} xr_app_flag;
+/** An app's command line: `--frames N` into *frames (checked to be in 1..100000 at the end), the `flag_count` flags,
+ *  and for any other argument `other` (may be NULL), called with *i at it: 1 when it took it (and moved *i past its
+ *  values), 0 when it is not its, 2 when it refused it (after printing why). Returns 0, or the exit status 2 after
+ *  printing "usage: ARGV0 USAGE" or the reason. */
+int xr_app_args(int argc, char **argv, const char *usage, int *frames, const xr_app_flag *flags, int flag_count,
+                int (*other)(void *ctx, int argc, char **argv, int *i), void *ctx);
+
 #define XR_APP_ALL_BITS                                                                                                \
     (XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |                                \
      XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT)

@@ -339,33 +339,30 @@ static void frame_cb(void *ctx, int n, bool visible)
     frame(ctx, n);
 }
 
+/* --size WxH (xr_app_args' `other`) */
+static int size_arg(void *ctx, int argc, char **argv, int *i)
+{
+    app *a = ctx;
+    if (strcmp(argv[*i], "--size") != 0 || *i + 1 >= argc) return 0;
+    ++*i;
+    if (sscanf(argv[*i], "%ux%u", &a->width, &a->height) != 2 || a->width < 1 || a->height < 1 || a->width > 4096 ||
+        a->height > 4096) {
+        fprintf(stderr, "xr_egl_app: --size %s: expected WxH, 1..4096 each\n", argv[*i]);
+        return 2;
+    }
+    return 1;
+}
+
 int main(int argc, char **argv)
 {
     int frames = 6;
     app a = {0};
     bool bad = false;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--gl")) a.desktop_gl = true;
-        else if (!strcmp(argv[i], "--bad-bindings")) bad = true;
-        else if (!strcmp(argv[i], "--finish")) a.finish = true;
-        else if (!strcmp(argv[i], "--array")) a.array = true;
-        else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
-            if (sscanf(argv[++i], "%ux%u", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1 ||
-                a.width > 4096 || a.height > 4096) {
-                fprintf(stderr, "xr_egl_app: --size %s: expected WxH, 1..4096 each\n", argv[i]);
-                return 2;
-            }
-        }
-        else {
-            fprintf(stderr, "usage: %s [--frames N] [--gl] [--size WxH] [--finish] [--array] [--bad-bindings]\n", argv[0]);
-            return 2;
-        }
-    }
-    if (frames < 1 || frames > 100000) {
-        fprintf(stderr, "xr_egl_app: --frames %d: expected 1..100000\n", frames);
-        return 2;
-    }
+    const xr_app_flag flags[] = {{"--gl", &a.desktop_gl}, {"--bad-bindings", &bad}, {"--finish", &a.finish},
+                                 {"--array", &a.array}};
+    int bad_args = xr_app_args(argc, argv, "[--frames N] [--gl] [--size WxH] [--finish] [--array] [--bad-bindings]",
+                               &frames, flags, 4, size_arg, &a);
+    if (bad_args) return bad_args;
     setvbuf(stdout, NULL, _IOLBF, 0);
     if (!create_egl(&a)) return 77;
     create_instance(&a);

@@ -508,18 +508,9 @@ int main(int argc, char **argv)
 {
     int frames = 30;
     bool stereo_only = false;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--stereo-only")) stereo_only = true;
-        else {
-            fprintf(stderr, "usage: %s [--frames N] [--stereo-only]\n", argv[0]);
-            return 2;
-        }
-    }
-    if (frames < 1 || frames > 100000) {
-        fprintf(stderr, "xr_quad_app: --frames %d: expected 1..100000\n", frames);
-        return 2;
-    }
+    const xr_app_flag flags[] = {{"--stereo-only", &stereo_only}};
+    int bad_args = xr_app_args(argc, argv, "[--frames N] [--stereo-only]", &frames, flags, 1, NULL, NULL);
+    if (bad_args) return bad_args;
     setvbuf(stdout, NULL, _IOLBF, 0);
     app a = {0};
     create_instance(&a, stereo_only);
