@@ -17,8 +17,6 @@ _Static_assert(FV_SHADE_BINDING_NORMAL == FV_SHADE_BINDING_DEPTH + 1 && FV_SHADE
                    FV_SHADE_BINDING_MATERIAL == FV_SHADE_BINDING_DEPTH + 3,
                "fv_images_bind_gbuffer writes depth, normal, albedo, material in a row");
 
-enum { VARIANT_ALL = 0, VARIANT_LIST = 1 };
-
 typedef struct shade {
     fv_vk *vk;
     uint32_t width, height, slots;
@@ -126,15 +124,13 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
         FV_INFO(MOD, "%s: GI work counted with atomics per pixel",
                 force && strcmp(force, "0") == 0 ? "FOVEA_SHADE_SUBGROUPS=0"
                                                  : "no arithmetic subgroup operations in compute shaders");
-    const uint32_t modes[2] = {FV_SHADE_MODE_ALL, FV_SHADE_MODE_LIST};
     VkDescriptorSetLayout shared[2] = {env->scene->set_layout, env->shade_inputs->layout};
     _Static_assert(FV_SCENE_SET == 0 && FV_SHADE_INPUTS_SET == 1 && FV_SHADE_SET == 2, "shade's set order");
     fv_vk_compute_desc cd = {.name = "shade", .code = subgroups ? fv_spv_shade_comp : fv_spv_shade_atomic_comp,
                              .code_size = subgroups ? sizeof fv_spv_shade_comp : sizeof fv_spv_shade_atomic_comp,
                              .shared_sets = shared, .shared_set_count = 2, .bindings = b,
                              .binding_count = FV_SHADE_BINDING_COUNT, .set_count = env->slots,
-                             .push_bytes = sizeof(struct fv_shade_push), .spec = modes, .spec_count = 1,
-                             .variant_count = 2};
+                             .push_bytes = sizeof(struct fv_shade_push)};
     if (res == FV_OK) res = fv_vk_compute_init(vk, &cd, &sh->cs);
     for (uint32_t i = 0; res == FV_OK && i < env->slots; i++) {
         VkDescriptorSet set = sh->cs.sets[i];
@@ -177,8 +173,9 @@ static void shade_record(void *state, const fv_pass_frame *f)
     uint32_t total = pc.tiles_per_stripe * FV_SHADE_STRIPES;
     uint32_t max_x = sh->vk->props.limits.maxComputeWorkGroupCount[0];
     pc.groups_x = total < max_x ? total : max_x;
+    pc.mode = list ? FV_SHADE_MODE_LIST : FV_SHADE_MODE_ALL;
     VkDescriptorSet shared[2] = {f->scene_set, fv_shade_inputs_set(f->shade_inputs, f->slot)};
-    fv_vk_compute_bind(&sh->cs, cmd, list ? VARIANT_LIST : VARIANT_ALL, shared, 2, f->slot, &pc);
+    fv_vk_compute_bind(&sh->cs, cmd, 0, shared, 2, f->slot, &pc);
     if (list) {
         if (list->indirect) vkCmdDispatchIndirect(cmd, list->indirect, list->indirect_offset);
         if (list->count_on_gpu) f->counters->gpu_lists++; /* the renderer adds the list's size after the frame */

@@ -10,7 +10,6 @@
 #include "shade_interface.h"
 
 layout(local_size_x = FV_SHADE_GROUP_X, local_size_y = FV_SHADE_GROUP_Y, local_size_z = 1) in;
-layout(constant_id = 0) const uint SHADE_MODE = FV_SHADE_MODE_ALL;
 
 FV_SCENE_SET_DECLARE
 FV_SHADE_INPUTS_DECLARE
@@ -40,9 +39,10 @@ void shade_pixel(uvec3 p)
 bool pixel_of_invocation(out uvec3 p)
 {
     p = uvec3(0u);
-    uint groups_x = SHADE_MODE == FV_SHADE_MODE_LIST ? FV_GPU_LIST_GROUPS_X : pc.groups_x;
+    // pc.mode is uniform over the dispatch: one pipeline for both modes, the shading function compiled once
+    uint groups_x = pc.mode == FV_SHADE_MODE_LIST ? FV_GPU_LIST_GROUPS_X : pc.groups_x;
     uint group = gl_WorkGroupID.x + gl_WorkGroupID.y * groups_x;
-    if (SHADE_MODE == FV_SHADE_MODE_LIST) {
+    if (pc.mode == FV_SHADE_MODE_LIST) {
         uint i = group * FV_SHADE_GROUP_SIZE + gl_LocalInvocationIndex;
         if (i >= list.count || i >= uint(list.pixels.length())) return false;
         p = fv_pixel_unpack(list.pixels[i]);

@@ -17,7 +17,7 @@
 #define FV_SHADE_GROUP_Y 8
 #define FV_SHADE_GROUP_SIZE (FV_SHADE_GROUP_X * FV_SHADE_GROUP_Y)
 
-/* Specialization constant 0: what to shade. */
+/* What to shade (push constant `mode`: one pipeline for both, as the shading function is most of its compile). */
 #define FV_SHADE_MODE_ALL 0  /* every pixel of both eyes (tiles interleaved over the dispatch) */
 #define FV_SHADE_MODE_LIST 1 /* only the packed pixels of the list buffer (FV_GPU_PIXEL_PACK) */
 
@@ -38,7 +38,8 @@ struct fv_shade_push {
     FV_SHADE_UINT tile_count;       /* tiles_x * tiles_y * 2 */
     FV_SHADE_UINT tiles_per_stripe; /* ceil(tile_count / FV_SHADE_STRIPES) */
     FV_SHADE_UINT groups_x;         /* dispatch width (workgroups are linearised as x + y * groups_x) */
-    FV_SHADE_UINT pad[3];
+    FV_SHADE_UINT mode;             /* FV_SHADE_MODE_ALL or FV_SHADE_MODE_LIST */
+    FV_SHADE_UINT pad[2];
 };
 
 #endif
