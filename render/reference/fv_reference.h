@@ -66,6 +66,7 @@ typedef struct fv_reference_desc {
                             * gi.enabled); false = direct light only, as before GI existed */
     fv_reference_progress_fn progress; /* NULL = none */
     void *progress_user;
+    bool (*cancelled)(void); /* polled between tiles (NULL = never): true stops the render, FV_ERR_CANCELLED */
 } fv_reference_desc;
 
 /** What one render did. */
@@ -91,6 +92,7 @@ fv_reference_desc fv_reference_desc_defaults(const fv_reference_desc *desc);
  *  The scene and input are only read; they must not change during the call. Blocks until done; safe to call from
  *  several threads at once (each call has its own Embree scene). Every output value is finite and >= 0.
  *  Errors: FV_ERR_INVALID_ARG (NULL scene/input, a broken desc: each rule logged), FV_ERR_NO_MEMORY,
+ *  FV_ERR_CANCELLED (desc->cancelled said stop: the outputs are partly written),
  *  FV_ERR_UNSUPPORTED (Embree could not start). stats may be NULL. */
 FV_MUST_CHECK fv_result fv_reference_render(const fv_scene *scene, const fv_frame_input *in,
                                             const fv_reference_desc *desc, float *out_rgb_left, float *out_rgb_right,

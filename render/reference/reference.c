@@ -238,10 +238,20 @@ typedef struct render_job {
     uint32_t tiles_x, tiles_y;
     uint64_t tiles_total;
     atomic_uint_fast64_t next_tile;
+    atomic_bool stopped;  /* a worker saw desc.cancelled() */
     pthread_mutex_t lock; /* progress and the counters' sum */
     uint64_t tiles_done;
     ref_counts counts;
 } render_job;
+
+/* Whether the caller asked the render to stop (desc.cancelled), remembered for every worker. */
+static bool stop_asked(render_job *job)
+{
+    if (atomic_load_explicit(&job->stopped, memory_order_relaxed)) return true;
+    if (!job->desc.cancelled || !job->desc.cancelled()) return false;
+    atomic_store(&job->stopped, true);
+    return true;
+}
 
 static void render_pixel(render_job *job, uint32_t eye, uint32_t x, uint32_t y, ref_counts *counts)
 {
@@ -256,6 +266,7 @@ static void render_pixel(render_job *job, uint32_t eye, uint32_t x, uint32_t y, 
     /* Model mode without jitter is deterministic: one sample gives the value of all of them. */
     uint32_t spp = !ej->valid ? 0u : d->mode == FV_REFERENCE_MODEL && !d->aa ? 1u : d->spp;
     for (uint32_t s = 0; s < spp; s++) {
+        if ((s & 63u) == 63u && stop_asked(job)) return; /* many samples a pixel: a stop comes within 64 */
         ref_rng rng = ref_rng_seed(d->seed, eye, x, y, s);
         double jx = 0.5, jy = 0.5;
         if (d->aa) {
@@ -283,6 +294,7 @@ static void *worker(void *arg)
     render_job *job = arg;
     ref_counts counts = {0, 0, 0, 0};
     for (;;) {
+        if (stop_asked(job)) break;
         uint64_t k = atomic_fetch_add(&job->next_tile, 1);
         if (k >= job->tiles_total) break;
         /* Interleave the eyes, then rows of tiles: neighbouring tile numbers are spread over the image. */
@@ -292,7 +304,7 @@ static void *worker(void *arg)
         uint32_t x1 = (tx + 1) * TILE, y1 = (ty + 1) * TILE;
         if (x1 > job->desc.eye_width) x1 = job->desc.eye_width;
         if (y1 > job->desc.eye_height) y1 = job->desc.eye_height;
-        for (uint32_t y = ty * TILE; y < y1; y++)
+        for (uint32_t y = ty * TILE; y < y1 && !stop_asked(job); y++)
             for (uint32_t x = tx * TILE; x < x1; x++) render_pixel(job, eye, x, y, &counts);
         pthread_mutex_lock(&job->lock);
         job->tiles_done++;
@@ -364,6 +376,7 @@ static fv_result render(const fv_scene *scene, const fv_frame_input *in, const f
     job->tiles_y = (d.eye_height + TILE - 1) / TILE;
     job->tiles_total = (uint64_t)job->tiles_x * job->tiles_y * job->eye_count;
     atomic_init(&job->next_tile, 0);
+    atomic_init(&job->stopped, false);
     pthread_mutex_init(&job->lock, NULL);
 
     uint32_t want = d.threads;
@@ -403,9 +416,10 @@ static fv_result render(const fv_scene *scene, const fv_frame_input *in, const f
     ref_sss_fini(&sss);
     ref_gi_fini(&gi);
     ref_world_fini(&world);
+    bool stopped = atomic_load(&job->stopped);
     free(job);
     free(threads);
-    return FV_OK;
+    return stopped ? FV_ERR_CANCELLED : FV_OK;
 }
 
 fv_result fv_reference_render(const fv_scene *scene, const fv_frame_input *in, const fv_reference_desc *desc,

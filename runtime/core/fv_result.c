@@ -19,6 +19,7 @@ const char *fv_result_str(fv_result r)
     case FV_ERR_NOT_FOUND: return "FV_ERR_NOT_FOUND";
     case FV_ERR_RANGE: return "FV_ERR_RANGE";
     case FV_ERR_STATE: return "FV_ERR_STATE";
+    case FV_ERR_CANCELLED: return "FV_ERR_CANCELLED";
     }
     return "FV_RESULT_UNKNOWN";
 }

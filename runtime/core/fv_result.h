@@ -26,6 +26,7 @@ typedef enum fv_result {
     FV_ERR_NOT_FOUND = -9,   /* a named thing (file, device, preset, scene) does not exist */
     FV_ERR_RANGE = -10,      /* a value is outside its allowed range (NaN, negative, too large) */
     FV_ERR_STATE = -11,      /* the object is not in a state that allows this call */
+    FV_ERR_CANCELLED = -12,  /* the caller asked the work to stop (Ctrl-C); nothing was produced */
 } fv_result;
 
 /** Static name of a result code ("FV_ERR_PARSE"); never NULL. */

@@ -2,6 +2,8 @@
 #include "fv_test.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -9,6 +11,8 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "fovea_config.h"
 
@@ -102,18 +106,106 @@ const char *fv_test_first_line(const char *s)
     return line;
 }
 
-void fv_test_run_cmd(fv_test_cmd *res, const char *env, const char *program, const char *args)
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
+}
+
+double fv_test_cmd_limit_s(void)
+{
+    const char *e = getenv("FV_TEST_CMD_LIMIT_S");
+    double v = e && *e ? atof(e) : 0.0;
+    return v > 0 ? v : FV_TEST_CMD_LIMIT_S;
+}
+
+pid_t fv_test_spawn(const char *const argv[], const char *stdout_path, const char *stderr_path)
+{
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid < 0) fail_msg("fork failed: %s", strerror(errno));
+    if (pid == 0) {
+        setpgid(0, 0); /* its own process group: a time limit can end it and everything it started */
+        sigset_t none;
+        sigemptyset(&none);
+        sigprocmask(SIG_SETMASK, &none, NULL);
+        signal(SIGINT, SIG_DFL);
+        int in = open("/dev/null", O_RDONLY);
+        if (in >= 0) dup2(in, STDIN_FILENO);
+        const char *paths[2] = {stdout_path, stderr_path};
+        for (int k = 0; k < 2; k++) {
+            if (!paths[k]) continue;
+            int fd = open(paths[k], O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            if (fd >= 0) dup2(fd, k + 1);
+        }
+        execvp(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    setpgid(pid, pid); /* also here: whichever runs first */
+    return pid;
+}
+
+/* Kill the process group: TERM, then KILL after 2 s. */
+static void kill_group(pid_t pid)
+{
+    kill(-pid, SIGTERM);
+    double t0 = now_s();
+    while (now_s() - t0 < 2.0) {
+        if (waitpid(pid, NULL, WNOHANG) == pid) {
+            kill(-pid, SIGKILL); /* whatever it left behind in its group */
+            return;
+        }
+        usleep(10000);
+    }
+    kill(-pid, SIGKILL);
+    waitpid(pid, NULL, 0);
+}
+
+int fv_test_wait(pid_t pid, double limit_s, const char *what)
+{
+    double t0 = now_s();
+    int st = 0;
+    for (;;) {
+        pid_t r = waitpid(pid, &st, WNOHANG);
+        if (r == pid) break;
+        if (r < 0 && errno != EINTR) fail_msg("waitpid for '%s': %s", what, strerror(errno));
+        if (now_s() - t0 > limit_s) {
+            kill_group(pid);
+            fail_msg("TIMED OUT after %.0f s (its process group was killed): %s", limit_s, what);
+        }
+        usleep(now_s() - t0 < 1.0 ? 2000 : 20000);
+    }
+    kill(-pid, SIGKILL); /* nothing it started outlives it */
+    const char *log = getenv("FV_TEST_CMD_LOG"); /* the durations of test commands, to find the slow ones */
+    if (log && *log) {
+        FILE *f = fopen(log, "a");
+        if (f) {
+            fprintf(f, "%.2f\t%s\n", now_s() - t0, what);
+            fclose(f);
+        }
+    }
+    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+void fv_test_run_cmd_limit(fv_test_cmd *res, double limit_s, const char *env, const char *program, const char *args)
 {
     char out_path[1024], err_path[1024], cmd[8192];
     snprintf(out_path, sizeof out_path, "%s", fv_test_tmp("cmd_stdout.txt"));
     snprintf(err_path, sizeof err_path, "%s", fv_test_tmp("cmd_stderr.txt"));
-    int n = snprintf(cmd, sizeof cmd, "%s %s %s >%s 2>%s", env ? env : "", program, args ? args : "", out_path,
-                     err_path);
+    int n = snprintf(cmd, sizeof cmd, "%s %s %s", env ? env : "", program, args ? args : "");
     if (n < 0 || (size_t)n >= sizeof cmd) fail_msg("command line too long: %s %s", program, args);
-    int st = system(cmd);
-    res->exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    const char *argv[] = {"/bin/sh", "-c", cmd, NULL};
+    pid_t pid = fv_test_spawn(argv, out_path, err_path);
+    res->exit_code = fv_test_wait(pid, limit_s, cmd);
     slurp(out_path, res->out, sizeof res->out);
     slurp(err_path, res->err, sizeof res->err);
+}
+
+void fv_test_run_cmd(fv_test_cmd *res, const char *env, const char *program, const char *args)
+{
+    fv_test_run_cmd_limit(res, fv_test_cmd_limit_s(), env, program, args);
 }
 
 static pthread_mutex_t g_mutex = PTHREAD_MUTEX_INITIALIZER;

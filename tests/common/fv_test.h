@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include <string.h>
+#include <sys/types.h>
 
 #include "fv_log.h"
 
@@ -29,9 +30,23 @@ typedef struct fv_test_cmd {
     char out[65536];
     char err[65536];
 } fv_test_cmd;
+/** The time limit of a test's child command, in seconds: $FV_TEST_CMD_LIMIT_S, else FV_TEST_CMD_LIMIT_S. A hung
+ *  child fails its test case in this time, naming the command, instead of costing the whole test's ctest timeout. */
+#define FV_TEST_CMD_LIMIT_S 60.0
+double fv_test_cmd_limit_s(void);
 /** Run `ENV PROGRAM ARGS` through the shell (env and args may be NULL), stdout and stderr captured separately
- *  through temp files. */
+ *  through temp files, under fv_test_cmd_limit_s(): past it the command's process group is killed and the test
+ *  case fails naming the command. */
 void fv_test_run_cmd(fv_test_cmd *res, const char *env, const char *program, const char *args);
+/** fv_test_run_cmd with its own limit in seconds (a command known to take longer). */
+void fv_test_run_cmd_limit(fv_test_cmd *res, double limit_s, const char *env, const char *program, const char *args);
+/** Start argv (argv[0] looked up on PATH) in its own process group, stdin from /dev/null, stdout / stderr into the
+ *  files named (NULL: inherited), with no signal blocked or ignored; returns its pid. Pair with fv_test_wait. */
+pid_t fv_test_spawn(const char *const argv[], const char *stdout_path, const char *stderr_path);
+/** Wait for a child of fv_test_spawn at most limit_s seconds: its exit code (128 + signal when killed). Past the
+ *  limit its process group is killed and the test case fails, naming `what` (the command). Whatever else is left
+ *  in its group is killed when it ends. With $FV_TEST_CMD_LOG set, appends "seconds<TAB>what" to that file. */
+int fv_test_wait(pid_t pid, double limit_s, const char *what);
 /** A standard normal deviate from the 64-bit LCG state *rng (Knuth's MMIX constants) by Box-Muller: reproducible
  *  noise for tests. */
 double fv_test_normal(uint64_t *rng);

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "cli_interrupt.h"
 #include "fv_log.h"
 
 #define MOD "bench"
@@ -242,6 +243,7 @@ static int run_gnuplot(const char *const args[], bool quiet)
     pid_t pid = fork();
     if (pid < 0) return 127;
     if (pid == 0) {
+        fv_cli_interrupt_child(); /* gnuplot gets Ctrl-C as usual */
         int fd = quiet ? open("/dev/null", O_WRONLY) : dup(STDERR_FILENO);
         if (fd >= 0) {
             dup2(fd, STDOUT_FILENO);

@@ -13,6 +13,7 @@
 #include "bench_report.h"
 #include "bench_sweep.h"
 #include "cli.h"
+#include "cli_interrupt.h"
 #include "fv_clock.h"
 #include "fv_log.h"
 #include "fv_metrics.h"
@@ -247,6 +248,10 @@ static fv_result bench_point(bench_state *st, const fv_quality *q, fv_bench_poin
     FV_TRY(fv_measure_init(&m, (size_t)o->frames));
     fv_result res = fv_renderer_set_quality(st->r, q);
     for (int64_t f = 0; f < o->frames && !FV_FAILED(res); f++) {
+        if (fv_cli_interrupted()) { /* Ctrl-C: the point is not finished, the caller reports the ones that are */
+            res = FV_ERR_CANCELLED;
+            break;
+        }
         fv_frame_input in = st->views;
         in.frame_id = st->next_frame++;
         in.quality = *q;
@@ -302,6 +307,7 @@ static fv_result render_reference(const bench_opts *o, const fv_scene *scene, co
     if (!eyes) return FV_ERR_NO_MEMORY;
     if (isatty(STDERR_FILENO)) fprintf(stderr, "\rfovea bench: CPU reference (%s)...", fv_reference_mode_name(d.mode));
     int64_t t0 = fv_time_monotonic_ns();
+    d.cancelled = fv_cli_interrupted;
     fv_result res = fv_reference_render(scene, in, &d, eyes, eyes + (size_t)w * h * 3, NULL);
     *out_s = (double)(fv_time_monotonic_ns() - t0) / 1e9;
     if (isatty(STDERR_FILENO)) fprintf(stderr, "\r%*s\r", 60, "");
@@ -531,7 +537,9 @@ int fv_cmd_bench(int argc, char **argv)
     res.exact.preset = o.baseline_count ? "baseline" : "exact";
     res.has_exact = !o.no_exact;
     res.exact.frame = (fv_bench_ms){NAN, NAN};
-    if (res.has_exact && FV_FAILED(bench_point(&st, &exact, &res.exact, &exact_img))) {
+    fv_result er = res.has_exact ? bench_point(&st, &exact, &res.exact, &exact_img) : FV_OK;
+    if (er == FV_ERR_CANCELLED) goto interrupted_early;
+    if (FV_FAILED(er)) {
         fprintf(stderr, "fovea bench: rendering the exact preset failed (see the messages above)\n");
         goto done;
     }
@@ -539,6 +547,7 @@ int fv_cmd_bench(int argc, char **argv)
         if (FV_FAILED(fv_rgb_image_init(&ref_img, 2 * w, h, FV_IMAGE_KIND_LINEAR))) goto done;
         fv_result rr = render_reference(&o, scene, &st.views, &ref_img, &res.reference_s, &res.reference_spp,
                                         &res.reference_bounces);
+        if (rr == FV_ERR_CANCELLED) goto interrupted_early;
         if (FV_FAILED(rr)) {
             fprintf(stderr, "fovea bench: the CPU reference failed: %s\n", fv_result_str(rr));
             goto done;
@@ -558,7 +567,12 @@ int fv_cmd_bench(int argc, char **argv)
         p->quality.distort.lens = o.lens;
         p->is_preset = fv_quality_equal(&p->quality, &o.base);
         progress(&st, i, n, &o.plan, p);
-        if (FV_FAILED(bench_point(&st, &p->quality, p, &img))) {
+        fv_result pr = bench_point(&st, &p->quality, p, &img);
+        if (pr == FV_ERR_CANCELLED) { /* Ctrl-C: report the points done */
+            res.point_count = i;
+            break;
+        }
+        if (FV_FAILED(pr)) {
             fprintf(stderr, "\nfovea bench: point %zu failed (see the messages above)\n", i + 1);
             goto done;
         }
@@ -570,6 +584,9 @@ int fv_cmd_bench(int argc, char **argv)
         if (res.has_reference && FV_FAILED(fv_metrics_compare(&img, &ref_img, &md, &p->vs_reference))) goto done;
     }
     if (st.tty) fprintf(stderr, "\r%*s\r", 110, "");
+    if (res.point_count < n)
+        fprintf(stderr, "fovea bench: interrupted (Ctrl-C) after %zu of %zu points; the report has those\n",
+                res.point_count, n);
     res.validation_messages = fv_renderer_validation_messages(r);
 
     char path[1200];
@@ -594,7 +611,12 @@ int fv_cmd_bench(int argc, char **argv)
                 res.validation_messages == 1 ? "" : "s");
         goto done;
     }
-    exit_code = FV_EXIT_OK;
+    exit_code = res.point_count < n ? FV_EXIT_INTERRUPTED : FV_EXIT_OK;
+    goto done;
+interrupted_early:
+    if (st.tty) fprintf(stderr, "\r%*s\r", 110, "");
+    fprintf(stderr, "fovea bench: interrupted (Ctrl-C) before the first of %zu points; no report written\n", n);
+    exit_code = FV_EXIT_INTERRUPTED;
 done:
     fv_renderer_destroy(&r);
     fv_scene_destroy(&scene);

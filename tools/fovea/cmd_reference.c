@@ -14,6 +14,7 @@
 #include <stb_image_write.h>
 
 #include "cli.h"
+#include "cli_interrupt.h"
 #include "fv_tone_curve.h"
 #include "fv_clock.h"
 #include "fv_image_io.h"
@@ -333,9 +334,16 @@ int fv_cmd_reference(int argc, char **argv)
     fv_reference_stats st;
     memset(&st, 0, sizeof st);
     int64_t t0 = fv_time_monotonic_ns();
+    o.desc.cancelled = fv_cli_interrupted; /* Ctrl-C (cli_interrupt.h) stops the workers between tiles */
     if (!cached) {
         fv_result res = fv_reference_render(scene, &in, &o.desc, left, right, &st);
         if (prog.shown) fprintf(stderr, "\r%*s\r", 60, "");
+        if (res == FV_ERR_CANCELLED) {
+            printf("fovea reference: interrupted (Ctrl-C) after %.2f s and %.3g rays; no image written\n",
+                   (double)(fv_time_monotonic_ns() - t0) / 1e9, (double)st.rays);
+            exit_code = FV_EXIT_INTERRUPTED;
+            goto done;
+        }
         if (FV_FAILED(res)) {
             fprintf(stderr, "fovea reference: rendering failed: %s\n", fv_result_str(res));
             goto done;

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "cli_interrupt.h"
 #include "fv_clock.h"
 #include "fv_log.h"
 #include "fv_mouse_driver.h"
@@ -24,8 +25,6 @@
 #include "fv_knobs.h"
 #include "tool_knobs.h"
 #include <dirent.h>
-#include <pthread.h>
-#include <signal.h>
 #include "fovea_config.h"
 #include "run_frame_log.h"
 #include "run_head.h"
@@ -321,68 +320,6 @@ typedef struct run_state {
     size_t rows_n, rows_cap;
 } run_state;
 
-/* Ctrl-C: the frame in flight finishes, then the summary (exit 130). A second Ctrl-C ends the process at once.
- * The signal goes to one thread of ours and never into a driver's worker thread (lavapipe's, the gaze source's),
- * where an interrupted wait might not be resumed: SIGINT is blocked in this thread before any other thread exists,
- * so every later thread inherits the block, and a waiter thread takes it with sigwait. A Ctrl-C during start-up
- * lets the first frame be drawn, then stops. */
-static volatile sig_atomic_t g_interrupted;
-static sigset_t g_sigint_set;
-
-static void on_sigint_unused(int sig) { (void)sig; }
-
-static void *sigint_waiter(void *arg)
-{
-    (void)arg;
-    for (;;) {
-        int sig = 0;
-        if (sigwait(&g_sigint_set, &sig) != 0) continue;
-        if (g_interrupted) _exit(130); /* the second Ctrl-C */
-        static const char msg[] = "fovea run: Ctrl-C: finishing the frame in flight, then the summary (Ctrl-C again "
-                                  "ends it at once)\n";
-        (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
-        g_interrupted = 1;
-    }
-    return NULL;
-}
-
-typedef struct sigint_guard {
-    struct sigaction old_action;
-    sigset_t old_mask;
-    pthread_t thread;
-    bool thread_on;
-} sigint_guard;
-
-static void sigint_begin(sigint_guard *g)
-{
-    memset(g, 0, sizeof *g);
-    g_interrupted = 0;
-    sigemptyset(&g_sigint_set);
-    sigaddset(&g_sigint_set, SIGINT);
-    /* blocked first: a Ctrl-C that comes between the two calls stays pending for sigwait instead of running the
-     * empty handler in this thread (and being lost) */
-    pthread_sigmask(SIG_BLOCK, &g_sigint_set, &g->old_mask);
-    /* a disposition other than "ignore", so that the signal is kept for sigwait (a background job of a
-     * non-interactive shell starts with SIGINT ignored); from here on one Ctrl-C is enough */
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_sigint_unused;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &g->old_action);
-    g->thread_on = pthread_create(&g->thread, NULL, sigint_waiter, NULL) == 0;
-}
-
-static void sigint_end(sigint_guard *g)
-{
-    if (g->thread_on) {
-        pthread_cancel(g->thread); /* sigwait is a cancellation point */
-        pthread_join(g->thread, NULL);
-        g->thread_on = false;
-    }
-    sigaction(SIGINT, &g->old_action, NULL);
-    pthread_sigmask(SIG_SETMASK, &g->old_mask, NULL);
-}
-
 /* ---- in a window: keys and title ------------------------------------------------------------------------------ */
 
 /* A key of the window (GLFW key codes: letters are their upper-case ASCII). F, G, H toggle the knobs that exist in
@@ -615,12 +552,8 @@ int fv_cmd_run(int argc, char **argv)
         free(st.rows);
         return FV_EXIT_FAIL;
     }
-    sigint_guard sigint;
-    sigint_begin(&sigint); /* before the renderer and the gaze source make their threads */
-
     if (FV_FAILED(fv_measure_init(&st.m, (size_t)o.frames))) {
         FV_ERROR("run", "out of memory for %lld frames", (long long)o.frames);
-        sigint_end(&sigint);
         free(st.rows);
         return FV_EXIT_FAIL;
     }
@@ -705,7 +638,7 @@ int fv_cmd_run(int argc, char **argv)
     int64_t t_start = fv_time_monotonic_ns(), t_last_progress = t_start;
     int64_t t_title = t_start, title_frames = 0;
     for (int64_t f = 0; f < o.frames; f++) {
-        if (g_interrupted && f > 0) {
+        if (fv_cli_interrupted() && f > 0) { /* Ctrl-C (cli_interrupt.h); one during start-up: the first frame */
             interrupted = true;
             break;
         }
@@ -746,8 +679,7 @@ int fv_cmd_run(int argc, char **argv)
             fprintf(stderr, "\rfovea run: frame %lld/%lld", (long long)f + 1, (long long)o.frames);
         }
     }
-    if (g_interrupted) interrupted = true; /* during the last frame */
-    sigint_end(&sigint);
+    if (fv_cli_interrupted()) interrupted = true; /* during the last frame */
     if (interrupted)
         fprintf(stderr, "fovea run: interrupted (Ctrl-C) after %lld of %lld frames\n", (long long)frames_done,
                 (long long)o.frames);
@@ -861,10 +793,9 @@ int fv_cmd_run(int argc, char **argv)
         fprintf(stderr, "fovea run: %u Vulkan validation message%s (see above)\n", vmsg, vmsg == 1 ? "" : "s");
         goto done;
     }
-    exit_code = interrupted ? 130 : FV_EXIT_OK; /* 128 + SIGINT, as a shell reports it */
+    exit_code = interrupted ? FV_EXIT_INTERRUPTED : FV_EXIT_OK; /* 128 + SIGINT, as a shell reports it */
 done:
-    sigint_end(&sigint); /* again on the paths that skip the loop's end: a no-op then */
-    if (exit_code != FV_EXIT_OK && exit_code != 130 && frames_done == 0 && out_created[0])
+    if (exit_code != FV_EXIT_OK && exit_code != FV_EXIT_INTERRUPTED && frames_done == 0 && out_created[0])
         remove_created_dirs(o.out_dir, out_created);
     free(st.rows);
     if (gaze_open) run_gaze_close(&gaze);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "cli_interrupt.h"
 #include "fv_clock.h"
 #include "fv_log.h"
 #include "fv_trace.h"
@@ -305,11 +306,13 @@ static int cmd_record(int argc, char **argv)
     fv_trace_writer_desc wd = {.source = uri, .rate_hz = dev->nominal_rate_hz, .gzip = gzip};
     res = fv_trace_writer_create(out, &wd, &w);
     if (res != FV_OK) goto fail;
+    /* Ctrl-C ends the recording early and keeps what was recorded (a whole file, exit 130) */
+    fv_cli_interrupt_catch("fovea trace: Ctrl-C: ending the recording (Ctrl-C again ends it at once)");
     int64_t t0 = fv_clock_now_ns(clock), end = t0 + (int64_t)llround(seconds * 1e9);
     fv_gaze_sample buf[256];
     uint64_t n = 0;
     bool finished = false;
-    while (!finished && fv_clock_now_ns(clock) < end) {
+    while (!finished && fv_clock_now_ns(clock) < end && !fv_cli_interrupted()) {
         size_t cnt = 0;
         int64_t left_ms = (end - fv_clock_now_ns(clock)) / FV_NS_PER_MS;
         res = fv_device_read(dev, buf, sizeof buf / sizeof buf[0], &cnt, (int)(left_ms < 100 ? left_ms + 1 : 100));
@@ -333,10 +336,12 @@ static int cmd_record(int argc, char **argv)
     }
     res = fv_trace_writer_finish(&w);
     if (res != FV_OK) goto fail;
-    printf("recorded %llu samples from %s to %s in %.3f s%s\n", (unsigned long long)n, uri, out,
-           (double)(fv_clock_now_ns(clock) - t0) / 1e9, sim ? " (simulated clock)" : "");
+    bool interrupted = fv_cli_interrupted();
+    printf("recorded %llu samples from %s to %s in %.3f s%s%s\n", (unsigned long long)n, uri, out,
+           (double)(fv_clock_now_ns(clock) - t0) / 1e9, sim ? " (simulated clock)" : "",
+           interrupted ? " (interrupted by Ctrl-C)" : "");
     fv_device_close(&dev);
-    return FV_EXIT_OK;
+    return interrupted ? FV_EXIT_INTERRUPTED : FV_EXIT_OK;
 fail:
     fprintf(stderr, "fovea trace: record '%s' -> '%s' failed (%s)\n", uri, out, fv_result_str(res));
     fv_trace_writer_destroy(&w);
