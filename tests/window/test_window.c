@@ -110,7 +110,7 @@ static int start_xvfb(void **state)
 static void kill_child(void)
 {
     if (g_child > 0) {
-        kill(g_child, SIGKILL);
+        kill(-g_child, SIGKILL); /* its process group (fv_test_spawn) */
         waitpid(g_child, NULL, 0);
     }
     g_child = -1;
@@ -137,46 +137,43 @@ static int stop_xvfb(void **state)
         }                                                                                                              \
     } while (0)
 
-/* Run a shell command with DISPLAY set; its first line of output into out (may be NULL). Returns the exit code. */
+/* Run a shell command with DISPLAY set, at most 30 s (past it the test fails naming it); its first line of output
+ * into out (may be NULL). Returns the exit code. */
 static int xsh(char *out, size_t out_size, const char *fmt, ...) FV_PRINTF(3, 4);
 static int xsh(char *out, size_t out_size, const char *fmt, ...)
 {
-    char cmd[1024];
+    char cmd[1024], path[512];
     int n = snprintf(cmd, sizeof cmd, "DISPLAY=:%d ", g_display);
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(cmd + n, sizeof cmd - (size_t)n, fmt, ap);
     va_end(ap);
-    FILE *p = popen(cmd, "r");
-    if (!p) return -1;
+    snprintf(path, sizeof path, "%s", fv_test_tmp("xsh.out"));
+    const char *argv[] = {"/bin/sh", "-c", cmd, NULL};
+    int rc = fv_test_wait(fv_test_spawn(argv, path, "/dev/null"), 30.0, cmd);
     char line[512] = "";
-    if (!fgets(line, sizeof line, p)) line[0] = '\0';
-    char rest[512];
-    while (fgets(rest, sizeof rest, p)) {
+    FILE *f = fopen(path, "r");
+    if (f) {
+        if (!fgets(line, sizeof line, f)) line[0] = '\0';
+        fclose(f);
     }
-    int st = pclose(p);
     line[strcspn(line, "\n")] = '\0';
     if (out) snprintf(out, out_size, "%s", line);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
+    return rc;
 }
 
-/* fovea in the background with DISPLAY and validation on, stdout/stderr to files. */
+/* fovea in the background with DISPLAY and validation on, stdout/stderr to files, in its own process group. */
 static pid_t spawn_fovea(const char *args, const char *out_path, const char *err_path)
 {
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "exec env DISPLAY=:%d FOVEA_VALIDATION=1 %s run %s >%s 2>%s", g_display, g_fovea, args,
-             out_path, err_path);
+    snprintf(cmd, sizeof cmd, "exec env DISPLAY=:%d FOVEA_VALIDATION=1 %s run %s", g_display, g_fovea, args);
     kill_child(); /* one left by a failed test */
-    pid_t pid = fork();
-    if (pid == 0) {
-        execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-        _exit(127);
-    }
-    g_child = pid;
-    return pid;
+    const char *argv[] = {"/bin/sh", "-c", cmd, NULL};
+    g_child = fv_test_spawn(argv, out_path, err_path);
+    return g_child;
 }
 
-/* Wait for a child at most `seconds`; its exit code, or -1 after killing it on timeout. */
+/* Wait for a child at most `seconds`; its exit code, or -1 after killing its process group on timeout. */
 static int wait_child(pid_t pid, double seconds)
 {
     double t0 = now_s();
@@ -188,7 +185,7 @@ static int wait_child(pid_t pid, double seconds)
             return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
         }
         if (now_s() - t0 > seconds) {
-            kill(pid, SIGKILL);
+            kill(-pid, SIGKILL);
             waitpid(pid, &st, 0);
             if (pid == g_child) g_child = -1;
             return -1;
@@ -569,6 +566,30 @@ static void a_gaze_run_reports_latency_from_the_swapchain_clock(void **state)
     cJSON_Delete(j);
 }
 
+/* Ctrl-C in a window run: once frames are drawn, and in the first second after the window appears (start-up). */
+static void ctrl_c_ends_a_window_run_with_its_summary(void **state)
+{
+    (void)state;
+    NEED_XVFB();
+    char out[512], err[512];
+    snprintf(out, sizeof out, "%s", fv_test_tmp("ctrl_c_window.out"));
+    snprintf(err, sizeof err, "%s", fv_test_tmp("ctrl_c_window.err"));
+    for (int k = 0; k < 2; k++) {
+        pid_t pid = spawn_fovea("--present window --frames 1000000 --eye-size 64x64 --quality fast", out, err);
+        unsigned long win = wait_window(pid);
+        if (k == 0) wait_frames(win, 60.0);
+        else sleep_s((double)(getpid() % 1000) / 1000.0);
+        kill(pid, SIGINT);
+        int rc = wait_child(pid, 60.0);
+        char *o = fv_test_read_file(out, NULL), *e = fv_test_read_file(err, NULL);
+        if (rc != 130 || !strstr(o, "fovea run: scene") || !strstr(e, "interrupted (Ctrl-C) after"))
+            fail_msg("window run %d: Ctrl-C gave exit %d (want 130 and the summary)\nstdout:\n%s\nstderr:\n%s", k, rc,
+                     o, e);
+        free(o);
+        free(e);
+    }
+}
+
 static void without_a_window_the_errors_say_why(void **state)
 {
     (void)state;
@@ -602,6 +623,7 @@ int main(int argc, char **argv)
     }
     g_fovea = argv[1];
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(ctrl_c_ends_a_window_run_with_its_summary),
         cmocka_unit_test(without_a_window_the_errors_say_why),
         cmocka_unit_test(window_run_shows_the_cornell_box_survives_a_resize_and_closes_on_esc),
         cmocka_unit_test(keys_change_the_frame_and_the_close_button_ends_the_run),
