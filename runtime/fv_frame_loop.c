@@ -13,7 +13,7 @@
 
 struct fv_frame_loop {
     fv_frame_loop_desc desc;
-    fv_eye_view views[2];
+    fv_eye_in_head eyes[2]; /* the eyes' poses in the head: how the head-frame gaze reaches each eye's view */
     int64_t stall_timeout_ns, margin_ns, initial_estimate_ns;
     int64_t cost_ns[COST_WINDOW];
     size_t cost_count, cost_next;
@@ -33,13 +33,6 @@ struct fv_frame_loop {
     bool warned_future_receipt, warned_push, warned_times;
     fv_gaze_prediction last_prediction;
 };
-
-void fv_frame_loop_default_views(float ipd_mm, fv_eye_view out[2])
-{
-    /* An identity head (head frame = world), the HMD's own field of view, 0.05 .. 100 m. */
-    fv_head_pose head = {.orientation = fv_quat_identity(), .ipd_mm = ipd_mm > 0.0f ? ipd_mm : FV_DEFAULT_IPD_MM};
-    fv_eye_views_build(&head, 0.05f, 100.0f, 0, 0, out);
-}
 
 fv_result fv_frame_loop_create(const fv_frame_loop_desc *desc, fv_frame_loop **out)
 {
@@ -69,12 +62,7 @@ fv_result fv_frame_loop_create(const fv_frame_loop_desc *desc, fv_frame_loop **o
         return FV_ERR_NO_MEMORY;
     }
     l->desc = *desc;
-    if (desc->eye_views) {
-        l->views[0] = desc->eye_views[0];
-        l->views[1] = desc->eye_views[1];
-    } else {
-        fv_frame_loop_default_views(desc->ipd_mm, l->views);
-    }
+    fv_eyes_in_head(desc->ipd_mm > 0.0f ? desc->ipd_mm : FV_DEFAULT_IPD_MM, l->eyes);
     l->stall_timeout_ns = desc->stall_timeout_ns ? desc->stall_timeout_ns : 100 * FV_NS_PER_MS;
     l->margin_ns = desc->safety_margin_ns == 0 ? FV_NS_PER_MS : (desc->safety_margin_ns < 0 ? 0 : desc->safety_margin_ns);
     l->initial_estimate_ns =
@@ -184,32 +172,18 @@ static void update_lost(fv_frame_loop *l, int64_t t_now, bool *out_lost)
     *out_lost = lost;
 }
 
+/* The prediction (head frame) as each eye's gaze in its view space: through the eyes' poses in the head only, so the
+ * head's pose (the scene's, a recording's, an OpenXR space) never turns the gaze against the views it moves. */
 static void fill_gaze(const fv_frame_loop *l, const fv_gaze_prediction *p, fv_frame_input *in)
 {
-    float unc = p->uncertainty_deg;
-    if (!isfinite(unc) || unc > 180.0f) unc = 180.0f;
-    if (unc < 0.0f) unc = 0.0f;
     for (int e = 0; e < 2; e++) {
-        fv_eye_gaze *g = &in->gaze[e];
-        fv_vec3 dir_head;
-        if (p->eye_valid[e]) {
-            dir_head = p->dir_head[e];
-        } else if (p->combined_valid) {
-            dir_head = p->combined_dir_head; /* one direction for both eyes beats none */
-        } else {
-            g->valid = false;
-            g->dir_eye = fv_v3(0.0f, 0.0f, -1.0f);
-            g->uncertainty_deg = 180.0f;
-            continue;
-        }
-        /* identity head pose: head frame = world; the eye's view matrix takes it into eye space */
-        fv_vec3 d = fv_mat4_mul_dir(&in->eye[e].view, dir_head);
-        g->dir_eye = fv_v3_normalize_or(d, fv_v3(0.0f, 0.0f, -1.0f));
-        g->valid = fv_v3_isfinite(d) && fv_v3_len(d) > 0.0f;
-        g->uncertainty_deg = g->valid ? unc : 180.0f;
+        /* one direction for both eyes beats none */
+        bool have = p->eye_valid[e] || p->combined_valid;
+        fv_vec3 dir_head = p->eye_valid[e] ? p->dir_head[e] : p->combined_dir_head;
+        in->gaze[e] = have ? fv_eye_gaze_from_head(&l->eyes[e], dir_head, p->uncertainty_deg)
+                           : fv_eye_gaze_from_head(&l->eyes[e], fv_v3(NAN, NAN, NAN), 180.0f);
     }
     in->pupil_mm = isfinite(p->pupil_mm) ? p->pupil_mm : NAN;
-    (void)l;
 }
 
 /* Clamp what the renderer reported into cpu_begin <= submit <= gpu_begin <= gpu_end. */
@@ -286,10 +260,9 @@ fv_result fv_frame_loop_step(fv_frame_loop *l, fv_latency_record *out_record)
     memset(&in, 0, sizeof in);
     in.frame_id = l->frame_id;
     in.time_s = (double)(t_photon_target - l->t_start_ns) / 1e9;
+    /* the head and the eye views are the render callback's to place, once (see fv_frame_render_fn) */
     in.head = (fv_head_pose){.orientation = fv_quat_identity(),
                              .ipd_mm = l->desc.ipd_mm > 0.0f ? l->desc.ipd_mm : FV_DEFAULT_IPD_MM};
-    in.eye[0] = l->views[0];
-    in.eye[1] = l->views[1];
     in.t_photon_ns = t_photon_target;
     in.quality = fv_quality_default();
     in.pupil_mm = NAN;

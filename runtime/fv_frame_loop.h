@@ -29,7 +29,10 @@ typedef struct fv_frame_render_times {
     int64_t t_gpu_end_ns;   /* GPU finished (the frame may be presented from then on) */
 } fv_frame_render_times;
 
-/** Render one frame. May adjust in->eye (head pose, views) before drawing. An error stops the loop's step. */
+/** Render one frame. The loop fills the time, the gaze (already in each eye's view space, from the head-frame
+ *  prediction through the eyes' poses in the head: fv_eye_gaze_from_head) and pupil; the callback places the head
+ *  (in->head) and builds the eye views (in->eye, zero on entry) for it, once: the head's pose moves the views and
+ *  never the gaze relative to them. An error stops the loop's step. */
 typedef fv_result (*fv_frame_render_fn)(void *user, fv_frame_input *in, fv_frame_render_times *out_times);
 
 /** Zero means default. */
@@ -44,8 +47,7 @@ typedef struct fv_frame_loop_desc {
     int64_t stall_timeout_ns;       /* no new sample for this long: treated as lost; 0 = 100 ms */
     int64_t safety_margin_ns;       /* slack added to the expected render time; 0 = 1 ms; negative = none */
     int64_t initial_render_estimate_ns; /* expected render time before any frame ran; 0 = half a period */
-    const fv_eye_view *eye_views;   /* optional [2]: views to start each frame from; NULL = an HMD default */
-    float ipd_mm;                   /* for the default views; 0 = 63 */
+    float ipd_mm;                   /* the eyes' distance in the head (in->head.ipd_mm); 0 = 63 */
 } fv_frame_loop_desc;
 
 typedef struct fv_frame_loop fv_frame_loop;
@@ -63,8 +65,5 @@ void fv_frame_loop_last_prediction(const fv_frame_loop *loop, fv_gaze_prediction
  *  tracker's frame), as the device gave it (not predicted). false (out untouched) until one has come. */
 bool fv_frame_loop_newest_head(const fv_frame_loop *loop, fv_gaze_sample *out_sample);
 
-/** Fill two HMD-like eye views: identity head pose, eyes at ±ipd/2 on x, the FV_HMD_FOV_* frustum (outer side
- *  wider), near 0.05 m, far 100 m. */
-void fv_frame_loop_default_views(float ipd_mm, fv_eye_view out_views[2]);
 
 #endif

@@ -84,10 +84,12 @@ void fv_mouse_gaze(const fv_mouse_views *views, int eye, float u, float v, doubl
      * reaches z = -D: the fixation point, then in the head frame (the eye sits at -+ipd/2 on x). */
     double tl = views ? finite_or(views->tan_left[eye], -1.0f) : -1.0, tr = views ? finite_or(views->tan_right[eye], 1.0f) : 1.0;
     double tu = views ? finite_or(views->tan_up[eye], 1.0f) : 1.0, td = views ? finite_or(views->tan_down[eye], -1.0f) : -1.0;
-    double D = vergence_m * 1000.0;
-    double px = (tl + (tr - tl) * u) * D + (eye == 0 ? -ipd / 2.0 : ipd / 2.0);
-    double py = (tu + (td - tu) * v) * D;
-    double pz = -D;
+    double D = vergence_m; /* metres */
+    fv_eye_in_head eyes[2]; /* the inverse of the one seam between gaze and views (fv_eye_gaze_from_head) */
+    fv_eyes_in_head((float)ipd, eyes);
+    fv_vec3 p = fv_eye_point_to_head(&eyes[eye], fv_v3((float)((tl + (tr - tl) * u) * D),
+                                                      (float)((tu + (td - tu) * v) * D), (float)-D));
+    double px = p.x * 1000.0, py = p.y * 1000.0, pz = p.z * 1000.0; /* mm */
     double dist = sqrt(px * px + py * py + pz * pz);
     /* Both eyes look at that point: the same geometry as a fixed gaze at that point's direction and distance. */
     fv_fixed_desc fd = {.yaw_deg = atan2(px, -pz) * 180.0 / FV_PI,

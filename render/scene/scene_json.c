@@ -503,7 +503,7 @@ static void parse_light(jctx *c, fv_scene *dst, const cJSON *j, int index)
 
 static void parse_head(jctx *c, fv_scene *s, const cJSON *j)
 {
-    static const char *const keys[] = {"position_m", "look_at_m", "ipd_mm", NULL};
+    static const char *const keys[] = {"position_m", "look_at_m", "roll_deg", "ipd_mm", NULL};
     if (!expect_object(c, j, "head")) return;
     check_keys(c, j, "head", keys);
     fv_vec3 pos = s->head.position_m, at = fv_v3(0, 0, 0);
@@ -527,6 +527,12 @@ static void parse_head(jctx *c, fv_scene *s, const cJSON *j)
         fv_scene_head_look_at(&s->head, pos, at);
         s->head.from_file = true;
     }
+    float roll = 0.0f;
+    if (opt_number(c, j, "head", "roll_deg", NUM_ANY, &roll) && !(roll >= -180.0f && roll <= 180.0f))
+        JERR(c, "head.roll_deg", "%g is not in -180..180", (double)roll);
+    else if (roll != 0.0f) /* about the line of sight: positive tilts the head's up toward its right (+x) */
+        s->head.orientation = fv_quat_normalize(
+            fv_quat_mul(s->head.orientation, fv_quat_axis_angle(fv_v3(0, 0, 1), (float)fv_deg_to_rad(-roll))));
 }
 
 /* What the text holds, found in one pass before cJSON builds a tree for it: how many values, how deep it nests

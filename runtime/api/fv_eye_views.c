@@ -46,6 +46,55 @@ void fv_near_far_from_bounds(const fv_head_pose *head, fv_vec3 bounds_min, fv_ve
     if (out_far_m) *out_far_m = f;
 }
 
+static float sane_ipd_mm(float ipd_mm)
+{
+    return fv_clampf(isfinite(ipd_mm) ? ipd_mm : FV_DEFAULT_IPD_MM, 0.0f, FV_MAX_IPD_MM);
+}
+
+void fv_eyes_in_head(float ipd_mm, fv_eye_in_head out[2])
+{
+    float half_m = sane_ipd_mm(ipd_mm) * 0.5e-3f;
+    for (int e = 0; e < 2; e++)
+        out[e] = (fv_eye_in_head){.offset_m = fv_v3(e == 0 ? -half_m : half_m, 0.0f, 0.0f),
+                                  .orientation = fv_quat_identity()};
+}
+
+/* The eye's orientation in the head, unit; identity when it is not a finite non-zero quaternion. */
+static fv_quat eye_orientation(const fv_eye_in_head *eye)
+{
+    fv_quat q = eye ? eye->orientation : fv_quat_identity();
+    double n = sqrt((double)q.x * q.x + (double)q.y * q.y + (double)q.z * q.z + (double)q.w * q.w);
+    if (!isfinite(n) || n < 1e-6) return fv_quat_identity();
+    return (fv_quat){(float)(q.x / n), (float)(q.y / n), (float)(q.z / n), (float)(q.w / n)};
+}
+
+fv_eye_gaze fv_eye_gaze_from_head(const fv_eye_in_head *eye, fv_vec3 dir_head, float uncertainty_deg)
+{
+    fv_eye_gaze g = {.valid = false, .dir_eye = fv_v3(0.0f, 0.0f, -1.0f), .uncertainty_deg = 180.0f};
+    double len = sqrt((double)dir_head.x * dir_head.x + (double)dir_head.y * dir_head.y +
+                      (double)dir_head.z * dir_head.z);
+    if (!fv_v3_isfinite(dir_head) || !isfinite(len) || len < 1e-12) return g;
+    fv_quat q = eye_orientation(eye);
+    fv_quat inv = {-q.x, -q.y, -q.z, q.w};
+    fv_vec3 d = fv_quat_rotate(inv, fv_v3((float)(dir_head.x / len), (float)(dir_head.y / len),
+                                          (float)(dir_head.z / len)));
+    g.dir_eye = fv_v3_normalize_or(d, fv_v3(0.0f, 0.0f, -1.0f));
+    g.valid = fv_v3_isfinite(d);
+    g.uncertainty_deg = g.valid && isfinite(uncertainty_deg) ? fv_clampf(uncertainty_deg, 0.0f, 180.0f) : 180.0f;
+    return g;
+}
+
+fv_vec3 fv_eye_dir_to_head(const fv_eye_in_head *eye, fv_vec3 dir_eye)
+{
+    return fv_quat_rotate(eye_orientation(eye), dir_eye);
+}
+
+fv_vec3 fv_eye_point_to_head(const fv_eye_in_head *eye, fv_vec3 p_eye)
+{
+    fv_vec3 o = eye && fv_v3_isfinite(eye->offset_m) ? eye->offset_m : fv_v3(0.0f, 0.0f, 0.0f);
+    return fv_v3_add(o, fv_quat_rotate(eye_orientation(eye), p_eye));
+}
+
 /* Both eyes' views from the head and each eye's frustum extents (tangents of its left, right, up and down half-angles,
  * all magnitudes); near/far already sanitized. */
 static void build_views(const fv_head_pose *head, float near_m, float far_m, double ext[2][4], fv_eye_view out[2])
@@ -53,16 +102,15 @@ static void build_views(const fv_head_pose *head, float near_m, float far_m, dou
     fv_vec3 pos = head && fv_v3_isfinite(head->position_m) ? head->position_m : fv_v3(0, 0, 0);
     fv_quat q = head ? fv_quat_normalize(head->orientation) : fv_quat_identity();
     if (!(isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w))) q = fv_quat_identity();
-    float ipd_mm = head && isfinite(head->ipd_mm) ? head->ipd_mm : FV_DEFAULT_IPD_MM;
-    ipd_mm = fv_clampf(ipd_mm, 0.0f, FV_MAX_IPD_MM);
+    fv_eye_in_head eyes[2]; /* where the eyes sit in the head: the same poses the gaze meets them by */
+    fv_eyes_in_head(head ? head->ipd_mm : FV_DEFAULT_IPD_MM, eyes);
 
     fv_mat4 rot = fv_mat4_from_quat(q);
     fv_mat4 rot_t = fv_mat4_transpose(&rot);
     for (int e = 0; e < 2; e++) {
         fv_eye_view *v = &out[e];
         memset(v, 0, sizeof *v);
-        float side = e == 0 ? -1.0f : 1.0f; /* left eye at -x of the head */
-        fv_vec3 offset = fv_quat_rotate(q, fv_v3(side * ipd_mm * 0.5e-3f, 0.0f, 0.0f));
+        fv_vec3 offset = fv_quat_rotate(q, eyes[e].offset_m); /* left eye at -x of the head */
         v->pos_world = fv_v3_add(pos, offset);
         /* view = R^T * T(-eye) */
         v->view = rot_t;

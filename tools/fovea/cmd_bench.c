@@ -519,12 +519,13 @@ int fv_cmd_bench(int argc, char **argv)
     if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &st.views))) goto done;
     fv_vec3 gaze_dir = fv_metrics_gaze_dir_from_deg(o.gaze_deg[0], o.gaze_deg[1]);
     if (o.has_gaze) {
-        for (int e = 0; e < 2; e++) st.views.gaze[e] = (fv_eye_gaze){.valid = true, .dir_eye = gaze_dir};
+        fv_eye_in_head eyes[2]; /* the gaze is the head frame's; the eyes meet it by their poses in the head */
+        fv_eyes_in_head(st.views.head.ipd_mm, eyes);
+        for (int e = 0; e < 2; e++) st.views.gaze[e] = fv_eye_gaze_from_head(&eyes[e], gaze_dir, 0.0f);
         ecc = malloc((size_t)2 * w * h * sizeof *ecc);
         if (!ecc) goto done;
-        /* Each eye's view space turns with the head, so the head-frame direction holds in both. */
         for (int e = 0; e < 2; e++)
-            fv_metrics_eccentricity_deg(&st.views.eye[e], gaze_dir, w, h, ecc + (size_t)e * w, 2 * w);
+            fv_metrics_eccentricity_deg(&st.views.eye[e], st.views.gaze[e].dir_eye, w, h, ecc + (size_t)e * w, 2 * w);
     }
 
     fv_bench_result res = {.scene = scene->name[0] ? scene->name : o.scene, .device = fv_renderer_device_name(r),

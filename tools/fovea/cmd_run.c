@@ -623,12 +623,10 @@ int fv_cmd_run(int argc, char **argv)
         fv_mouse_pointer_attach(&mouse_views);
     }
     if (o.gaze_uri) {
-        fv_frame_input first;
-        if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &first))) goto done;
         gaze_open = true;
         fv_display *shown_on = window ? fv_window_display(window) : NULL; /* NULL: a simulated display */
         if (FV_FAILED(run_gaze_open_on(&gaze, o.gaze_uri, shown_on, o.hz, (size_t)o.frames, render_cb, &st,
-                                       first.eye))) {
+                                       scene->head.ipd_mm))) {
             fprintf(stderr, "fovea run: cannot open gaze source '%s' (see the messages above)\n", o.gaze_uri);
             goto done;
         }

@@ -18,14 +18,8 @@ static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc
     return fv_tool_device_open(uri, desc, out);
 }
 
-fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t frames, fv_frame_render_fn render,
-                        void *render_user, const fv_eye_view views[2])
-{
-    return run_gaze_open_on(g, uri, NULL, refresh_hz, frames, render, render_user, views);
-}
-
 fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, double refresh_hz, size_t frames,
-                           fv_frame_render_fn render, void *render_user, const fv_eye_view views[2])
+                           fv_frame_render_fn render, void *render_user, float ipd_mm)
 {
     memset(g, 0, sizeof *g);
     snprintf(g->uri, sizeof g->uri, "%s", uri);
@@ -69,7 +63,7 @@ fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, do
         .render_user = render_user,
         .gaze = g->source,
         .pipeline = g->pipeline,
-        .eye_views = views,
+        .ipd_mm = ipd_mm,
     };
     return fv_frame_loop_create(&ld, &g->loop);
 }

@@ -29,15 +29,12 @@ typedef struct run_gaze {
     size_t count, cap;
 } run_gaze;
 
-/** Open the gaze device by URI and build the loop around `render` (called once per frame with the frame input:
- *  gaze and photon time filled by the loop, views to be set by the callback). views: the initial eye views. */
-FV_MUST_CHECK fv_result run_gaze_open(run_gaze *g, const char *uri, double refresh_hz, size_t frames,
-                                      fv_frame_render_fn render, void *render_user, const fv_eye_view views[2]);
-/** The same, paced by a given display clock (a window's swapchain; borrowed, outlives g), or by a simulated display
- *  at refresh_hz when display is NULL. clock_name (NULL = the default) names it in the summary. */
+/** Open the gaze device by URI and build the loop around `render` (called once per frame with the frame input: gaze
+ *  (in each eye's view space, fv_eye_gaze_from_head) and photon time filled by the loop, head and views to be set
+ *  by the callback), paced by a given display clock (a window's swapchain; borrowed, outlives g), or by a simulated
+ *  display at refresh_hz when display is NULL. ipd_mm: the eyes' distance in the head (0 = 63). */
 FV_MUST_CHECK fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, double refresh_hz,
-                                         size_t frames, fv_frame_render_fn render, void *render_user,
-                                         const fv_eye_view views[2]);
+                                         size_t frames, fv_frame_render_fn render, void *render_user, float ipd_mm);
 /** One frame through the loop (waits for its refresh on the real clock). */
 FV_MUST_CHECK fv_result run_gaze_step(run_gaze *g);
 void run_gaze_print(const run_gaze *g, FILE *f);

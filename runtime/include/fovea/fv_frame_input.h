@@ -317,6 +317,29 @@ void fv_near_far_sanitize(float *near_m, float *far_m);
 void fv_near_far_from_bounds(const fv_head_pose *head, fv_vec3 bounds_min, fv_vec3 bounds_max, float *out_near_m,
                              float *out_far_m);
 
+/** An eye's pose in the head frame (+x right, +y up, -z forward; metres): where the eye sits and how its view is
+ *  turned against the head. The head's pose in the world moves the eyes' views and never enters here: gaze, which
+ *  trackers give in the head frame, meets the views only through this pose (fv_eye_gaze_from_head). */
+typedef struct fv_eye_in_head {
+    fv_vec3 offset_m;    /* the eye's centre in the head frame */
+    fv_quat orientation; /* head frame -> this eye's view frame turned by this (identity: parallel displays) */
+} fv_eye_in_head;
+
+/** The eyes of fovea's views (fv_eye_views_build*): at -+IPD/2 on the head's x axis (IPD sanitised as there), not
+ *  turned (both views look down the head's -z). */
+void fv_eyes_in_head(float ipd_mm, fv_eye_in_head out[2]);
+
+/** THE seam between gaze and views: a gaze direction in the head frame as the eye's gaze in its own view space
+ *  (rotated by the inverse of the eye's orientation in the head; the head's world pose plays no part). Invalid
+ *  (dir_eye -z, uncertainty 180) when dir_head is not a finite non-zero vector; the uncertainty is clamped to
+ *  0..180 (NaN: 180). Used by the frame loop (every tracker), `fovea bench --gaze-deg`, the OpenXR runtime, and,
+ *  inverted, by the window's mouse: driver. */
+fv_eye_gaze fv_eye_gaze_from_head(const fv_eye_in_head *eye, fv_vec3 dir_head, float uncertainty_deg);
+/** The inverse for directions: a direction in the eye's view space, in the head frame. */
+fv_vec3 fv_eye_dir_to_head(const fv_eye_in_head *eye, fv_vec3 dir_eye);
+/** A point in the eye's view space (metres), in the head frame. */
+fv_vec3 fv_eye_point_to_head(const fv_eye_in_head *eye, fv_vec3 p_eye);
+
 /** The largest IPD fv_eye_views_build accepts (mm). */
 #define FV_MAX_IPD_MM 100.0f
 /** The IPD used when none is known (mm). */
