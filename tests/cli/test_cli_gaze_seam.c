@@ -84,8 +84,9 @@ static int log_column(const char *text, const char *name, double *out, int cap)
     return rows;
 }
 
-/* Run the gaze view with a fixed gaze; check the frame log and the image. */
-static void check_run(const char *what, const char *scene_json, const char *gaze_uri, const char *extra)
+/* Run the gaze view; check that the frame log and the image show each eye's gaze want[e] (eye space). */
+static void check_run_eyes(const char *what, const char *scene_json, const char *gaze_uri, const char *extra,
+                           const fv_vec3 want[2])
 {
     char scene[1024], dir[1024], log[1024], args[4096];
     snprintf(scene, sizeof scene, "%s", fv_test_write_file("seam.scene.json", scene_json, strlen(scene_json)));
@@ -105,10 +106,12 @@ static void check_run(const char *what, const char *scene_json, const char *gaze
         double v[16];
         int n = log_column(text, cols[c], v, 16);
         assert_int_equal(n, 4);
+        fv_vec3 d = want[c / 2];
+        double expect = (c % 2 == 0 ? atan2(d.x, -d.z) : atan2(d.y, sqrt(d.x * d.x + d.z * d.z))) * 180.0 / FV_PI;
         for (int i = 0; i < n; i++)
-            if (fabs(v[i] - (c % 2 == 0 ? YAW : PITCH)) > 0.01)
-                fail_msg("%s: frame %d: %s = %.4f, want %.1f (the gaze turned with the head)", what, i, cols[c], v[i],
-                         c % 2 == 0 ? YAW : PITCH);
+            if (fabs(v[i] - expect) > 0.01)
+                fail_msg("%s: frame %d: %s = %.4f, want %.4f (the gaze turned with the head)", what, i, cols[c], v[i],
+                         expect);
     }
     free(text);
     char png[1100];
@@ -121,13 +124,20 @@ static void check_run(const char *what, const char *scene_json, const char *gaze
     for (int e = 0; e < 2; e++) {
         double gx, gy, ex, ey;
         red_peak(px, w, h, e * EYE_W, &gx, &gy);
-        cpu_pixel(e, dir_deg(YAW, PITCH), &ex, &ey);
+        cpu_pixel(e, want[e], &ex, &ey);
         print_message("%s: eye %d: peak (%.2f, %.2f), CPU (%.2f, %.2f)\n", what, e, gx, gy, ex, ey);
         if (fabs(gx - ex) > 1.0 || fabs(gy - ey) > 1.0)
             fail_msg("%s: eye %d: the gaze view's peak (%.2f, %.2f) is not within 1 px of (%.2f, %.2f)", what, e, gx,
                      gy, ex, ey);
     }
     stbi_image_free(px);
+}
+
+/* The same gaze, yaw 10 and pitch 5, in both eyes. */
+static void check_run(const char *what, const char *scene_json, const char *gaze_uri, const char *extra)
+{
+    const fv_vec3 want[2] = {dir_deg(YAW, PITCH), dir_deg(YAW, PITCH)};
+    check_run_eyes(what, scene_json, gaze_uri, extra, want);
 }
 
 #define FIXED "fixed:yaw_deg=10,pitch_deg=5"
@@ -195,6 +205,57 @@ static void a_head_moved_by_a_recording_does_not_move_the_gaze(void **state)
     free(text);
 }
 
+/* Per-eye gaze from a recording converging on a point 0.45 m ahead (left of centre, above): each eye shows its own
+ * direction, and the two eye-space rays, from the eyes' places in the head, meet at the recorded point. The scene's
+ * head is turned: it moves both eyes and not where they converge in the head. */
+static void per_eye_rays_meet_where_the_recording_says(void **state)
+{
+    (void)state;
+    const fv_vec3 fix = fv_v3(-0.06f, 0.04f, -0.45f); /* metres, head frame */
+    fv_eye_in_head eyes[2];
+    fv_eyes_in_head(63.0f, eyes);
+    fv_vec3 dir[2];
+    char *trace = malloc(1 << 20);
+    size_t n = (size_t)snprintf(trace, 1 << 20,
+                                "fovea-trace 1\n# rate_hz: 120\n"
+                                "t_device_ns,flags,seq,l_flags,l_origin_x_mm,l_origin_y_mm,l_origin_z_mm,l_dir_x,"
+                                "l_dir_y,l_dir_z,r_flags,r_origin_x_mm,r_origin_y_mm,r_origin_z_mm,r_dir_x,r_dir_y,"
+                                "r_dir_z\n");
+    for (int e = 0; e < 2; e++) {
+        fv_vec3 d = fv_v3_sub(fix, eyes[e].offset_m);
+        dir[e] = fv_v3_scale(d, 1.0f / fv_v3_len(d));
+    }
+    for (int i = 0; i < 600; i++)
+        n += (size_t)snprintf(trace + n, (1 << 20) - n, "%lld,0,%d,3,%.6f,0,0,%.9f,%.9f,%.9f,3,%.6f,0,0,%.9f,%.9f,%.9f\n",
+                              (long long)i * 8333333LL, i, eyes[0].offset_m.x * 1e3, dir[0].x, dir[0].y, dir[0].z,
+                              eyes[1].offset_m.x * 1e3, dir[1].x, dir[1].y, dir[1].z);
+    const char *path = fv_test_write_file("seam_vergence.trace", trace, n);
+    free(trace);
+    char uri[1200];
+    snprintf(uri, sizeof uri, "trace:%s?speed=2", path);
+    check_run_eyes("vergence at 0.45 m, head turned",
+                   "{\"head\": {\"position_m\": [0, 0.27, 1.1], \"look_at_m\": [-0.5, 0.1, 0], \"ipd_mm\": 63},"
+                   " \"objects\": [{\"model\": \"builtin:cornell\"}]}",
+                   uri, "--head scene", dir);
+    /* the logged eye-space rays, from the eyes' places in the head: their closest approach is the recorded point */
+    char *text = fv_test_read_file(fv_test_tmp("seam_frames.csv"), NULL);
+    double ly[16], lp[16], ry[16], rp[16];
+    log_column(text, "left_gaze_yaw_deg", ly, 16);
+    log_column(text, "left_gaze_pitch_deg", lp, 16);
+    log_column(text, "right_gaze_yaw_deg", ry, 16);
+    log_column(text, "right_gaze_pitch_deg", rp, 16);
+    free(text);
+    fv_vec3 u = fv_eye_dir_to_head(&eyes[0], dir_deg(ly[3], lp[3])), v = fv_eye_dir_to_head(&eyes[1], dir_deg(ry[3], rp[3]));
+    fv_vec3 w0 = fv_v3_sub(eyes[0].offset_m, eyes[1].offset_m);
+    double a = fv_v3_dot(u, u), b = fv_v3_dot(u, v), c = fv_v3_dot(v, v), d = fv_v3_dot(u, w0), e = fv_v3_dot(v, w0);
+    double den = a * c - b * b, s = (b * e - c * d) / den, t = (a * e - b * d) / den;
+    fv_vec3 p = fv_v3_scale(fv_v3_add(fv_v3_add(eyes[0].offset_m, fv_v3_scale(u, (float)s)),
+                                      fv_v3_add(eyes[1].offset_m, fv_v3_scale(v, (float)t))), 0.5f);
+    print_message("rays meet at (%.4f, %.4f, %.4f) m, recorded (%.4f, %.4f, %.4f)\n", p.x, p.y, p.z, fix.x, fix.y,
+                  fix.z);
+    assert_true(fv_v3_len(fv_v3_sub(p, fix)) < 0.005); /* 5 mm at 0.45 m: the log's 1e-4 degree rounding */
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -207,6 +268,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(a_pitched_head_does_not_pitch_the_gaze),
         cmocka_unit_test(a_rolled_head_does_not_roll_the_gaze),
         cmocka_unit_test(a_head_moved_by_a_recording_does_not_move_the_gaze),
+        cmocka_unit_test(per_eye_rays_meet_where_the_recording_says),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
