@@ -3,7 +3,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 ARGS ?=
 CMAKE_FLAGS ?=
 
-.PHONY: run test deps release debug asan clean format
+.PHONY: run test check deps release debug asan clean format
 
 deps:
 	@tools/install-deps.sh
@@ -35,6 +35,10 @@ run: release
 test: release asan
 	cd build/asan && ctest --output-on-failure -j $(JOBS) -L 'unit|sim|fuzz|extreme' $(ARGS)
 	cd build/release && CI=$${CI:-true} ctest --output-on-failure -j $(JOBS) -L 'gpu|cli' $(ARGS)
+
+# The edit loop's tier: the pure and sim tests under ASan+UBSan (no GPU, no CLI renders), about two minutes.
+check: asan
+	cd build/asan && ctest --output-on-failure -j $(JOBS) -L 'unit|sim' $(ARGS)
 
 clean:
 	rm -rf build out
