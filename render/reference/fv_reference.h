@@ -37,6 +37,8 @@ typedef enum fv_reference_view {
     FV_REFERENCE_VIEW_ALBEDO = 3, /* linear albedo as the G-buffer stores it (0 on a miss) */
     FV_REFERENCE_VIEW_NORMAL = 4, /* n * 0.5 + 0.5 of the eye-facing shading normal (0 on a miss), as --debug-view */
     FV_REFERENCE_VIEW_DEPTH = 5,  /* Vulkan depth of the eye's projection, 0 (near) .. 1 (far; 1 on a miss), grey */
+    FV_REFERENCE_VIEW_GI = 6,     /* model: indirect light only, albedo / pi x the exact VPL sum (0 without desc.gi) */
+    FV_REFERENCE_VIEW_SSS = 7,    /* model: the subsurface term alone, the exact dipole sum (0 on opaque surfaces) */
     FV_REFERENCE_VIEW_COUNT
 } fv_reference_view;
 

@@ -19,8 +19,8 @@
 /* ---- names --------------------------------------------------------------------------------------------------- */
 
 static const char *const g_mode_names[] = {"model", "path"};
-static const char *const g_view_names[FV_REFERENCE_VIEW_COUNT] = {"color", "direct", "shadow",
-                                                                  "albedo", "normal", "depth"};
+static const char *const g_view_names[FV_REFERENCE_VIEW_COUNT] = {"color",  "direct", "shadow", "albedo",
+                                                                  "normal", "depth",  "gi",     "sss"};
 
 const char *fv_reference_mode_name(fv_reference_mode mode)
 {

@@ -118,6 +118,13 @@ dvec3 ref_shade_model(const ref_pixel_ctx *c, dvec3 o, dvec3 d, double t_max, re
     default: break;
     }
     dvec3 albedo = ref_albedo(w, &h);
+    if (view == FV_REFERENCE_VIEW_GI) /* the GPU's gi view: Lambert albedo / pi times the indirect irradiance */
+        return finite_color(c->gi ? dv_mul(dv_scale(albedo, 1.0 / FV_PI), ref_gi_irradiance(c->gi, h.pos, h.n))
+                                  : dv(0, 0, 0));
+    if (view == FV_REFERENCE_VIEW_SSS) /* the GPU's sss view: the subsurface term alone */
+        return finite_color(ref_sss_active(c->sss, h.material)
+                                ? ref_sss_radiance(c->sss, h.pos, h.n, dv_sub(c->eye_pos, h.pos), h.material)
+                                : dv(0, 0, 0));
     if (view == FV_REFERENCE_VIEW_COLOR && ref_sss_active(c->sss, h.material)) {
         /* Translucent with SSS on: the dipole carries the direct light (fv_shade_surface); indirect light, emission
          * and ambient as on any surface. */

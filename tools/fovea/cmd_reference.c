@@ -15,7 +15,8 @@
 
 #include "cli.h"
 #include "cli_interrupt.h"
-#include "fv_tone_curve.h"
+#include "tool_image.h"
+#include "fv_knobs.h"
 #include "fv_clock.h"
 #include "fv_image_io.h"
 #include "fv_log.h"
@@ -25,41 +26,55 @@
 
 #define MOD "reference"
 
-static const char *USAGE =
-    "usage: fovea reference [--scene NAME|FILE] [--mode model|path] [--spp N] [--bounces N] [--seed N]\n"
-    "                       [--eye-size WxH] [--view NAME] [--out DIR] [--layout sbs|eyes] [--aa]\n"
+static const char *USAGE_FMT =
+    "usage: fovea reference [--scene NAME|FILE] [--quality PRESET] [--set NAME=VALUE]... [--view NAME]\n"
+    "                       [--exposure X] [--hmd PROFILE|FILE|none] [--eye-size WxH] [--layout sbs|eyes]\n"
+    "                       [--mode model|path] [--spp N] [--bounces N] [--seed N] [--out DIR] [--aa]\n"
     "                       [--threads N] [--time S] [--cache DIR] [--json]\n"
-    "  --scene     as fovea run: a built-in scene (cornell, cornell-translucent) or a file (default cornell)\n"
+    "  The image `fovea run` draws with the same options, rendered on the CPU in double with exact visibility:\n"
+    "  the scene, view, quality, exposure, HMD (frusta and lens) and size options are parsed by the same code as\n"
+    "  run's, and every term of the GPU's model at those settings is rendered (direct light, emission, ambient,\n"
+    "  the exact one-bounce VPL sum when gi.enabled, the exact dipole sum when sss.enabled).\n"
+    "%s%s"
     "  --mode      model: fovea's shading formulas per pixel centre with exact shadow rays (default);\n"
     "              path: path-traced ground truth (area lights from emissive surfaces, bounces)\n"
     "  --spp       samples per pixel (default 1 for model, 64 for path; 1..1048576); model mode only uses more\n"
     "              than one with --aa\n"
     "  --bounces   path mode: indirect bounces (0 = direct light only; default 8; 0..1024)\n"
     "  --seed      random seed (default 1); the images are identical for any --threads\n"
-    "  --eye-size  per-eye size (default 720x800, as fovea run)\n"
-    "  --view      color (default), direct (no emission/ambient), shadow (visibility of light 0), albedo,\n"
-    "              normal (n*0.5+0.5), depth (Vulkan depth 0..1)\n"
-    "  --out       write frame_00000.pfm (linear float) and frame_00000.png (sRGB through the tone curve of fovea run) into DIR\n"
-    "  --layout    sbs: one side-by-side image (default); eyes: frame_00000_left/_right\n"
+    "  --view      the reference renders color, direct, shadow, albedo, normal, depth, gi and sss (gi and sss:\n"
+    "              model mode)\n"
+    "  --out       write frame_00000.pfm (linear float, undistorted, before exposure) and frame_00000.png (as\n"
+    "              `fovea run` writes it: exposure, tone curve, sRGB and, with an HMD lens, through the lens),\n"
+    "              and frame_00000.json (the settings, read by `fovea compare`) into DIR\n"
     "  --aa        jitter the samples inside each pixel (default: pixel centres, as the GPU's G-buffer)\n"
     "  --threads   worker threads (default: every CPU)\n"
     "  --time      scene time in seconds for animations (default 0, the first frame of fovea run)\n"
     "  --cache     reuse an earlier result for the same scene content and settings from DIR (created if missing)\n"
     "  --json      print the summary as one JSON object on stdout (and nothing else there)\n";
 
+static const char *usage_text(void)
+{
+    static char text[8192];
+    if (!text[0]) snprintf(text, sizeof text, USAGE_FMT, FV_TOOL_IMAGE_USAGE, RUN_HMD_USAGE);
+    return text;
+}
+#define USAGE usage_text()
+
 typedef struct ref_opts {
-    const char *scene;
+    fv_tool_image img; /* what the image shows: parsed as `fovea run` parses it (tool_image.h) */
     fv_reference_desc desc;
-    bool spp_set, sbs, json;
+    bool spp_set, json;
     double time_s;
     const char *out_dir, *cache_dir;
 } ref_opts;
 
 static int parse_args(int argc, char **argv, ref_opts *o)
 {
-    *o = (ref_opts){.scene = "cornell", .sbs = true};
+    *o = (ref_opts){.json = false};
+    fv_tool_image_defaults(&o->img);
     o->desc = (fv_reference_desc){.mode = FV_REFERENCE_MODEL, .view = FV_REFERENCE_VIEW_COLOR, .bounces = 8,
-                                  .seed = 1, .eye_width = 720, .eye_height = 800};
+                                  .seed = 1};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = NULL;
         int r;
@@ -73,19 +88,10 @@ static int parse_args(int argc, char **argv, ref_opts *o)
     if (!fv_cli_parse_i64(v, lo, hi, &n))                                                                              \
         return fv_cli_usage_error("reference", USAGE, "%s: '%s' is not a whole number in %lld..%lld", name, v,      \
                                   (long long)(lo), (long long)(hi));
-        if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;
-        else if (r) { o->scene = v; continue; }
         if ((r = OPT("--mode")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (!fv_reference_mode_parse(v, &o->desc.mode))
                 return fv_cli_usage_error("reference", USAGE, "--mode: '%s' is not one of model, path", v);
-            continue;
-        }
-        if ((r = OPT("--view")) == -2) return FV_EXIT_USAGE;
-        else if (r) {
-            if (!fv_reference_view_parse(v, &o->desc.view))
-                return fv_cli_usage_error("reference", USAGE,
-                                          "--view: '%s' is not one of color, direct, shadow, albedo, normal, depth", v);
             continue;
         }
         if ((r = OPT("--spp")) == -2) return FV_EXIT_USAGE;
@@ -113,12 +119,6 @@ static int parse_args(int argc, char **argv, ref_opts *o)
             o->desc.threads = (uint32_t)n;
             continue;
         }
-        if ((r = OPT("--eye-size")) == -2) return FV_EXIT_USAGE;
-        else if (r) {
-            if (!fv_cli_parse_size(v, 8192, &o->desc.eye_width, &o->desc.eye_height))
-                return fv_cli_usage_error("reference", USAGE, "--eye-size: '%s' is not WxH with each in 1..8192", v);
-            continue;
-        }
         if ((r = OPT("--time")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (!fv_cli_parse_f64(v, 0, 1e6, &o->time_s))
@@ -129,20 +129,29 @@ static int parse_args(int argc, char **argv, ref_opts *o)
         else if (r) { o->out_dir = v; continue; }
         if ((r = OPT("--cache")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->cache_dir = v; continue; }
-        if ((r = OPT("--layout")) == -2) return FV_EXIT_USAGE;
-        else if (r) {
-            if (strcmp(v, "sbs") == 0) o->sbs = true;
-            else if (strcmp(v, "eyes") == 0) o->sbs = false;
-            else return fv_cli_usage_error("reference", USAGE, "--layout: '%s' is not one of sbs, eyes", v);
-            continue;
-        }
 #undef NUMBER
 #undef OPT
+        if ((r = fv_tool_image_option(&o->img, argc, argv, &i, "reference", USAGE)) == FV_EXIT_USAGE) return r;
+        else if (r) continue;
         if (strcmp(a, "--aa") == 0) { o->desc.aa = true; continue; }
         if (strcmp(a, "--json") == 0) { o->json = true; continue; }
         return fv_cli_usage_error("reference", USAGE, "unknown option '%s'", a);
     }
     if (!o->spp_set) o->desc.spp = o->desc.mode == FV_REFERENCE_PATH ? 64 : 1;
+    if (o->img.hmd.budget || o->img.hmd.budget_scale > 0)
+        return fv_cli_usage_error("reference", USAGE, "--budget and --budget-scale pace `fovea run`'s frames; the "
+                                  "reference renders one image (drop them)");
+    int built = fv_tool_image_finish(&o->img, "reference", USAGE);
+    if (built != 0) return built;
+    const char *view = fv_debug_view_name(o->img.view);
+    if (!fv_reference_view_parse(view, &o->desc.view))
+        return fv_cli_usage_error("reference", USAGE, "--view %s: the reference has no such view (it renders color, "
+                                  "direct, shadow, albedo, normal, depth, gi, sss)", view);
+    if (o->desc.mode == FV_REFERENCE_PATH && (o->desc.view == FV_REFERENCE_VIEW_GI || o->desc.view == FV_REFERENCE_VIEW_SSS))
+        return fv_cli_usage_error("reference", USAGE, "--view %s is a term of the model: it needs --mode model", view);
+    o->desc.eye_width = o->img.eye_w;
+    o->desc.eye_height = o->img.eye_h;
+    o->desc.gi = o->img.quality.gi.enabled; /* the GPU's model at these settings: GI when it is on */
     return 0;
 }
 
@@ -178,10 +187,10 @@ static void hash_bytes(hasher *k, const void *data, size_t n)
 }
 #define HASH(k, v) hash_bytes((k), &(v), sizeof(v))
 
-static uint64_t cache_key(const fv_scene *s, const ref_opts *o)
+static uint64_t cache_key(const fv_scene *s, const ref_opts *o, const fv_frame_input *in)
 {
     hasher k = {0xcbf29ce484222325ull};
-    static const char version[] = "fovea-reference-cache 1";
+    static const char version[] = "fovea-reference-cache 2";
     hash_bytes(&k, version, sizeof version);
     for (uint32_t i = 0; i < s->mesh_count; i++) {
         const fv_mesh *m = &s->meshes[i];
@@ -216,43 +225,73 @@ static uint64_t cache_key(const fv_scene *s, const ref_opts *o)
     const fv_reference_desc *d = &o->desc;
     HASH(&k, d->mode), HASH(&k, d->view), HASH(&k, d->spp), HASH(&k, d->bounces), HASH(&k, d->seed);
     HASH(&k, d->eye_width), HASH(&k, d->eye_height), HASH(&k, d->aa), HASH(&k, d->shadow_light), HASH(&k, o->time_s);
+    HASH(&k, d->gi);
+    size_t nk = 0; /* every knob's value (GI and SSS settings change the image) */
+    const fv_knob *knobs = fv_knobs(&nk);
+    for (size_t i = 0; i < nk; i++) {
+        fv_knob_value v = fv_knob_get(&knobs[i], &in->quality);
+        if (knobs[i].type == FV_KNOB_BOOL) HASH(&k, v.b);
+        else if (knobs[i].type == FV_KNOB_FLOAT) HASH(&k, v.f);
+        else HASH(&k, v.i);
+    }
+    for (int e = 0; e < 2; e++) /* the views: the HMD's frusta */
+        HASH(&k, in->eye[e].tan_left), HASH(&k, in->eye[e].tan_right), HASH(&k, in->eye[e].tan_up),
+            HASH(&k, in->eye[e].tan_down), HASH(&k, in->eye[e].pos_world), HASH(&k, in->eye[e].view);
     return k.h;
 }
 
 /* ---- images -------------------------------------------------------------------------------------------------- */
 
-/* The display mapping of `fovea run`'s PNGs (the present pass): the tone curve (fv_tone_curve.h), then IEC 61966-2-1
- * encoding clamped to [0,1], rounded to the nearest 8-bit code -- so a run's PNG and its reference's compare like for
- * like (the PFMs hold the linear colour). The curve is for radiance (colour, direct); the data views (shadow, albedo,
- * normal, depth) are clamped as they are, as the present pass does. */
-static uint8_t srgb8(float linear, bool tone)
-{
-    double c = tone ? fmin(fv_tone_reinhard_ext(fv_tone_sanitize(linear)), 1.0)
-                    : (isfinite(linear) ? fmin(fmax(linear, 0.0), 1.0) : 0.0);
-    double e = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
-    return (uint8_t)(e * 255.0 + 0.5);
-}
-
-/* Write one image (w x h linear RGB, rows top to bottom) as base.pfm and base.png. */
-static fv_result write_image(const char *base, const float *rgb, uint32_t w, uint32_t h, bool tone)
+/* Write one image: base.pfm (linear, w x h, undistorted), base.png (png: the display values, already through the
+ * lens) and base.json (the settings). */
+static fv_result write_image(const ref_opts *o, const char *base, const float *rgb, const uint8_t *png, uint32_t w,
+                             uint32_t h, bool sbs)
 {
     char path[1200];
     fv_rgb_image img = {.width = w, .height = h, .kind = FV_IMAGE_KIND_LINEAR, .file_channels = 3,
                         .rgb = (float *)rgb};
     snprintf(path, sizeof path, "%s.pfm", base);
     FV_TRY(fv_image_io_write_pfm(path, &img));
-    size_t n = (size_t)w * h * 3;
-    uint8_t *png = malloc(n);
-    if (!png) return FV_ERR_NO_MEMORY;
-    for (size_t i = 0; i < n; i++) png[i] = srgb8(rgb[i], tone);
     snprintf(path, sizeof path, "%s.png", base);
-    int ok = stbi_write_png(path, (int)w, (int)h, 3, png, (int)(w * 3));
-    free(png);
-    if (!ok) {
+    if (!stbi_write_png(path, (int)w, (int)h, 3, png, (int)(w * 3))) {
         FV_ERROR(MOD, "%s: cannot write PNG", path);
         return FV_ERR_IO;
     }
+    fv_tool_image_meta m = fv_tool_image_meta_of(&o->img, "fovea reference", sbs);
+    (void)fv_tool_image_write_meta(path, &m);
     return FV_OK;
+}
+
+/* The two eyes as `fovea run` writes its frame (present pass: exposure, tone curve, sRGB; distort pass: the lens),
+ * side by side or one file each. */
+static fv_result write_frame(const ref_opts *o, const fv_frame_input *in, const float *eye_rgb[2], const float *sbs,
+                             uint32_t w, uint32_t h)
+{
+    size_t n = (size_t)w * h * 3;
+    uint8_t *disp = malloc(n), *panel = malloc(2 * n), *both = malloc(2 * n);
+    fv_result res = disp && panel && both ? FV_OK : FV_ERR_NO_MEMORY;
+    bool tone = fv_tool_image_radiance_view(o->img.view);
+    for (int e = 0; res == FV_OK && e < 2; e++) {
+        for (size_t i = 0; i < n; i++) disp[i] = fv_tool_image_srgb8(eye_rgb[e][i], o->img.exposure, tone);
+        fv_tool_image_lens_srgb8(in, e, disp, w, h, panel + (size_t)e * n);
+    }
+    char base[1100];
+    if (res == FV_OK && o->img.sbs) {
+        for (uint32_t y = 0; y < h; y++)
+            for (int e = 0; e < 2; e++)
+                memcpy(&both[((size_t)y * 2 * w + (size_t)e * w) * 3], &panel[(size_t)e * n + (size_t)y * w * 3], (size_t)w * 3);
+        snprintf(base, sizeof base, "%s/frame_00000", o->out_dir);
+        res = write_image(o, base, sbs, both, 2 * w, h, true);
+    } else {
+        for (int e = 0; res == FV_OK && e < 2; e++) {
+            snprintf(base, sizeof base, "%s/frame_00000_%s", o->out_dir, e ? "right" : "left");
+            res = write_image(o, base, eye_rgb[e], panel + (size_t)e * n, w, h, false);
+        }
+    }
+    free(disp);
+    free(panel);
+    free(both);
+    return res;
 }
 
 /* Both eyes side by side (2W x H) from the two eye images. */
@@ -307,23 +346,19 @@ int fv_cmd_reference(int argc, char **argv)
     }
     if (o.out_dir && !fv_cli_output_dir("reference", "--out", o.out_dir)) goto done;
     if (o.cache_dir && !fv_cli_output_dir("reference", "--cache", o.cache_dir)) goto done;
-    if (FV_FAILED(fv_scene_load(o.scene, &scene))) {
-        fprintf(stderr, "fovea reference: cannot load scene '%s' (see the messages above)\n", o.scene);
+    if (FV_FAILED(fv_scene_load(o.img.scene, &scene))) {
+        fprintf(stderr, "fovea reference: cannot load scene '%s' (see the messages above)\n", o.img.scene);
         goto done;
     }
 
-    /* The views of `fovea run`'s frame 0 (fv_renderer_frame_input without a GPU): near/far from the bounds at
-     * load time, the scene's head, gaze ahead. */
-    fv_vec3 bmin, bmax;
-    float near_m = 0, far_m = 0;
-    if (fv_scene_world_bounds(scene, 0.0, &bmin, &bmax))
-        fv_frame_near_far_from_bounds(&scene->head, bmin, bmax, &near_m, &far_m);
+    /* The views of `fovea run`'s frame 0, built by the same code (tool_image.c): near/far from the bounds at load
+     * time, the scene's head, the HMD's frusta when one is named, gaze ahead, the quality of the options. */
     fv_frame_input in;
-    fv_frame_input_from_head(&scene->head, near_m, far_m, w, h, 0, o.time_s, &in);
+    fv_tool_image_frame_input(&o.img, scene, NULL, 0, o.time_s, &in);
 
     if (o.cache_dir) {
         snprintf(cache_path, sizeof cache_path, "%s/reference_%016llx.pfm", o.cache_dir,
-                 (unsigned long long)cache_key(scene, &o));
+                 (unsigned long long)cache_key(scene, &o, &in));
         cached = cache_load(cache_path, w, h, left, right);
     }
     progress prog = {.t_start_ns = fv_time_monotonic_ns()};
@@ -350,25 +385,20 @@ int fv_cmd_reference(int argc, char **argv)
         }
     }
     double seconds = (double)(fv_time_monotonic_ns() - t0) / 1e9;
+    if (!cached) { /* the pixels the GPU never shades (hidden-area mask), before the cache holds them */
+        fv_tool_image_mask_linear(&in, 0, left, w, h);
+        fv_tool_image_mask_linear(&in, 1, right, w, h);
+    }
     join_sbs(left, right, w, h, sbs);
     if (o.cache_dir && !cached) {
         fv_rgb_image img = {.width = 2 * w, .height = h, .kind = FV_IMAGE_KIND_LINEAR, .file_channels = 3, .rgb = sbs};
         if (FV_FAILED(fv_image_io_write_pfm(cache_path, &img))) FV_WARN(MOD, "%s: could not cache the result", cache_path);
     }
     if (o.out_dir) {
-        char base[1100];
-        bool tone = o.desc.view == FV_REFERENCE_VIEW_COLOR || o.desc.view == FV_REFERENCE_VIEW_DIRECT;
-        if (o.sbs) {
-            snprintf(base, sizeof base, "%s/frame_00000", o.out_dir);
-            if (FV_FAILED(write_image(base, sbs, 2 * w, h, tone))) goto done;
-        } else {
-            snprintf(base, sizeof base, "%s/frame_00000_left", o.out_dir);
-            if (FV_FAILED(write_image(base, left, w, h, tone))) goto done;
-            snprintf(base, sizeof base, "%s/frame_00000_right", o.out_dir);
-            if (FV_FAILED(write_image(base, right, w, h, tone))) goto done;
-        }
+        const float *eye_rgb[2] = {left, right};
+        if (FV_FAILED(write_frame(&o, &in, eye_rgb, sbs, w, h))) goto done;
     }
-    const char *name = scene->name[0] ? scene->name : o.scene;
+    const char *name = scene->name[0] ? scene->name : o.img.scene;
     if (o.json) {
         cJSON *j = cJSON_CreateObject();
         fv_cli_json_add_string(j, "scene", name);

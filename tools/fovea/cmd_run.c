@@ -24,6 +24,7 @@
 #include "run_measure.h"
 #include "fv_knobs.h"
 #include "tool_knobs.h"
+#include "tool_image.h"
 #include <dirent.h>
 #include "fovea_config.h"
 #include "run_frame_log.h"
@@ -106,18 +107,12 @@ typedef enum { SAVE_LAST, SAVE_EVERY, SAVE_NONE } save_mode;
 #define RUN_WINDOW_MAX_FRAMES 108000
 
 typedef struct run_opts {
-    const char *scene;
+    fv_tool_image img;        /* what the images show: scene, size, layout, quality, view, exposure, HMD (tool_image.h) */
     int64_t frames;
-    uint32_t eye_w, eye_h;
     const char *out_dir;
     save_mode save;
-    bool sbs;
     const char *gaze_uri;
     double hz;
-    fv_tool_quality tq;       /* --quality and --set, applied after parsing */
-    float exposure;           /* --exposure and --view: view settings, not knobs */
-    fv_debug_view debug_view;
-    fv_quality quality;       /* the preset, the --set knobs, then the view settings */
     bool explain, json, float_out;
     bool window;              /* --present window (or auto with a display) */
     bool frames_given;
@@ -126,15 +121,13 @@ typedef struct run_opts {
     bool overlay;
     const char *frame_log;    /* --frame-log FILE.csv */
     run_head_mode head;       /* --head */
-    run_hmd hmd;              /* --hmd, --budget, --budget-scale */
-    bool head_given, hz_given, save_given, layout_given; /* to refuse options that would have no effect */
+    bool head_given, hz_given, save_given; /* to refuse options that would have no effect */
 } run_opts;
 
 static int parse_args(int argc, char **argv, run_opts *o)
 {
-    *o = (run_opts){.scene = "cornell", .frames = 1, .eye_w = 720, .eye_h = 800, .save = SAVE_LAST, .sbs = true,
-                    .hz = 90, .exposure = fv_quality_default().exposure,
-                    .debug_view = fv_quality_default().debug_view};
+    *o = (run_opts){.frames = 1, .save = SAVE_LAST, .hz = 90};
+    fv_tool_image_defaults(&o->img);
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = NULL;
         int r;
@@ -144,19 +137,11 @@ static int parse_args(int argc, char **argv, run_opts *o)
             return -1;
         }
 #define OPT(name) FV_CLI_OPT("run", USAGE, name)
-        if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;
-        else if (r) { o->scene = v; continue; }
         if ((r = OPT("--frames")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (!fv_cli_parse_i64(v, 1, 1000000, &o->frames))
                 return fv_cli_usage_error("run", USAGE, "--frames: '%s' is not a whole number in 1..1000000", v);
             o->frames_given = true;
-            continue;
-        }
-        if ((r = OPT("--eye-size")) == -2) return FV_EXIT_USAGE;
-        else if (r) {
-            if (!fv_cli_parse_size(v, 8192, &o->eye_w, &o->eye_h))
-                return fv_cli_usage_error("run", USAGE, "--eye-size: '%s' is not WxH with each in 1..8192", v);
             continue;
         }
         if ((r = OPT("--out")) == -2) return FV_EXIT_USAGE;
@@ -170,14 +155,6 @@ static int parse_args(int argc, char **argv, run_opts *o)
             o->save_given = true;
             continue;
         }
-        if ((r = OPT("--layout")) == -2) return FV_EXIT_USAGE;
-        else if (r) {
-            if (strcmp(v, "sbs") == 0) o->sbs = true;
-            else if (strcmp(v, "eyes") == 0) o->sbs = false;
-            else return fv_cli_usage_error("run", USAGE, "--layout: '%s' is not one of sbs, eyes", v);
-            o->layout_given = true;
-            continue;
-        }
         if ((r = OPT("--gaze")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->gaze_uri = v; continue; }
         if ((r = OPT("--hz")) == -2) return FV_EXIT_USAGE;
@@ -185,18 +162,6 @@ static int parse_args(int argc, char **argv, run_opts *o)
             if (!fv_cli_parse_f64(v, 1, 1000, &o->hz))
                 return fv_cli_usage_error("run", USAGE, "--hz: '%s' is not a number in 1..1000", v);
             o->hz_given = true;
-            continue;
-        }
-        if ((r = OPT("--view")) == -2) return FV_EXIT_USAGE;
-        else if (r) {
-            int found = -1;
-            for (int k = 0; k < FV_DEBUG_VIEW_COUNT; k++)
-                if (strcmp(v, fv_debug_view_name((fv_debug_view)k)) == 0) found = k;
-            if (found < 0)
-                return fv_cli_usage_error("run", USAGE,
-                                          "--view: '%s' is not one of color, direct, shadow, cascade, albedo, normal, "
-                                          "depth, gaze", v);
-            o->debug_view = (fv_debug_view)found;
             continue;
         }
         if ((r = OPT("--present")) == -2) return FV_EXIT_USAGE;
@@ -221,25 +186,6 @@ static int parse_args(int argc, char **argv, run_opts *o)
                                           v);
             continue;
         }
-        if ((r = OPT("--exposure")) == -2) return FV_EXIT_USAGE;
-        else if (r) {
-            double x;
-            size_t vl = strlen(v);
-            if (vl > 2 && (strcmp(v + vl - 2, "ev") == 0 || strcmp(v + vl - 2, "EV") == 0)) {
-                /* "+1ev": the same linear scale written in stops, 2^EV */
-                char num[32] = "";
-                if (vl - 2 < sizeof num) snprintf(num, sizeof num, "%.*s", (int)(vl - 2), v);
-                if (!fv_cli_parse_f64(num, -19.9, 19.9, &x))
-                    return fv_cli_usage_error("run", USAGE, "--exposure: '%s' is not a number of stops in -19.9..19.9 "
-                                              "followed by EV", v);
-                x = exp2(x);
-            } else if (!fv_cli_parse_f64(v, 1e-6, 1e6, &x)) {
-                return fv_cli_usage_error("run", USAGE, "--exposure: '%s' is not a number in 1e-6..1e6 (a linear "
-                                          "scale) or stops such as +1EV", v);
-            }
-            o->exposure = (float)x;
-            continue;
-        }
         if ((r = OPT("--head")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (!run_head_mode_parse(v, &o->head))
@@ -250,9 +196,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         if ((r = OPT("--frame-log")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->frame_log = v; continue; }
 #undef OPT
-        if ((r = run_hmd_option(&o->hmd, argc, argv, &i, USAGE)) == FV_EXIT_USAGE) return r;
-        else if (r) continue;
-        if ((r = fv_tool_quality_option(&o->tq, argc, argv, &i, "run", USAGE)) == FV_EXIT_USAGE) return r;
+        if ((r = fv_tool_image_option(&o->img, argc, argv, &i, "run", USAGE)) == FV_EXIT_USAGE) return r;
         else if (r) continue;
         if (strcmp(a, "--explain") == 0) { o->explain = true; continue; }
         if (strcmp(a, "--float") == 0) { o->float_out = true; continue; }
@@ -260,15 +204,12 @@ static int parse_args(int argc, char **argv, run_opts *o)
         if (strcmp(a, "--overlay") == 0) { o->overlay = true; continue; }
         return fv_cli_usage_error("run", USAGE, "unknown option '%s'", a);
     }
-    int built = fv_tool_quality_build(&o->tq, "run", USAGE, &o->quality);
-    if (built != 0) return built;
-    if (o->hmd.budget_scale > 0 && !o->hmd.budget)
+    if (o->img.hmd.budget_scale > 0 && !o->img.hmd.budget)
         return fv_cli_usage_error("run", USAGE, "--budget-scale scales the budget of --budget auto (add it or drop "
                                   "--budget-scale)");
-    if ((built = run_hmd_load(&o->hmd, &o->quality)) != 0) return built;
-    o->quality.exposure = o->exposure;
-    o->quality.debug_view = o->debug_view;
-    o->quality.overlay = o->overlay;
+    int built = fv_tool_image_finish(&o->img, "run", USAGE);
+    if (built != 0) return built;
+    o->img.quality.overlay = o->overlay;
     if (o->window && !o->frames_given) o->frames = RUN_WINDOW_MAX_FRAMES;
     if (!o->window && (o->win_w || o->present_mode != FV_WINDOW_FIFO))
         return fv_cli_usage_error("run", USAGE, "--window and --present-mode need --present window");
@@ -288,7 +229,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
     if (o->save_given && !o->out_dir)
         return fv_cli_usage_error("run", USAGE, "--save picks the frames that --out writes; without --out nothing "
                                   "is saved (add --out DIR)");
-    if (o->layout_given && !o->out_dir)
+    if (o->img.layout_given && !o->out_dir)
         return fv_cli_usage_error("run", USAGE, "--layout is the layout of the images --out writes; without --out "
                                   "there are none (add --out DIR)");
     if (o->float_out && (!o->out_dir || o->save == SAVE_NONE))
@@ -315,6 +256,7 @@ typedef struct run_state {
     run_gaze *gaze;           /* the frame loop of a --gaze run (its newest head pose) */
     run_head head;            /* --head */
     fv_head scene_head;       /* the loaded scene's head */
+    const fv_scene *scene;
     run_frame_row *rows;      /* --frame-log: one per frame drawn */
     run_hmd *hmd;             /* the options' HMD profile and frame budget */
     size_t rows_n, rows_cap;
@@ -371,7 +313,7 @@ static void window_title(fv_window *w, const run_state *st, double fps)
 {
     char title[192];
     snprintf(title, sizeof title, "fovea — %.1f fps, GPU %.2f ms, %s%s%s%s", fps, st->m.last_stats.frame_gpu_ms,
-             fv_tool_quality_preset(&st->o->tq), st->keys_changed ? " (keys changed it)" : "",
+             fv_tool_quality_preset(&st->o->img.tq), st->keys_changed ? " (keys changed it)" : "",
              st->quality.debug_view ? ", view " : "",
              st->quality.debug_view ? fv_debug_view_name(st->quality.debug_view) : "");
     fv_window_set_title(w, title);
@@ -391,7 +333,7 @@ static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, f
         run_head_apply(&st->head, have ? &hs : NULL, &st->scene_head, &head);
         hp = &head;
     }
-    FV_TRY(fv_renderer_frame_input(st->r, hp, in->frame_id, time_s, &base));
+    fv_tool_image_frame_input(&st->o->img, st->scene, hp, in->frame_id, time_s, &base);
     if (keep_gaze) {
         in->head = base.head;
         in->eye[0] = base.eye[0];
@@ -400,7 +342,6 @@ static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, f
     } else {
         *in = base;
     }
-    run_hmd_views(st->hmd, in);
     run_hmd_budget_update(st->hmd, &st->m, in->frame_id, &st->quality);
     in->quality = st->quality;
     if (st->rows && st->rows_n < st->rows_cap) { /* --frame-log: what this frame was drawn with */
@@ -438,6 +379,20 @@ static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, f
 static fv_result render_cb(void *user, fv_frame_input *in, fv_frame_render_times *out_times)
 {
     return draw_frame(user, in, true, out_times);
+}
+
+/* The settings beside every image --out wrote (tool_image.h: `fovea compare` checks them). */
+static void write_image_settings(const run_opts *o, int64_t frames_done)
+{
+    fv_tool_image_meta m = fv_tool_image_meta_of(&o->img, "fovea run", o->img.sbs);
+    for (int64_t f = o->save == SAVE_EVERY ? 0 : frames_done - 1; f >= 0 && f < frames_done; f++) {
+        char path[4200];
+        for (int e = 0; e < (o->img.sbs ? 1 : 2); e++) {
+            snprintf(path, sizeof path, "%s/frame_%05lld%s.png", o->out_dir, (long long)f,
+                     o->img.sbs ? "" : e ? "_right" : "_left");
+            (void)fv_tool_image_write_meta(path, &m);
+        }
+    }
 }
 
 /* --scene names neither a built-in scene nor a file: say what there is (the built-ins and the scene files in the
@@ -531,8 +486,8 @@ int fv_cmd_run(int argc, char **argv)
     run_state st;
     memset(&st, 0, sizeof st);
     st.o = &o;
-    st.quality = o.quality;
-    st.hmd = &o.hmd;
+    st.quality = o.img.quality;
+    st.hmd = &o.img.hmd;
     run_gaze gaze;
     memset(&gaze, 0, sizeof gaze);
     bool gaze_open = false;
@@ -548,7 +503,7 @@ int fv_cmd_run(int argc, char **argv)
             return FV_EXIT_FAIL;
         }
     }
-    if (!scene_exists_or_say(o.scene)) {
+    if (!scene_exists_or_say(o.img.scene)) {
         free(st.rows);
         return FV_EXIT_FAIL;
     }
@@ -561,20 +516,20 @@ int fv_cmd_run(int argc, char **argv)
     if (saving) {
         first_missing_dir(o.out_dir, out_created, sizeof out_created);
         if (!fv_cli_output_dir("run", "--out", o.out_dir)) goto done;
-        fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.sbs, .linear_pfm = o.float_out,
+        fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.img.sbs, .linear_pfm = o.float_out,
                                    .save = o.save == SAVE_EVERY ? FV_TARGET_SAVE_EVERY : FV_TARGET_SAVE_LAST};
         if (FV_FAILED(fv_target_files_create(&fd, &files))) goto done;
     }
-    if (FV_FAILED(fv_scene_load(o.scene, &scene))) {
-        fprintf(stderr, "fovea run: cannot load scene '%s' (see the messages above)\n", o.scene);
+    if (FV_FAILED(fv_scene_load(o.img.scene, &scene))) {
+        fprintf(stderr, "fovea run: cannot load scene '%s' (see the messages above)\n", o.img.scene);
         goto done;
     }
     if (o.window) {
-        fv_window_desc wd = {.width = o.win_w, .height = o.win_h, .eye_width = o.eye_w, .eye_height = o.eye_h,
+        fv_window_desc wd = {.width = o.win_w, .height = o.win_h, .eye_width = o.img.eye_w, .eye_height = o.img.eye_h,
                              .title = "fovea", .present_mode = o.present_mode};
-        if (!o.win_w && o.hmd.have && o.hmd.name) { /* a named HMD: its panel, scaled to fit the screen */
-            wd.width = o.hmd.profile.panel_width_px;
-            wd.height = o.hmd.profile.panel_height_px;
+        if (!o.win_w && o.img.hmd.have && o.img.hmd.name) { /* a named HMD: its panel, scaled to fit the screen */
+            wd.width = o.img.hmd.profile.panel_width_px;
+            wd.height = o.img.hmd.profile.panel_height_px;
             wd.fit_to_screen = true;
         }
         if (FV_FAILED(fv_window_create(&wd, &window))) {
@@ -582,7 +537,7 @@ int fv_cmd_run(int argc, char **argv)
             goto done;
         }
     }
-    fv_renderer_desc desc = {.eye_width = o.eye_w, .eye_height = o.eye_h,
+    fv_renderer_desc desc = {.eye_width = o.img.eye_w, .eye_height = o.img.eye_h,
                              .target = window ? fv_window_target(window) : files};
     if (FV_FAILED(fv_renderer_create(&desc, &r))) {
         fprintf(stderr, "fovea run: cannot create the renderer (see the messages above)\n");
@@ -590,6 +545,7 @@ int fv_cmd_run(int argc, char **argv)
     }
     st.r = r;
     st.scene_head = scene->head;
+    st.scene = scene;
     { /* Forcing multiview where it is known to mis-clip the second view: say so, once */
         const char *mv = getenv("FOVEA_MULTIVIEW");
         bool forced_on = mv && *mv && strcmp(mv, "0") != 0 && strcmp(mv, "false") != 0 && strcmp(mv, "off") != 0;
@@ -599,20 +555,19 @@ int fv_cmd_run(int argc, char **argv)
                     fv_renderer_device_name(r));
     }
     /* The quality first, so that the scene's passes start once, with the settings they will run with. */
-    if (FV_FAILED(fv_renderer_set_quality(r, &o.quality))) goto done;
+    if (FV_FAILED(fv_renderer_set_quality(r, &o.img.quality))) goto done;
     if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
-        fprintf(stderr, "fovea run: cannot upload scene '%s'\n", o.scene);
+        fprintf(stderr, "fovea run: cannot upload scene '%s'\n", o.img.scene);
         goto done;
     }
     if (o.explain) print_plan(o.json ? stderr : stdout, fv_renderer_plan(r));
-    if (run_hmd_budget_start(&o.hmd, &o.quality, fv_tool_quality_preset(&o.tq),
-                             o.gaze_uri ? o.hz : o.hmd.have ? (double)o.hmd.profile.refresh_hz : 90.0,
+    if (run_hmd_budget_start(&o.img.hmd, &o.img.quality, fv_tool_quality_preset(&o.img.tq),
+                             o.gaze_uri ? o.hz : o.img.hmd.have ? (double)o.img.hmd.profile.refresh_hz : 90.0,
                              fv_renderer_plan(r)) != 0)
         goto done;
     if (window) { /* the cursor over the window is a gaze source (mouse:) with these eyes */
-        fv_frame_input fi;
-        if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &fi))) goto done;
-        run_hmd_views(&o.hmd, &fi); /* the frusta the frames are drawn with */
+        fv_frame_input fi; /* the frusta the frames are drawn with */
+        fv_tool_image_frame_input(&o.img, scene, NULL, 0, 0.0, &fi);
         mouse_views.ipd_mm = fi.head.ipd_mm;
         for (int e = 0; e < 2; e++) {
             mouse_views.tan_left[e] = fi.eye[e].tan_left;
@@ -684,6 +639,7 @@ int fv_cmd_run(int argc, char **argv)
     if (FV_FAILED(fv_renderer_finish(r)) || !fv_measure_take(&st.m, r)) goto done;
     if (o.frame_log && FV_FAILED(write_frame_log(&st, o.gaze_uri ? &gaze : NULL, o.frame_log))) goto done;
     if (files && o.save == SAVE_LAST && FV_FAILED(fv_target_files_flush(files))) goto done;
+    if (files) write_image_settings(&o, frames_done);
     if (tty && fv_time_monotonic_ns() - t_start > FV_NS_PER_S) fprintf(stderr, "\r%*s\r", 40, "");
     double wall_s = (double)(fv_time_monotonic_ns() - t_start) / 1e9;
     struct rusage ru;
@@ -692,11 +648,11 @@ int fv_cmd_run(int argc, char **argv)
 
     if (o.json) {
         cJSON *j = cJSON_CreateObject();
-        fv_cli_json_add_string(j, "scene", scene->name[0] ? scene->name : o.scene);
+        fv_cli_json_add_string(j, "scene", scene->name[0] ? scene->name : o.img.scene);
         fv_cli_json_add_string(j, "device", fv_renderer_device_name(r));
         cJSON_AddNumberToObject(j, "frames", (double)frames_done);
-        cJSON_AddNumberToObject(j, "eye_width", o.eye_w);
-        cJSON_AddNumberToObject(j, "eye_height", o.eye_h);
+        cJSON_AddNumberToObject(j, "eye_width", o.img.eye_w);
+        cJSON_AddNumberToObject(j, "eye_height", o.img.eye_h);
         cJSON_AddNumberToObject(j, "triangles", (double)fv_scene_triangle_count(scene));
         fv_measure_add_json(&st.m, j);
         fv_measure_add_fovea_json(&st.m, r, j);
@@ -705,10 +661,10 @@ int fv_cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(j, "wall_s", wall_s);
         cJSON_AddNumberToObject(j, "validation_messages", vmsg);
         cJSON *jq = cJSON_AddObjectToObject(j, "quality");
-        cJSON_AddNumberToObject(jq, "exposure", o.quality.exposure);
-        fv_cli_json_add_string(jq, "debug_view", fv_debug_view_name(o.quality.debug_view));
-        fv_tool_quality_add_json(jq, fv_tool_quality_preset(&o.tq), &o.quality);
-        run_hmd_add_json(&o.hmd, r, j);
+        cJSON_AddNumberToObject(jq, "exposure", o.img.quality.exposure);
+        fv_cli_json_add_string(jq, "debug_view", fv_debug_view_name(o.img.quality.debug_view));
+        fv_tool_quality_add_json(jq, fv_tool_quality_preset(&o.img.tq), &o.img.quality);
+        run_hmd_add_json(&o.img.hmd, r, j);
         if (o.explain) {
             const fv_frame_plan *plan = fv_renderer_plan(r);
             cJSON *pl = cJSON_AddArrayToObject(j, "plan");
@@ -762,14 +718,14 @@ int fv_cmd_run(int argc, char **argv)
         if (printed != FV_EXIT_OK) goto done;
     } else {
         printf("fovea run: scene '%s' on %s, %lld frame%s at %ux%u per eye (%llu triangles), %.2f s\n",
-               scene->name[0] ? scene->name : o.scene, fv_renderer_device_name(r), (long long)frames_done,
-               frames_done == 1 ? "" : "s", o.eye_w, o.eye_h, (unsigned long long)fv_scene_triangle_count(scene),
+               scene->name[0] ? scene->name : o.img.scene, fv_renderer_device_name(r), (long long)frames_done,
+               frames_done == 1 ? "" : "s", o.img.eye_w, o.img.eye_h, (unsigned long long)fv_scene_triangle_count(scene),
                wall_s);
         fv_measure_print(&st.m, stdout);
         fv_measure_print_fovea(&st.m, r, stdout);
         fv_measure_print_gi(&st.m, r, stdout);
-        fv_tool_quality_print(stdout, fv_tool_quality_preset(&o.tq), &o.quality);
-        run_hmd_print(&o.hmd, r, stdout);
+        fv_tool_quality_print(stdout, fv_tool_quality_preset(&o.img.tq), &o.img.quality);
+        run_hmd_print(&o.img.hmd, r, stdout);
         printf("  memory: %.1f MiB device (peak), %.1f MiB host RSS (peak); validation messages: %u\n",
                (double)st.m.last_stats.peak_device_memory_bytes / 1048576.0, (double)ru.ru_maxrss / 1024.0, vmsg);
         if (o.gaze_uri && window) snprintf(gaze.clock, sizeof gaze.clock, "swapchain: %s", fv_window_clock_name(window));
