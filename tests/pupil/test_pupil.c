@@ -23,7 +23,7 @@ typedef struct bad_kind {
 } bad_kind;
 
 static const bad_kind g_bad[] = {
-    {"payload is not msgpack (parse error)"},
+    {"payload is not msgpack (parse error: byte 0xc1 at offset 0"},
     {"truncated"},
     {"missing field 'timestamp'"},
     {"field 'timestamp' is a string, not a number"},
@@ -228,6 +228,55 @@ static void decode_rejects_each_malformed_kind(void **state)
         fv_assert_contains(why, "outside [0, 9e9] s");
         free(m.payload);
     }
+    free(good.payload);
+    free(rows);
+}
+
+/* A hostile server's payloads: every count and size is bounded by the bytes the message has left, and the depth, before
+ * msgpack-c allocates (the 5-byte map32 asked it for 192 GiB: under ASan the original aborted here). Each is refused
+ * with the reason: what claims how much, where, and what is left. */
+static void decode_bounds_what_it_allocates_by_the_message(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < FAKE_HOSTILE_COUNT; i++) {
+        unsigned char buf[256];
+        const char *name, *phrase;
+        fake_msg m = {0};
+        m.payload = buf;
+        m.len = fake_hostile_payload(i, buf, sizeof buf, &name, &phrase);
+        fv_gaze_sample s;
+        char why[160];
+        assert_int_equal(decode("gaze.3d.01.", &m, &s, why), FV_ERR_PARSE);
+        if (!strstr(why, phrase)) fail_msg("%s: expected '%s' in '%s'", name, phrase, why);
+        assert_false(s.combined.flags & FV_EYE_DIRECTION_VALID);
+    }
+    /* within the bounds: an array of 60,000 empty maps fills 60,005 bytes exactly; decoded, then refused as not a
+     * map (msgpack-c allocates one object per element: bounded by the payload) */
+    size_t len = 5 + 60000;
+    unsigned char *big = malloc(len);
+    big[0] = 0xdd, big[1] = 0, big[2] = 0, big[3] = 0xea, big[4] = 0x60;
+    memset(big + 5, 0x80, 60000);
+    fake_msg m = {.payload = big, .len = len};
+    fv_gaze_sample s;
+    char why[160];
+    assert_int_equal(decode("gaze.3d.01.", &m, &s, why), FV_ERR_PARSE);
+    fv_assert_contains(why, "payload is an array, not a map");
+    big[4] = 0x61; /* one element more than the bytes hold */
+    assert_int_equal(decode("gaze.3d.01.", &m, &s, why), FV_ERR_PARSE);
+    fv_assert_contains(why, "an array of 60001 elements at offset 0, 60000 bytes left");
+    free(big);
+    /* a real datum with one byte more: trailing bytes */
+    size_t n;
+    row *rows = fake_export_rows(&n);
+    fake_msg good;
+    fake_row_message(&rows[0], 0, &good);
+    unsigned char *more = malloc(good.len + 1);
+    memcpy(more, good.payload, good.len);
+    more[good.len] = 0xc0;
+    fake_msg t = {.payload = more, .len = good.len + 1};
+    assert_int_equal(decode(good.topic, &t, &s, why), FV_ERR_PARSE);
+    fv_assert_contains(why, "payload has 1 bytes after its msgpack value");
+    free(more);
     free(good.payload);
     free(rows);
 }
@@ -533,6 +582,7 @@ int main(void)
         cmocka_unit_test(decode_2d_through_the_camera_model),
         cmocka_unit_test(decode_rejects_each_malformed_kind),
         cmocka_unit_test(decode_extremes_stay_finite),
+        cmocka_unit_test(decode_bounds_what_it_allocates_by_the_message),
         cmocka_unit_test(open_and_probe_without_capture),
         cmocka_unit_test(live_reconnects_when_capture_restarts),
         cmocka_unit_test(live_replay_matches_recorded_reader),
