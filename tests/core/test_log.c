@@ -60,26 +60,6 @@ static void a_load_budget_shows_a_few_of_each_kind_then_one_summary(void **state
     assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 3 + 1 + 1 + 1);
 }
 
-/* Lines of the captured log that contain `needle`; with sum, the sum of the numbers after "... " in them. */
-static int count_lines(const char *needle, unsigned long long *sum)
-{
-    int n = 0;
-    if (sum) *sum = 0;
-    for (const char *p = fv_test_log_text(); *p;) {
-        const char *end = strchr(p, '\n');
-        size_t len = end ? (size_t)(end - p) : strlen(p);
-        char line[1500];
-        snprintf(line, sizeof line, "%.*s", (int)len, p);
-        if (strstr(line, needle)) {
-            n++;
-            const char *dots = strstr(line, "... ");
-            if (sum && dots) *sum += strtoull(dots + 4, NULL, 10);
-        }
-        p += len + (end ? 1 : 0);
-    }
-    return n;
-}
-
 /* 10,000 warnings over 4 simulated seconds through a limit of 10 lines per second: 10 shown per window, then one
  * summary per window with the exact count of the rest, and nothing lost. */
 static void a_rate_limit_bounds_lines_per_window_and_counts_the_rest(void **state)
@@ -97,8 +77,8 @@ static void a_rate_limit_bounds_lines_per_window_and_counts_the_rest(void **stat
     fv_log_ratelimit_flush(&rl);
     fv_test_log_capture_end();
     unsigned long long summarised = 0;
-    int summaries = count_lines("more like this in the last", &summarised);
-    int shown = count_lines("; skipped", NULL) - summaries; /* a summary quotes its first message */
+    int summaries = fv_test_log_lines("more like this in the last", &summarised);
+    int shown = fv_test_log_lines("; skipped", NULL) - summaries; /* a summary quotes its first message */
     assert_int_equal(shown, 4 * 10);
     assert_int_equal(summaries, 4);
     assert_true(shown + summarised == 10000);
@@ -126,13 +106,13 @@ static void a_rate_limit_summarises_at_tick_and_starts_over(void **state)
     for (int i = 0; i < 7; i++) FV_ERROR_RL(&rl, "hid", "report %d bad", i);
     fv_clock_sim_advance(&clk, 4 * FV_NS_PER_S);
     fv_log_ratelimit_tick(&rl); /* the window is not over */
-    assert_int_equal(count_lines("more like this", NULL), 0);
+    assert_int_equal(fv_test_log_lines("more like this", NULL), 0);
     fv_clock_sim_advance(&clk, FV_NS_PER_S);
     fv_log_ratelimit_tick(&rl);
     fv_assert_log_contains("error hid: ... 5 more like this in the last 5.0 s; the first: report 2 bad");
     fv_log_ratelimit_tick(&rl);
     fv_log_ratelimit_flush(&rl); /* nothing counted since: no second summary */
-    assert_int_equal(count_lines("more like this", NULL), 1);
+    assert_int_equal(fv_test_log_lines("more like this", NULL), 1);
     fv_clock_sim_advance(&clk, 60 * FV_NS_PER_S);
     FV_ERROR_RL(&rl, "hid", "report %d bad", 7);
     fv_test_log_capture_end();
@@ -179,7 +159,7 @@ static void a_rate_limit_is_exact_across_threads(void **state)
     fv_log_ratelimit_flush(&rl);
     fv_test_log_capture_end();
     unsigned long long summarised = 0;
-    assert_int_equal(count_lines("more like this", &summarised), 1);
+    assert_int_equal(fv_test_log_lines("more like this", &summarised), 1);
     assert_true(summarised == 20000 - 5);
     assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 6);
 }

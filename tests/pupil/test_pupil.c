@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <msgpack.h>
 
@@ -534,6 +535,186 @@ static void live_reconnects_when_capture_restarts(void **state)
     free(rows);
 }
 
+/* A hostile Capture sends 10,000 malformed messages. Over the simulated seconds the reads take, the warnings are at
+ * most 20 lines per 30 s window and one summary per window, and the summaries count exactly the rest (the original
+ * printed 20 lines, then one per 1000 without end, and no count of what it did not show). */
+static void live_flood_of_malformed_messages_is_rate_limited(void **state)
+{
+    (void)state;
+    enum { FLOOD = 10000 };
+    size_t n;
+    row *rows = fake_export_rows(&n);
+    fake_msg good, *script = calloc(FLOOD + 1, sizeof *script);
+    fake_row_message(&rows[0], 0, &good);
+    for (size_t i = 0; i < FLOOD; i++) {
+        bad_message(i % N_BAD, &good, &script[i]);
+        script[i].due_pupil_ns = 0; /* all at once */
+    }
+    fake_row_message(&rows[1], 1, &script[FLOOD]); /* then one good message: the flood has been read */
+    int64_t last_t = script[FLOOD].due_pupil_ns;
+    script[FLOOD].due_pupil_ns = 0;
+    fake_capture f;
+    assert_int_equal(fake_capture_start(&f, 0, 1000 * FV_NS_PER_S), 0);
+    fv_clock clk;
+    fv_clock_sim_init(&clk, 0);
+    fv_device_open_desc desc = {.clock = &clk};
+    char uri[128];
+    snprintf(uri, sizeof uri, "pupil:127.0.0.1:%d", f.remote_port);
+    fv_test_log_capture_begin();
+    fv_device *dev = NULL;
+    assert_int_equal(fv_pupil_driver.open(uri, &desc, &dev), FV_OK);
+    assert_int_equal(fake_capture_play(&f, script, FLOOD + 1), 0);
+    bool done = false;
+    int reads = 0;
+    int64_t deadline = fv_time_monotonic_ns() + 60 * FV_NS_PER_S;
+    while (!done && fv_time_monotonic_ns() < deadline) {
+        fv_gaze_sample buf[64];
+        size_t c = 0;
+        (void)fv_device_read(dev, buf, 64, &c, 20);
+        for (size_t i = 0; i < c; i++) done |= buf[i].t_device_ns == last_t;
+        fv_clock_sim_advance(&clk, 100 * FV_NS_PER_MS); /* each read: 0.1 s of simulated time */
+        reads++;
+    }
+    int64_t span = fv_clock_now_ns(&clk);
+    fv_device_close(&dev);
+    fake_capture_stop(&f);
+    fv_test_log_capture_end();
+    assert_true(done);
+    unsigned long long summarised = 0;
+    int summaries = fv_test_log_lines("more like this in the last", &summarised);
+    int shown = fv_test_log_lines("; skipped", NULL) - summaries; /* a summary quotes its first message */
+    int windows = (int)(span / (30 * FV_NS_PER_S)) + 1;
+    printf("pupil flood: %d malformed messages in %d reads over %.1f simulated s: %d lines shown, %d summaries of "
+           "%llu\n", FLOOD, reads, (double)span * 1e-9, shown, summaries, summarised);
+    assert_true(reads >= FLOOD / (64 + 257)); /* a read skips a bounded number: the flood cannot hold it */
+    assert_true((unsigned long long)shown + summarised == FLOOD);
+    assert_true(shown >= 20 && shown <= 20 * windows);
+    assert_true(summaries >= 1 && summaries <= windows);
+    fv_assert_log_contains("payload is not msgpack (parse error: byte 0xc1 at offset 0");
+    /* the good message at the end may be far from the simulated clock: a clock jump, said once */
+    int others = fv_test_log_lines("the Pupil clock jumped", NULL);
+    assert_true(others <= 1);
+    if (fv_test_log_count(FV_LOG_LEVEL_WARN) != shown + summaries + others) {
+        fputs(fv_test_log_text(), stderr);
+        fail_msg("lines other than the malformed messages' and their summary: see above");
+    }
+    for (size_t i = 0; i <= FLOOD; i++) free(script[i].payload);
+    free(script);
+    free(good.payload);
+    free(rows);
+}
+
+/* Gaze whose Pupil time is an hour from what Pupil Remote's `t` says (a clock that jumped, or a hostile Capture):
+ * each such sample carries its receipt time and is warned about through a rate limit (3 lines, then a summary with
+ * the exact count); the driver resynchronises at most once a second (the original resynchronised at every read:
+ * six `t` round trips each time); the samples after the jump map to the right host time again. */
+static void live_clock_jumps_are_rate_limited_and_resync_is_throttled(void **state)
+{
+    (void)state;
+    size_t n;
+    row *rows = fake_export_rows(&n);
+    enum { BEFORE = 30, JUMPED = 300, AFTER = 30, TOTAL = BEFORE + JUMPED + AFTER };
+    fake_msg script[TOTAL];
+    int64_t jump_ns = 3600 * FV_NS_PER_S;
+    for (size_t i = 0; i < TOTAL; i++) {
+        row r = rows[i];
+        bool jumped = i >= BEFORE && i < BEFORE + JUMPED;
+        if (jumped) r.ts += 3600.0;
+        fake_row_message(&r, i, &script[i]);
+        script[i].due_pupil_ns = (int64_t)llround(rows[i].ts * 1e9);
+    }
+    fake_capture f;
+    assert_int_equal(fake_capture_start(&f, 0, script[0].due_pupil_ns - 50 * FV_NS_PER_MS), 0);
+    int64_t host0 = fv_time_monotonic_ns(), pupil0 = fake_capture_pupil_now_ns(&f);
+    char uri[128];
+    snprintf(uri, sizeof uri, "pupil:127.0.0.1:%d", f.remote_port);
+    fv_test_log_capture_begin();
+    fv_device *dev = NULL;
+    assert_int_equal(fv_pupil_driver.open(uri, NULL, &dev), FV_OK);
+    int t_open = atomic_load(&f.t_requests);
+    int64_t start = fv_time_monotonic_ns();
+    assert_int_equal(fake_capture_play(&f, script, TOTAL), 0);
+    size_t got = 0, jumped = 0, after_ok = 0;
+    int64_t deadline = start + 20 * FV_NS_PER_S;
+    while (got < TOTAL && fv_time_monotonic_ns() < deadline) {
+        fv_gaze_sample buf[64];
+        size_t c = 0;
+        (void)fv_device_read(dev, buf, 64, &c, 50);
+        for (size_t i = 0; i < c; i++, got++) {
+            const fv_gaze_sample *s = &buf[i];
+            if (s->t_device_ns > pupil0 + jump_ns / 2) {
+                jumped++;
+            } else if (got >= BEFORE + JUMPED) {
+                int64_t err = s->t_host_ns - (host0 + (s->t_device_ns - pupil0));
+                after_ok += err > -20 * FV_NS_PER_MS && err < 20 * FV_NS_PER_MS;
+            }
+        }
+    }
+    double secs = (double)(fv_time_monotonic_ns() - start) * 1e-9;
+    int t_during = atomic_load(&f.t_requests) - t_open;
+    fv_device_close(&dev);
+    fake_capture_stop(&f);
+    fv_test_log_capture_end();
+    unsigned long long summarised = 0;
+    int summaries = fv_test_log_lines("more like this in the last", &summarised);
+    int shown = fv_test_log_lines("the Pupil clock jumped", NULL) - summaries;
+    printf("pupil clock jump: %zu of %d samples, %zu jumped: %d lines + %d summaries of %llu; %d 't' requests in "
+           "%.2f s\n", got, TOTAL, jumped, shown, summaries, summarised, t_during, secs);
+    assert_int_equal(got, TOTAL);
+    assert_int_equal(jumped, JUMPED);
+    assert_true(shown >= 1 && shown <= 3);
+    assert_true((unsigned long long)shown + summarised == JUMPED);
+    fv_assert_log_contains("maps +3600.0");
+    assert_true(t_during <= 6 * (int)(secs + 2.0)); /* six exchanges per resynchronisation, at most one a second */
+    assert_int_equal(after_ok, AFTER);
+    for (size_t i = 0; i < TOTAL; i++) free(script[i].payload);
+    free(rows);
+}
+
+/* Pupil Remote answers `t` with garbage, or not in time: the warning says which, quoting what came back (escaped,
+ * shortened), instead of calling both "no answer". */
+static void open_tells_a_garbage_answer_to_t_from_no_answer(void **state)
+{
+    (void)state;
+    fake_capture f;
+    assert_int_equal(fake_capture_start(&f, 0, 1000 * FV_NS_PER_S), 0);
+    static const char garbage[] = "\x01garbage\nanswer\0with a NUL, and longer than thirty-two bytes";
+    f.t_reply = garbage;
+    f.t_reply_len = sizeof garbage - 1;
+    char uri[128], want[256];
+    snprintf(uri, sizeof uri, "pupil:127.0.0.1:%d?timeout_ms=200", f.remote_port);
+    fv_device *dev = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_pupil_driver.open(uri, NULL, &dev), FV_OK);
+    snprintf(want, sizeof want, "no clock synchronisation with Pupil time (Pupil Remote answered 't' with "
+             "'\\x01garbage\\x0aanswer\\x00with a NUL, and ...' (%zu bytes), not a time in seconds)", sizeof garbage - 1);
+    fv_assert_log_contains(want);
+    assert_null(strstr(fv_test_log_text(), "no answer"));
+    fv_assert_contains(dev->info.detail, "clock not synchronised");
+    fv_device_close(&dev);
+    fv_test_log_capture_end();
+
+    f.t_reply = NULL;
+    f.t_delay_ms = 400; /* answers after the driver's 200 ms */
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_pupil_driver.open(uri, NULL, &dev), FV_OK);
+    fv_assert_log_contains("no clock synchronisation with Pupil time ('t' got no answer within 200 ms)");
+    assert_null(strstr(fv_test_log_text(), "answered 't'"));
+    fv_device_close(&dev);
+    fv_test_log_capture_end();
+
+    struct timespec ts = {0, 400 * 1000000L}; /* the fake's late answer is out */
+    nanosleep(&ts, NULL);
+    f.t_delay_ms = 0;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_pupil_driver.open(uri, NULL, &dev), FV_OK);
+    assert_null(strstr(fv_test_log_text(), "clock synchronisation"));
+    fv_assert_contains(dev->info.detail, "clock synchronised");
+    fv_device_close(&dev);
+    fv_test_log_capture_end();
+    fake_capture_stop(&f);
+}
+
 static void open_and_probe_without_capture(void **state)
 {
     (void)state;
@@ -586,6 +767,9 @@ int main(void)
         cmocka_unit_test(open_and_probe_without_capture),
         cmocka_unit_test(live_reconnects_when_capture_restarts),
         cmocka_unit_test(live_replay_matches_recorded_reader),
+        cmocka_unit_test(live_flood_of_malformed_messages_is_rate_limited),
+        cmocka_unit_test(live_clock_jumps_are_rate_limited_and_resync_is_throttled),
+        cmocka_unit_test(open_tells_a_garbage_answer_to_t_from_no_answer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
