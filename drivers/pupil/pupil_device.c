@@ -39,7 +39,7 @@ typedef struct pupil_dev {
     bool synced;
     int64_t offset_ns; /* host = pupil + offset */
     int64_t last_msg_ns, last_check_ns, last_sync_ns;
-    bool lost_warned, silent_warned, jumped;
+    bool lost_warned, silent_warned, resubscribed, jumped;
     uint64_t malformed, seq;
     fv_log_ratelimit rl_malformed, rl_jump, rl_sync, rl_offset;
 } pupil_dev;
@@ -300,8 +300,17 @@ static void check_capture(pupil_dev *d, int64_t now)
             /* a warning: it pairs with the one that said Capture had gone */
             FV_WARN(MOD, "%s:%d: Pupil Capture is back (SUB port %d -> %d): reconnected", d->uri.host, d->uri.port,
                     old, d->sub_port);
-            d->lost_warned = d->silent_warned = false;
+            d->lost_warned = d->silent_warned = d->resubscribed = false;
         }
+        return;
+    }
+    /* Same port, no gaze: the subscription may be gone (libzmq drops a connection for good at a frame over
+     * ZMQ_MAXMSGSIZE). Subscribe anew, once per silence, before saying Capture sends nothing. */
+    if (!d->resubscribed) {
+        d->resubscribed = true;
+        FV_INFO(MOD, "%s:%d: no gaze for %.1f s while Pupil Remote answers: subscribing again", d->uri.host,
+                d->uri.port, (double)(now - d->last_msg_ns) * 1e-9);
+        (void)connect_capture(d, CHECK_TIMEOUT_MS);
         return;
     }
     if (!d->silent_warned)
@@ -362,7 +371,7 @@ static fv_result pupil_read(fv_device *dev, fv_gaze_sample *out, size_t cap, siz
     }
     if (any) d->last_msg_ns = now; /* Capture is there and sending, well-formed or not */
     if (n > 0) {
-        d->silent_warned = false;
+        d->silent_warned = d->resubscribed = false;
         int64_t since = now - d->last_sync_ns;
         if (since >= RESYNC_NS || (d->jumped && since >= MIN_RESYNC_NS)) {
             char why[200];
