@@ -229,7 +229,10 @@ static int64_t rl_now(const fv_log_ratelimit *rl)
     return fv_clock_now_ns(rl->clock ? rl->clock : fv_clock_monotonic());
 }
 
-static int64_t rl_window(const fv_log_ratelimit *rl) { return rl->window_ns > 0 ? rl->window_ns : RL_DEFAULT_WINDOW_NS; }
+static int64_t rl_window(const fv_log_ratelimit *rl)
+{
+    return rl->window_ns > 0 ? rl->window_ns : RL_DEFAULT_WINDOW_NS;
+}
 
 /* Close the open window: its summary when something was counted. Called with the lock held (the summary must come
  * out before the message that opens the next window). */

@@ -724,7 +724,8 @@ static void open_tells_a_garbage_answer_to_t_from_no_answer(void **state)
     char want[256];
     fv_device *dev = open_on(&f, "?timeout_ms=200", NULL);
     snprintf(want, sizeof want, "no clock synchronisation with Pupil time (Pupil Remote answered 't' with "
-             "'\\x01garbage\\x0aanswer\\x00with a NUL, and ...' (%zu bytes), not a time in seconds)", sizeof garbage - 1);
+             "'\\x01garbage\\x0aanswer\\x00with a NUL, and ...' (%zu bytes), not a time in seconds)",
+             sizeof garbage - 1);
     fv_assert_log_contains(want);
     assert_null(strstr(fv_test_log_text(), "no answer"));
     fv_assert_contains(dev->info.detail, "clock not synchronised");
