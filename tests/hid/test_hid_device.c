@@ -141,16 +141,23 @@ static void simulated_eye_runs_end_to_end_through_the_virtual_tracker(void **sta
     fv_vhid_destroy(&v);
 }
 
+/* The driver on a virtual tracker's fake transport; fake feeds it. */
+static fv_device *open_virtual(fv_vhid **v, fv_hid_fake **fake)
+{
+    assert_int_equal(fv_vhid_create(NULL, v), FV_OK);
+    fv_hid_transport *t;
+    assert_int_equal(fv_vhid_transport_create(*v, &t, fake), FV_OK);
+    fv_device *dev;
+    assert_int_equal(fv_hid_device_open_transport(t, NULL, &dev), FV_OK);
+    return dev;
+}
+
 static void malformed_and_status_reports_in_the_stream_are_skipped(void **state)
 {
     (void)state;
     fv_vhid *v;
-    assert_int_equal(fv_vhid_create(NULL, &v), FV_OK);
-    fv_hid_transport *t;
     fv_hid_fake *fake;
-    assert_int_equal(fv_vhid_transport_create(v, &t, &fake), FV_OK);
-    fv_device *dev;
-    assert_int_equal(fv_hid_device_open_transport(t, NULL, &dev), FV_OK);
+    fv_device *dev = open_virtual(&v, &fake);
 
     fv_gaze_sample s;
     fv_gaze_sample_init_invalid(&s, 1000000, 0);
@@ -196,12 +203,8 @@ static void a_flood_of_bad_reports_is_rate_limited(void **state)
 {
     (void)state;
     fv_vhid *v;
-    assert_int_equal(fv_vhid_create(NULL, &v), FV_OK);
-    fv_hid_transport *t;
     fv_hid_fake *fake;
-    assert_int_equal(fv_vhid_transport_create(v, &t, &fake), FV_OK);
-    fv_device *dev;
-    assert_int_equal(fv_hid_device_open_transport(t, NULL, &dev), FV_OK);
+    fv_device *dev = open_virtual(&v, &fake);
     uint8_t wrong[4] = {0x42, 1, 2, 3};
     for (int i = 0; i < 1000; i++) assert_int_equal(fv_hid_fake_push_input(fake, wrong, sizeof wrong), FV_OK);
     fv_gaze_sample out[8];
