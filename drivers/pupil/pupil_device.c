@@ -59,8 +59,8 @@ static const char *quote(const char *p, size_t n, size_t total, char *out, size_
     return out;
 }
 
-/* Every socket: no linger, and no frame from the peer larger than a gaze payload: libzmq drops the connection
- * at such a frame's header instead of allocating what the peer says (it reconnects by itself). */
+/* Every socket: no linger, and no frame from the peer larger than a gaze payload: libzmq drops the connection at
+ * such a frame's header instead of allocating what the peer says (for good: check_capture subscribes again). */
 static void set_common(void *s)
 {
     int zero = 0;
