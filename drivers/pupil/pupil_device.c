@@ -21,7 +21,10 @@
 #define SILENCE_CHECK_NS FV_NS_PER_S /* ask Pupil Remote after this long without gaze */
 #define CHECK_TIMEOUT_MS 300
 #define PROBE_TIMEOUT_MS 200
-#define RCV_HWM 8192
+/* Gaze messages queued unread at most: 5 s of Capture's 200 Hz binocular stream. With frames of FV_PUPIL_MAX_PAYLOAD
+ * at most, two-frame messages fill it with 128 MiB at worst (1 GiB at 8192). libzmq bounds neither the frames of one
+ * multipart message nor their total: a peer sending endless parts of one message is not bounded here. */
+#define RCV_HWM 1024
 #define SKIP_PER_READ 256 /* malformed messages one read skips at most beyond cap: a flood cannot hold the reader */
 /* Rate limits of the repeated warnings (fv_log_ratelimit): lines per window, then one summary per window. */
 #define MALFORMED_LINES 20
