@@ -37,6 +37,9 @@ struct fv_gaze_source {
     _Atomic uint64_t samples, losses, reopens, open_failures, poll_limited;
     _Atomic uint64_t delivered; /* written by the consumer */
     bool warned_poll_limit;      /* reader side */
+    /* a device that comes and goes at its own pace (a flapping cable, a hostile device): "lost" and "back" through
+     * rate limits over time */
+    fv_log_ratelimit rl_lost, rl_back;
     _Atomic int last_error;
 
     /* thread mode */
@@ -85,7 +88,7 @@ static void schedule_retry(fv_gaze_source *s, int64_t now_ns)
 /* The device failed or went away: close it, report it lost, and plan the first re-open. */
 static void device_lost(fv_gaze_source *s, fv_result why, int64_t now_ns)
 {
-    FV_WARN("devices", "%s: device lost (%s); re-opening with backoff", s->uri, fv_result_str(why));
+    FV_WARN_RL(&s->rl_lost, "devices", "%s: device lost (%s); re-opening with backoff", s->uri, fv_result_str(why));
     fv_device_close(&s->dev);
     atomic_store(&s->last_error, (int)why);
     atomic_fetch_add(&s->losses, 1);
@@ -107,8 +110,8 @@ static void try_reopen(fv_gaze_source *s, int64_t now_ns)
     if (r == FV_OK && dev) {
         s->dev = dev;
         atomic_fetch_add(&s->reopens, 1);
-        FV_WARN("devices", "%s: device back (%llu failed re-opens so far)", s->uri,
-                (unsigned long long)atomic_load(&s->open_failures)); /* pairs with the "lost" warning */
+        FV_WARN_RL(&s->rl_back, "devices", "%s: device back (%llu failed re-opens so far)", s->uri,
+                   (unsigned long long)atomic_load(&s->open_failures)); /* pairs with the "lost" warning */
         set_state(s, FV_GAZE_SOURCE_CONNECTED);
         return;
     }
@@ -228,6 +231,9 @@ fv_result fv_gaze_source_create(const fv_gaze_source_desc *desc, fv_gaze_source 
     r = FV_ERR_NO_MEMORY;
     s = calloc(1, sizeof *s);
     if (!s) goto fail;
+    s->clock = desc->mode == FV_GAZE_SOURCE_INLINE ? desc->clock : fv_clock_monotonic();
+    fv_log_ratelimit_init(&s->rl_lost, 5, 30 * FV_NS_PER_S, s->clock);
+    fv_log_ratelimit_init(&s->rl_back, 5, 30 * FV_NS_PER_S, s->clock);
     s->uri = strdup(desc->uri);
     s->batch = desc->read_batch ? desc->read_batch : 32;
     s->buf = calloc(s->batch, sizeof *s->buf);
@@ -236,7 +242,6 @@ fv_result fv_gaze_source_create(const fv_gaze_source_desc *desc, fv_gaze_source 
     s->open_user = desc->open_user;
     s->open_desc = desc->open_desc;
     s->mode = desc->mode;
-    s->clock = desc->mode == FV_GAZE_SOURCE_INLINE ? desc->clock : fv_clock_monotonic();
     s->timeout_ms = desc->read_timeout_ms ? desc->read_timeout_ms : 10;
     s->poll_max = desc->poll_max_samples;
     s->retry_min_ns = desc->retry_min_ns ? desc->retry_min_ns : 50 * FV_NS_PER_MS;
@@ -320,6 +325,8 @@ void fv_gaze_source_destroy(fv_gaze_source **source)
         pthread_mutex_destroy(&s->lock);
     }
     fv_device_close(&s->dev);
+    fv_log_ratelimit_flush(&s->rl_lost);
+    fv_log_ratelimit_flush(&s->rl_back);
     fv_ring_destroy(&s->ring);
     free(s->buf);
     free(s->uri);

@@ -13,6 +13,8 @@
 #define MOD "hid"
 #define REPORT_BUF 4097
 #define DRAIN_MAX 65536 /* stale reports discarded at most at open (a flood never hangs the open) */
+#define MALFORMED_LINES 5 /* malformed reports reported per window, then one summary (fv_log_ratelimit) */
+#define MALFORMED_WINDOW_NS (30 * FV_NS_PER_S)
 
 typedef struct hid_device {
     fv_device base; /* first: fv_device_close frees through ops */
@@ -24,6 +26,7 @@ typedef struct hid_device {
     fv_gaze_unwrap unwrap;
     bool unwrap_on;
     fv_hid_device_stats stats;
+    fv_log_ratelimit rl_malformed;
     uint64_t seq;
     bool lost;
     uint8_t buf[REPORT_BUF];
@@ -33,11 +36,9 @@ static const fv_device_ops g_hid_device_ops;
 
 static void log_malformed(hid_device *h, const char *why)
 {
-    /* Rate-limited: the first few, then one in a thousand, so a flood of bad reports cannot flood the log. */
-    uint64_t n = h->stats.malformed;
-    if (n <= 5 || n % 1000 == 0)
-        FV_WARN(MOD, "%s: skipped report #%llu (%s); %llu skipped so far", h->base.info.uri,
-                (unsigned long long)h->stats.reports, why, (unsigned long long)n);
+    /* Rate-limited over time, so a flood of bad reports cannot flood the log. */
+    FV_WARN_RL(&h->rl_malformed, MOD, "%s: skipped report #%llu (%s); %llu skipped so far", h->base.info.uri,
+               (unsigned long long)h->stats.reports, why, (unsigned long long)h->stats.malformed);
 }
 
 /* One input report → 0 or 1 sample. */
@@ -117,6 +118,7 @@ static void device_close(fv_device *dev)
 {
     hid_device *h = (hid_device *)dev;
     if (!h) return;
+    fv_log_ratelimit_flush(&h->rl_malformed);
     fv_hid_transport_destroy(&h->transport);
     free(h->desc);
     free(h);
@@ -179,6 +181,7 @@ fv_result fv_hid_device_open_transport(fv_hid_transport *t, const fv_hid_device_
         goto fail;
     }
     h = calloc(1, sizeof *h);
+    if (h) fv_log_ratelimit_init(&h->rl_malformed, MALFORMED_LINES, MALFORMED_WINDOW_NS, desc ? desc->clock : NULL);
     if (!h || !(h->desc = calloc(1, sizeof *h->desc))) {
         r = FV_ERR_NO_MEMORY;
         goto fail;

@@ -9,6 +9,13 @@
 #include "fv_log.h"
 
 #define MOD "hid"
+/* An error about one report: a device can send the same bad report at its full rate, so each call site logs through
+ * its own rate limit (5 lines per 30 s, then a summary with the count). */
+#define REPORT_ERROR(...)                                                                                              \
+    do {                                                                                                               \
+        static fv_log_ratelimit rl_ = FV_LOG_RATELIMIT_INIT(5, 30);                                                    \
+        FV_ERROR_RL(&rl_, MOD, __VA_ARGS__);                                                                           \
+    } while (0)
 
 /* The quirks table. Page 0x12 has no pupil usage, so a vendor that sends pupil diameter in a vendor usage is listed
  * here by VID/PID. Entries need no code. */
@@ -173,21 +180,21 @@ fv_result fv_hid_report_check(const fv_hid_descriptor *d, fv_hid_report_type typ
     uint8_t id = 0;
     if (d->uses_report_ids) {
         if (len < 1) {
-            FV_ERROR(MOD, "empty %s report", fv_hid_report_type_name(type));
+            REPORT_ERROR("empty %s report", fv_hid_report_type_name(type));
             return FV_ERR_PROTOCOL;
         }
         id = report[0];
     }
     const fv_hid_report *r = fv_hid_descriptor_find_report(d, type, id);
     if (!r) {
-        FV_ERROR(MOD, "%s report with ID 0x%02x (%zu bytes): the descriptor declares no such %s report",
-                 fv_hid_report_type_name(type), id, len, fv_hid_report_type_name(type));
+        REPORT_ERROR("%s report with ID 0x%02x (%zu bytes): the descriptor declares no such %s report",
+                     fv_hid_report_type_name(type), id, len, fv_hid_report_type_name(type));
         return FV_ERR_PROTOCOL;
     }
     size_t want = fv_hid_report_byte_length(d, r);
     if (len < want) {
-        FV_ERROR(MOD, "%s report 0x%02x is %zu bytes, the descriptor declares %zu", fv_hid_report_type_name(type), id,
-                 len, want);
+        REPORT_ERROR("%s report 0x%02x is %zu bytes, the descriptor declares %zu", fv_hid_report_type_name(type), id,
+                     len, want);
         return FV_ERR_PROTOCOL;
     }
     if (out_report) *out_report = r;
@@ -273,7 +280,7 @@ fv_result fv_hid_eyetracker_decode_tracking(const fv_hid_descriptor *d, const fv
     const fv_hid_report *r;
     FV_TRY(fv_hid_report_check(d, FV_HID_REPORT_INPUT, report, len, &r));
     if (r->id != m->tracking_id) {
-        FV_ERROR(MOD, "input report 0x%02x is not Tracking Data (0x%02x)", r->id, m->tracking_id);
+        REPORT_ERROR("input report 0x%02x is not Tracking Data (0x%02x)", r->id, m->tracking_id);
         return FV_ERR_PROTOCOL;
     }
     size_t plen;
@@ -288,8 +295,8 @@ fv_result fv_hid_eyetracker_decode_tracking(const fv_hid_descriptor *d, const fv
     if (!fv_hid_unit_time_to_ns(tf->unit, tf->unit_exponent, &k_ns)) k_ns = 1000.0; /* page 0x12: µs */
     double t_ns = (double)raw_ts * k_ns;
     if (!(t_ns < 9.2e18)) {
-        FV_ERROR(MOD, "tracking report: Sensor Timestamp %llu does not fit a 64-bit nanosecond time",
-                 (unsigned long long)raw_ts);
+        REPORT_ERROR("tracking report: Sensor Timestamp %llu does not fit a 64-bit nanosecond time",
+                     (unsigned long long)raw_ts);
         return FV_ERR_PROTOCOL;
     }
     int64_t k_int = (int64_t)llround(k_ns);
@@ -419,14 +426,14 @@ static fv_result check_feature(const fv_hid_descriptor *d, fv_hid_report_type ty
                                const char *what, const uint8_t *report, size_t len)
 {
     if (key.field < 0) {
-        FV_ERROR(MOD, "the descriptor declares no %s report", what);
+        REPORT_ERROR("the descriptor declares no %s report", what);
         return FV_ERR_UNSUPPORTED;
     }
     const fv_hid_report *r;
     FV_TRY(fv_hid_report_check(d, type, report, len, &r));
     if (r->id != d->fields[key.field].report_id) {
-        FV_ERROR(MOD, "%s report 0x%02x is not the %s report (0x%02x)", fv_hid_report_type_name(type), r->id, what,
-                 d->fields[key.field].report_id);
+        REPORT_ERROR("%s report 0x%02x is not the %s report (0x%02x)", fv_hid_report_type_name(type), r->id, what,
+                     d->fields[key.field].report_id);
         return FV_ERR_PROTOCOL;
     }
     return FV_OK;

@@ -15,6 +15,9 @@ extern const fv_driver fv_pupil_driver;
 #define FV_PUPIL_DEFAULT_PORT 50020
 /** Largest gaze payload decoded (Capture's binocular 3D datum with its two pupil datums is about 2 KiB). */
 #define FV_PUPIL_MAX_PAYLOAD 65536
+/** Deepest nesting of arrays and maps decoded (Capture's gaze datum nests 5: datum, base_data, pupil datum, its
+ *  ellipse, the ellipse's centre). */
+#define FV_PUPIL_MAX_DEPTH 16
 
 /** Pinhole model of the scene (world) camera, used to turn the 2D pipeline's norm_pos into a direction. Pixels,
  *  origin top-left. Default: Pupil Core's world camera at 1280x720 with an 800 px focal length, principal point at
@@ -45,7 +48,9 @@ FV_MUST_CHECK fv_result fv_pupil_uri_parse(const char *uri, fv_pupil_uri *out);
  *  the combined direction from norm_pos through the camera model. The pupil diameter comes from base_data's
  *  diameter_3d (mm). Sets t_device_ns (Pupil time, ns) and seq = 0; t_host_ns is left 0. A datum below
  *  min_confidence is FV_OK with every eye invalid. FV_ERR_PARSE for a malformed message, with the reason (the field
- *  and what is wrong with it) in why. Pure: no I/O, no clock, no logging. */
+ *  and what is wrong with it) in why. Before anything is unpacked the payload is walked once: a count or size
+ *  larger than the bytes left, nesting deeper than FV_PUPIL_MAX_DEPTH, a truncated or trailing value is refused, so
+ *  what is allocated is bounded by the payload's length. Pure: no I/O, no clock, no logging. */
 FV_MUST_CHECK fv_result fv_pupil_decode_gaze(const char *topic, size_t topic_len, const void *payload, size_t len,
                                              const fv_pupil_camera *camera, double min_confidence,
                                              fv_gaze_sample *out, char *why, size_t why_cap);

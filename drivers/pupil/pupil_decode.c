@@ -258,6 +258,92 @@ static fv_result decode_map(dec *d, const msgpack_object *m, int mono_eye, const
     return FV_OK;
 }
 
+/* Big-endian unsigned of n bytes at p. */
+static uint64_t be(const uint8_t *p, unsigned n)
+{
+    uint64_t v = 0;
+    for (unsigned i = 0; i < n; i++) v = v << 8 | p[i];
+    return v;
+}
+
+/* One msgpack value must fill the payload exactly. A syntactic walk (no allocation, an explicit stack of
+ * FV_PUPIL_MAX_DEPTH levels): each header must be complete, each string/bin/ext size and each array/map count must
+ * fit in the bytes left (an element takes at least one byte), the value must end where the payload does. After it,
+ * msgpack-c allocates at most one object per payload byte. */
+static fv_result precheck(dec *d, const uint8_t *p, size_t len)
+{
+    uint64_t items[FV_PUPIL_MAX_DEPTH + 1]; /* values still to read at each open level; [0]: the top value */
+    int depth = 0;
+    items[0] = 1;
+    size_t off = 0;
+    while (depth >= 0) {
+        if (items[depth] == 0) {
+            depth--;
+            continue;
+        }
+        items[depth]--;
+        if (off >= len) return fail(d, "payload is not msgpack: truncated after %zu bytes (a value is missing)", len);
+        size_t at = off;
+        uint8_t b = p[off];
+        unsigned hdr = 1, lenb = 0; /* header bytes; bytes of its size/count field (after the type byte) */
+        uint64_t size = 0, count = 0; /* payload bytes; elements (a map's entries count twice) */
+        const char *what = NULL;      /* a container or sized value, for the reason */
+        bool map = false;
+        if (b <= 0x7f || b >= 0xe0 || b == 0xc0 || b == 0xc2 || b == 0xc3) {
+            /* fixint, nil, bool */
+        } else if (b <= 0x8f) {
+            count = 2u * (b & 0x0fu), what = "a map", map = true;
+        } else if (b <= 0x9f) {
+            count = b & 0x0fu, what = "an array";
+        } else if (b <= 0xbf) {
+            size = b & 0x1fu, what = "a string";
+        } else if (b == 0xc1) {
+            return fail(d, "payload is not msgpack (parse error: byte 0x%02x at offset %zu is never used in msgpack)",
+                        b, at);
+        } else if (b >= 0xc4 && b <= 0xc6) { /* bin 8/16/32 */
+            lenb = 1u << (b - 0xc4), hdr = 1 + lenb, what = "binary data";
+        } else if (b >= 0xc7 && b <= 0xc9) { /* ext 8/16/32: size, then the type byte */
+            lenb = 1u << (b - 0xc7), hdr = 2 + lenb, what = "an extension";
+        } else if (b == 0xca || b == 0xcb) {
+            hdr = b == 0xca ? 5 : 9;
+        } else if ((b >= 0xcc && b <= 0xcf) || (b >= 0xd0 && b <= 0xd3)) {
+            hdr = 1 + (1u << (b & 3u));
+        } else if (b >= 0xd4 && b <= 0xd8) { /* fixext 1/2/4/8/16 */
+            hdr = 2 + (1u << (b - 0xd4));
+        } else if (b >= 0xd9 && b <= 0xdb) { /* str 8/16/32 */
+            lenb = 1u << (b - 0xd9), hdr = 1 + lenb, what = "a string";
+        } else if (b == 0xdc || b == 0xdd) {
+            lenb = b == 0xdc ? 2 : 4, hdr = 1 + lenb, what = "an array";
+        } else { /* 0xde, 0xdf */
+            lenb = b == 0xde ? 2 : 4, hdr = 1 + lenb, what = "a map", map = true;
+        }
+        if (len - off < hdr)
+            return fail(d, "payload is not msgpack: truncated after %zu bytes (a header of %u bytes at offset %zu)",
+                        len, hdr, at);
+        if (lenb) {
+            uint64_t n = be(p + off + 1, lenb);
+            if (b >= 0xdc) count = map ? 2 * n : n;
+            else size = n;
+        }
+        off += hdr;
+        size_t left = len - off;
+        if (size > left)
+            return fail(d, "payload is not msgpack: truncated or corrupt: %s of %llu bytes at offset %zu, %zu bytes "
+                        "left", what, (unsigned long long)size, at, left);
+        if (count > left)
+            return fail(d, "payload is not msgpack: truncated or corrupt: %s of %llu %s at offset %zu, %zu bytes left",
+                        what, (unsigned long long)(map ? count / 2 : count), map ? "entries" : "elements", at, left);
+        off += (size_t)size;
+        if (count) {
+            if (depth == FV_PUPIL_MAX_DEPTH)
+                return fail(d, "payload nests deeper than %d levels (at offset %zu)", FV_PUPIL_MAX_DEPTH, at);
+            items[++depth] = count;
+        }
+    }
+    if (off != len) return fail(d, "payload has %zu bytes after its msgpack value", len - off);
+    return FV_OK;
+}
+
 fv_result fv_pupil_decode_gaze(const char *topic, size_t topic_len, const void *payload, size_t len,
                                const fv_pupil_camera *camera, double min_confidence, fv_gaze_sample *out, char *why,
                                size_t why_cap)
@@ -272,15 +358,17 @@ fv_result fv_pupil_decode_gaze(const char *topic, size_t topic_len, const void *
     if (!payload || len == 0) return fail(&d, "empty payload");
     if (len > FV_PUPIL_MAX_PAYLOAD) return fail(&d, "payload of %zu bytes exceeds %d", len, FV_PUPIL_MAX_PAYLOAD);
 
+    /* msgpack-c allocates each array and map as its header says, before it reads the elements: a 5-byte map32
+     * header claiming 2^32 entries is a 192 GiB request. The walk below bounds every count and size by the bytes
+     * the message has left, and the depth, before msgpack-c sees the bytes. */
+    FV_TRY(precheck(&d, (const uint8_t *)payload, len));
     msgpack_unpacked u;
     msgpack_unpacked_init(&u);
     size_t off = 0;
     fv_result r;
     msgpack_unpack_return ur = msgpack_unpack_next(&u, (const char *)payload, len, &off);
-    if (ur == MSGPACK_UNPACK_CONTINUE) r = fail(&d, "payload is not msgpack: truncated after %zu bytes", len);
-    else if (ur != MSGPACK_UNPACK_SUCCESS && ur != MSGPACK_UNPACK_EXTRA_BYTES)
-        r = fail(&d, "payload is not msgpack (%s)", ur == MSGPACK_UNPACK_NOMEM_ERROR ? "too deep" : "parse error");
-    else if (off != len) r = fail(&d, "payload has %zu bytes after its msgpack value", len - off);
+    if (ur != MSGPACK_UNPACK_SUCCESS && ur != MSGPACK_UNPACK_EXTRA_BYTES) /* the walk passed: out of memory */
+        r = fail(&d, "payload could not be unpacked (msgpack-c: %d)", (int)ur);
     else if (u.data.type != MSGPACK_OBJECT_MAP) r = fail(&d, "payload is %s, not a map", type_name(u.data.type));
     else r = decode_map(&d, &u.data, topic_eye(topic, topic_len), &cam, min_confidence, out);
     msgpack_unpacked_destroy(&u);

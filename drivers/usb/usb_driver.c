@@ -37,7 +37,9 @@ static fv_result map_err(usb_transport *u, int rc, const char *what)
         u->lost = true;
         return FV_ERR_DEVICE_LOST;
     }
-    FV_ERROR(MOD, "%s: %s failed: %s", u->base.path, what, libusb_error_name(rc));
+    /* once per transfer (each interrupt-IN read): a failing device would repeat it at its full rate */
+    static fv_log_ratelimit rl = FV_LOG_RATELIMIT_INIT(5, 30);
+    FV_ERROR_RL(&rl, MOD, "%s: %s failed: %s", u->base.path, what, libusb_error_name(rc));
     return FV_ERR_IO;
 }
 

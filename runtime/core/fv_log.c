@@ -1,6 +1,8 @@
 /* @brief Logging implementation: a default stderr sink, a replaceable sink, per-module levels. */
 #include "fv_log.h"
 
+#include "fv_clock.h"
+
 #include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -206,6 +208,105 @@ void fv_log_write(fv_log_level level, const char *module, const char *file, int 
         b->kinds[slot].first[n] = '\0';
     }
     emit(level, module, file, line, msg);
+}
+
+/* ---- rate limit over time ---- */
+
+#define RL_DEFAULT_BURST 10u
+#define RL_DEFAULT_WINDOW_NS (5 * FV_NS_PER_S)
+
+void fv_log_ratelimit_init(fv_log_ratelimit *rl, unsigned burst, int64_t window_ns, const struct fv_clock *clock)
+{
+    memset(rl, 0, sizeof *rl);
+    pthread_mutex_init(&rl->lock, NULL);
+    rl->burst = burst;
+    rl->window_ns = window_ns;
+    rl->clock = clock;
+}
+
+static int64_t rl_now(const fv_log_ratelimit *rl)
+{
+    return fv_clock_now_ns(rl->clock ? rl->clock : fv_clock_monotonic());
+}
+
+static int64_t rl_window(const fv_log_ratelimit *rl)
+{
+    return rl->window_ns > 0 ? rl->window_ns : RL_DEFAULT_WINDOW_NS;
+}
+
+/* Close the open window: its summary when something was counted. Called with the lock held (the summary must come
+ * out before the message that opens the next window). */
+static void rl_close_locked(fv_log_ratelimit *rl, int64_t now)
+{
+    if (rl->open && rl->suppressed) {
+        int64_t span = now > rl->window_start_ns ? now - rl->window_start_ns : 0;
+        fv_log_write(rl->level, rl->module, rl->file, rl->line, "... %llu more like this in the last %.1f s; the "
+                     "first: %s", rl->suppressed, (double)span * 1e-9, rl->first);
+    }
+    rl->open = 0;
+    rl->shown = 0;
+    rl->suppressed = 0;
+}
+
+static int rl_window_over(const fv_log_ratelimit *rl, int64_t now)
+{
+    return rl->open && now - rl->window_start_ns >= rl_window(rl);
+}
+
+void fv_log_ratelimit_write(fv_log_ratelimit *rl, fv_log_level level, const char *module, const char *file, int line,
+                            const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    pthread_mutex_lock(&rl->lock);
+    int64_t now = rl_now(rl);
+    if (rl_window_over(rl, now)) rl_close_locked(rl, now);
+    if (!rl->open) {
+        rl->open = 1;
+        rl->window_start_ns = now;
+    }
+    if (rl->shown < (rl->burst ? rl->burst : RL_DEFAULT_BURST)) {
+        rl->shown++;
+        va_start(ap, fmt);
+        vsnprintf(msg, sizeof msg, fmt, ap);
+        va_end(ap);
+        fv_log_write(level, module, file, line, "%s", msg);
+    } else {
+        if (rl->suppressed++ == 0) { /* the first counted one: kept for the summary */
+            va_start(ap, fmt);
+            vsnprintf(rl->first, sizeof rl->first, fmt, ap);
+            va_end(ap);
+            rl->level = level;
+            rl->module = module;
+            rl->file = file;
+            rl->line = line;
+        }
+        rl->total_suppressed++;
+    }
+    pthread_mutex_unlock(&rl->lock);
+}
+
+void fv_log_ratelimit_tick(fv_log_ratelimit *rl)
+{
+    pthread_mutex_lock(&rl->lock);
+    int64_t now = rl_now(rl);
+    if (rl_window_over(rl, now)) rl_close_locked(rl, now);
+    pthread_mutex_unlock(&rl->lock);
+}
+
+void fv_log_ratelimit_flush(fv_log_ratelimit *rl)
+{
+    pthread_mutex_lock(&rl->lock);
+    rl_close_locked(rl, rl_now(rl));
+    pthread_mutex_unlock(&rl->lock);
+}
+
+unsigned long long fv_log_ratelimit_suppressed(fv_log_ratelimit *rl)
+{
+    pthread_mutex_lock(&rl->lock);
+    unsigned long long n = rl->total_suppressed;
+    pthread_mutex_unlock(&rl->lock);
+    return n;
 }
 
 static void emit(fv_log_level level, const char *module, const char *file, int line, const char *msg)

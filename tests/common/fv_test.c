@@ -261,6 +261,25 @@ int fv_test_log_count(fv_log_level at_most)
     return n;
 }
 
+int fv_test_log_lines(const char *needle, unsigned long long *sum)
+{
+    int n = 0;
+    if (sum) *sum = 0;
+    for (const char *p = fv_test_log_text(); *p;) {
+        const char *end = strchr(p, '\n');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        char line[1500];
+        snprintf(line, sizeof line, "%.*s", (int)len, p);
+        if (strstr(line, needle)) {
+            n++;
+            const char *dots = strstr(line, "... ");
+            if (sum && dots) *sum += strtoull(dots + 4, NULL, 10);
+        }
+        p += len + (end ? 1 : 0);
+    }
+    return n;
+}
+
 double fv_test_normal(uint64_t *rng)
 {
     double u[2];

@@ -65,6 +65,9 @@ void fv_test_log_capture_end(void);
 const char *fv_test_log_text(void);
 /** Number of captured messages at or above `level` (error=0 is highest). */
 int fv_test_log_count(fv_log_level at_most);
+/** Captured lines that contain `needle`; with sum (may be NULL), the sum of the counts that follow "... " in them
+ *  (the summaries of fv_log_ratelimit: "... N more like this in the last T s; the first: ..."). */
+int fv_test_log_lines(const char *needle, unsigned long long *sum);
 /** Assert that the captured text contains `needle`. */
 #define fv_assert_log_contains(needle)                                                                                 \
     do {                                                                                                               \

@@ -141,16 +141,23 @@ static void simulated_eye_runs_end_to_end_through_the_virtual_tracker(void **sta
     fv_vhid_destroy(&v);
 }
 
+/* The driver on a virtual tracker's fake transport; fake feeds it. */
+static fv_device *open_virtual(fv_vhid **v, fv_hid_fake **fake)
+{
+    assert_int_equal(fv_vhid_create(NULL, v), FV_OK);
+    fv_hid_transport *t;
+    assert_int_equal(fv_vhid_transport_create(*v, &t, fake), FV_OK);
+    fv_device *dev;
+    assert_int_equal(fv_hid_device_open_transport(t, NULL, &dev), FV_OK);
+    return dev;
+}
+
 static void malformed_and_status_reports_in_the_stream_are_skipped(void **state)
 {
     (void)state;
     fv_vhid *v;
-    assert_int_equal(fv_vhid_create(NULL, &v), FV_OK);
-    fv_hid_transport *t;
     fv_hid_fake *fake;
-    assert_int_equal(fv_vhid_transport_create(v, &t, &fake), FV_OK);
-    fv_device *dev;
-    assert_int_equal(fv_hid_device_open_transport(t, NULL, &dev), FV_OK);
+    fv_device *dev = open_virtual(&v, &fake);
 
     fv_gaze_sample s;
     fv_gaze_sample_init_invalid(&s, 1000000, 0);
@@ -187,6 +194,31 @@ static void malformed_and_status_reports_in_the_stream_are_skipped(void **state)
     assert_int_equal(st.status_reports, 1);
     assert_true(dev->nominal_rate_hz == 90.0);
     fv_device_close(&dev);
+    fv_vhid_destroy(&v);
+}
+
+/* A tracker that sends 1000 bad reports: a few lines, then one summary with the exact count of the rest (the log
+ * rate limit over time; the original printed 5 lines, then one per 1000, and never said how many it left out). */
+static void a_flood_of_bad_reports_is_rate_limited(void **state)
+{
+    (void)state;
+    fv_vhid *v;
+    fv_hid_fake *fake;
+    fv_device *dev = open_virtual(&v, &fake);
+    uint8_t wrong[4] = {0x42, 1, 2, 3};
+    for (int i = 0; i < 1000; i++) assert_int_equal(fv_hid_fake_push_input(fake, wrong, sizeof wrong), FV_OK);
+    fv_gaze_sample out[8];
+    size_t count = 0;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_device_read(dev, out, 8, &count, 0), FV_TIMEOUT);
+    fv_device_close(&dev); /* the summary of the open window */
+    fv_test_log_capture_end();
+    unsigned long long summarised = 0;
+    int summaries = fv_test_log_lines("more like this in the last", &summarised);
+    int shown = fv_test_log_lines("skipped report", NULL) - summaries;
+    assert_int_equal(summaries, 1);
+    assert_true(shown >= 1 && shown <= 5);
+    assert_true((unsigned long long)shown + summarised == 1000);
     fv_vhid_destroy(&v);
 }
 
@@ -284,6 +316,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(simulated_eye_runs_end_to_end_through_the_virtual_tracker),
         cmocka_unit_test(malformed_and_status_reports_in_the_stream_are_skipped),
+        cmocka_unit_test(a_flood_of_bad_reports_is_rate_limited),
         cmocka_unit_test(microsoft_descriptor_on_the_fake_transport),
         cmocka_unit_test(a_non_eye_tracker_is_refused_at_open),
         cmocka_unit_test(uris_parse_and_bad_ones_say_why),

@@ -21,6 +21,13 @@ static int bound_port(void *s)
 
 int64_t fake_capture_pupil_now_ns(const fake_capture *f) { return fv_time_monotonic_ns() + f->offset_ns; }
 
+static void sleep_ns(int64_t ns)
+{
+    if (ns <= 0) return;
+    struct timespec ts = {(time_t)(ns / 1000000000), (long)(ns % 1000000000)};
+    nanosleep(&ts, NULL);
+}
+
 static void *rep_main(void *arg)
 {
     fake_capture *f = arg;
@@ -32,20 +39,21 @@ static void *rep_main(void *arg)
         if (n < 0) continue;
         req[n < (int)sizeof req - 1 ? n : (int)sizeof req - 1] = '\0';
         char reply[64];
+        const char *out = reply;
+        size_t len;
         if (strcmp(req, "SUB_PORT") == 0) snprintf(reply, sizeof reply, "%d", f->sub_port);
         else if (strcmp(req, "t") == 0) snprintf(reply, sizeof reply, "%.9f", (double)fake_capture_pupil_now_ns(f) * 1e-9);
         else if (strcmp(req, "v") == 0) snprintf(reply, sizeof reply, "3.5.fake");
         else snprintf(reply, sizeof reply, "Unknown command.");
-        zmq_send(f->rep, reply, strlen(reply), 0);
+        len = strlen(reply);
+        if (strcmp(req, "t") == 0) {
+            if (f->t_delay_ms > 0) sleep_ns(f->t_delay_ms * INT64_C(1000000));
+            if (f->t_reply) out = f->t_reply, len = f->t_reply_len;
+            atomic_fetch_add(&f->t_requests, 1);
+        }
+        zmq_send(f->rep, out, len, 0);
     }
     return NULL;
-}
-
-static void sleep_ns(int64_t ns)
-{
-    if (ns <= 0) return;
-    struct timespec ts = {(time_t)(ns / 1000000000), (long)(ns % 1000000000)};
-    nanosleep(&ts, NULL);
 }
 
 static void *pub_main(void *arg)

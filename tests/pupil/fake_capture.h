@@ -28,6 +28,12 @@ typedef struct fake_capture {
     atomic_int subscribed, published;
     const fake_msg *script;
     size_t script_len;
+    /* Pupil Remote's answer to `t` (set after start, before the driver asks): t_reply_len bytes of t_reply instead
+     * of the time when t_reply is set; answered only after t_delay_ms when that is > 0 (too late: no answer). */
+    const char *t_reply;
+    size_t t_reply_len;
+    int t_delay_ms;
+    atomic_int t_requests; /* `t` requests answered so far */
 } fake_capture;
 
 /** Start Pupil Remote on remote_port (0 = any free port) with the Pupil clock at pupil_now_ns now. */

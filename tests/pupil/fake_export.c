@@ -176,3 +176,46 @@ void fake_row_message(const row *r, size_t i, fake_msg *m)
     m->due_pupil_ns = (int64_t)llround(r->ts * 1e9);
 }
 
+
+size_t fake_hostile_payload(size_t i, unsigned char *buf, size_t cap, const char **name, const char **phrase)
+{
+    static const struct {
+        const char *name, *bytes, *phrase;
+        size_t len;
+    } fixed[] = {
+        {"map32", "\xdf\xff\xff\xff\xff", "a map of 4294967295 entries at offset 0, 0 bytes left", 5},
+        {"array32", "\xdd\xff\xff\xff\xff", "an array of 4294967295 elements at offset 0, 0 bytes left", 5},
+        {"str32", "\xdb\xff\xff\xff\xff", "a string of 4294967295 bytes at offset 0", 5},
+        {"bin32", "\xc6\xff\xff\xff\xff", "binary data of 4294967295 bytes at offset 0", 5},
+        {"ext32", "\xc9\xff\xff\xff\xff\x01", "an extension of 4294967295 bytes at offset 0", 6},
+        {"field_array32", "\x81\xa9timestamp\xdd\x7f\xff\xff\xff",
+         "an array of 2147483647 elements at offset 11, 0 bytes left", 16},
+        {"map32_header_cut", "\xdf\xff\xff", "truncated after 3 bytes (a header of 5 bytes at offset 0)", 3},
+    };
+    const size_t nfixed = sizeof fixed / sizeof fixed[0];
+    size_t len = 0;
+    const char *nm = NULL, *ph = NULL;
+    if (i < nfixed) {
+        memcpy(buf, fixed[i].bytes, fixed[i].len);
+        len = fixed[i].len, nm = fixed[i].name, ph = fixed[i].phrase;
+    } else if (i == nfixed) { /* map16 of 65535 entries followed by 100 bytes */
+        buf[0] = 0xde, buf[1] = 0xff, buf[2] = 0xff;
+        memset(buf + 3, 0, 100);
+        len = 103, nm = "map16_100", ph = "a map of 65535 entries at offset 0, 100 bytes left";
+    } else if (i == nfixed + 1) { /* arrays nested 17 deep (msgpack-c itself goes to 32) */
+        memset(buf, 0x91, 17);
+        buf[17] = 0x00;
+        len = 18, nm = "deep17", ph = "nests deeper than 16 levels (at offset 16)";
+    } else { /* a gaze datum whose base_data nests 200 deep */
+        size_t n = 0;
+        buf[n++] = 0x81;
+        buf[n++] = 0xa9;
+        memcpy(buf + n, "base_data", 9), n += 9;
+        while (n < 211 && n < cap - 1) buf[n++] = 0x91;
+        buf[n++] = 0xc0;
+        len = n, nm = "deep200", ph = "nests deeper than 16 levels";
+    }
+    if (name) *name = nm;
+    if (phrase) *phrase = ph;
+    return len;
+}

@@ -35,4 +35,19 @@ row *fake_export_rows(size_t *out_n);
 /** The gaze datum Capture would publish for row r (index i), due at the row's Pupil time. */
 void fake_row_message(const row *r, size_t i, fake_msg *m);
 
+/** Hostile msgpack payloads (a hostile-server probe's findings): headers whose counts and sizes the bytes cannot hold
+ *  (the 5-byte map32 that asked msgpack-c for 192 GiB), nesting past the limit. Each with the phrase the decoder's
+ *  reason must hold. For the unit test and the fuzzer's seeds. */
+#define FAKE_HOSTILE_COUNT 10
+/** Fill buf (cap >= 256) with hostile payload i; returns its length; name (a file name) and phrase may be NULL. */
+size_t fake_hostile_payload(size_t i, unsigned char *buf, size_t cap, const char **name, const char **phrase);
+/** Topics the fuzzer picks from by the input's first byte (modulo FAKE_FUZZ_TOPICS). */
+#define FAKE_FUZZ_TOPICS 6u
+static inline const char *fake_fuzz_topic(unsigned i)
+{
+    static const char *const topics[FAKE_FUZZ_TOPICS] = {"gaze.3d.01.", "gaze.3d.0.", "gaze.3d.1.",
+                                                         "gaze.2d.0.",  "gaze.2d.1.", "pupil.0.3d"};
+    return topics[i % FAKE_FUZZ_TOPICS];
+}
+
 #endif

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <msgpack.h>
 
@@ -23,7 +24,7 @@ typedef struct bad_kind {
 } bad_kind;
 
 static const bad_kind g_bad[] = {
-    {"payload is not msgpack (parse error)"},
+    {"payload is not msgpack (parse error: byte 0xc1 at offset 0"},
     {"truncated"},
     {"missing field 'timestamp'"},
     {"field 'timestamp' is a string, not a number"},
@@ -232,6 +233,55 @@ static void decode_rejects_each_malformed_kind(void **state)
     free(rows);
 }
 
+/* A hostile server's payloads: every count and size is bounded by the bytes the message has left, and the depth, before
+ * msgpack-c allocates (the 5-byte map32 asked it for 192 GiB: under ASan the original aborted here). Each is refused
+ * with the reason: what claims how much, where, and what is left. */
+static void decode_bounds_what_it_allocates_by_the_message(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < FAKE_HOSTILE_COUNT; i++) {
+        unsigned char buf[256];
+        const char *name, *phrase;
+        fake_msg m = {0};
+        m.payload = buf;
+        m.len = fake_hostile_payload(i, buf, sizeof buf, &name, &phrase);
+        fv_gaze_sample s;
+        char why[160];
+        assert_int_equal(decode("gaze.3d.01.", &m, &s, why), FV_ERR_PARSE);
+        if (!strstr(why, phrase)) fail_msg("%s: expected '%s' in '%s'", name, phrase, why);
+        assert_false(s.combined.flags & FV_EYE_DIRECTION_VALID);
+    }
+    /* within the bounds: an array of 60,000 empty maps fills 60,005 bytes exactly; decoded, then refused as not a
+     * map (msgpack-c allocates one object per element: bounded by the payload) */
+    size_t len = 5 + 60000;
+    unsigned char *big = malloc(len);
+    big[0] = 0xdd, big[1] = 0, big[2] = 0, big[3] = 0xea, big[4] = 0x60;
+    memset(big + 5, 0x80, 60000);
+    fake_msg m = {.payload = big, .len = len};
+    fv_gaze_sample s;
+    char why[160];
+    assert_int_equal(decode("gaze.3d.01.", &m, &s, why), FV_ERR_PARSE);
+    fv_assert_contains(why, "payload is an array, not a map");
+    big[4] = 0x61; /* one element more than the bytes hold */
+    assert_int_equal(decode("gaze.3d.01.", &m, &s, why), FV_ERR_PARSE);
+    fv_assert_contains(why, "an array of 60001 elements at offset 0, 60000 bytes left");
+    free(big);
+    /* a real datum with one byte more: trailing bytes */
+    size_t n;
+    row *rows = fake_export_rows(&n);
+    fake_msg good;
+    fake_row_message(&rows[0], 0, &good);
+    unsigned char *more = malloc(good.len + 1);
+    memcpy(more, good.payload, good.len);
+    more[good.len] = 0xc0;
+    fake_msg t = {.payload = more, .len = good.len + 1};
+    assert_int_equal(decode(good.topic, &t, &s, why), FV_ERR_PARSE);
+    fv_assert_contains(why, "payload has 1 bytes after its msgpack value");
+    free(more);
+    free(good.payload);
+    free(rows);
+}
+
 /* Extremes that are valid messages: a zero gaze normal, huge eye centres, pupil 0 and 25 mm, confidence 0 and 1.
  * Nothing non-finite comes out; what cannot be a measurement stays invalid. */
 static void decode_extremes_stay_finite(void **state)
@@ -314,6 +364,17 @@ static bool near3(fv_vec3 a, fv_vec3 b, float tol)
 
 #define MASK (FV_EYE_ORIGIN_VALID | FV_EYE_DIRECTION_VALID)
 
+/* The driver on the fake's Pupil Remote (query: "" or "?timeout_ms=200"), the log captured from here on. */
+static fv_device *open_on(const fake_capture *f, const char *query, const fv_device_open_desc *desc)
+{
+    char uri[160];
+    snprintf(uri, sizeof uri, "pupil:127.0.0.1:%d%s", f->remote_port, query);
+    fv_test_log_capture_begin();
+    fv_device *dev = NULL;
+    assert_int_equal(fv_pupil_driver.open(uri, desc, &dev), FV_OK);
+    return dev;
+}
+
 static void live_replay_matches_recorded_reader(void **state)
 {
     (void)state;
@@ -348,11 +409,7 @@ static void live_replay_matches_recorded_reader(void **state)
     /* Pupil clock 100 ms before the first row: the replay runs in real time */
     assert_int_equal(fake_capture_start(&f, 0, script[0].due_pupil_ns - 100 * FV_NS_PER_MS), 0);
     int64_t host0 = fv_time_monotonic_ns(), pupil0 = fake_capture_pupil_now_ns(&f);
-    char uri[128];
-    snprintf(uri, sizeof uri, "pupil:127.0.0.1:%d", f.remote_port);
-    fv_test_log_capture_begin();
-    fv_device *dev = NULL;
-    assert_int_equal(fv_pupil_driver.open(uri, NULL, &dev), FV_OK);
+    fv_device *dev = open_on(&f, "", NULL);
     assert_int_equal(fake_capture_play(&f, script, nmsg), 0);
 
     size_t got = 0, matched = 0, pupils = 0, sync_checked = 0;
@@ -485,6 +542,215 @@ static void live_reconnects_when_capture_restarts(void **state)
     free(rows);
 }
 
+/* A hostile Capture sends 10,000 malformed messages. Over the simulated seconds the reads take, the warnings are at
+ * most 20 lines per 30 s window and one summary per window, and the summaries count exactly the rest (the original
+ * printed 20 lines, then one per 1000 without end, and no count of what it did not show). */
+static void live_flood_of_malformed_messages_is_rate_limited(void **state)
+{
+    (void)state;
+    enum { FLOOD = 10000 };
+    size_t n;
+    row *rows = fake_export_rows(&n);
+    fake_msg good, *script = calloc(FLOOD + 1, sizeof *script);
+    fake_row_message(&rows[0], 0, &good);
+    for (size_t i = 0; i < FLOOD; i++) {
+        bad_message(i % N_BAD, &good, &script[i]);
+        script[i].due_pupil_ns = 0; /* all at once */
+    }
+    fake_row_message(&rows[1], 1, &script[FLOOD]); /* then one good message: the flood has been read */
+    int64_t last_t = script[FLOOD].due_pupil_ns;
+    script[FLOOD].due_pupil_ns = 0;
+    static fake_capture f; /* static: a failed assertion leaves its threads running */
+    assert_int_equal(fake_capture_start(&f, 0, 1000 * FV_NS_PER_S), 0);
+    fv_clock clk;
+    fv_clock_sim_init(&clk, 0);
+    fv_device_open_desc desc = {.clock = &clk};
+    fv_device *dev = open_on(&f, "", &desc);
+    assert_int_equal(fake_capture_play(&f, script, FLOOD + 1), 0);
+    bool done = false;
+    int reads = 0;
+    int64_t deadline = fv_time_monotonic_ns() + 60 * FV_NS_PER_S;
+    while (!done && fv_time_monotonic_ns() < deadline) {
+        fv_gaze_sample buf[64];
+        size_t c = 0;
+        (void)fv_device_read(dev, buf, 64, &c, 20);
+        for (size_t i = 0; i < c; i++) done |= buf[i].t_device_ns == last_t;
+        fv_clock_sim_advance(&clk, 100 * FV_NS_PER_MS); /* each read: 0.1 s of simulated time */
+        reads++;
+    }
+    int64_t span = fv_clock_now_ns(&clk);
+    fv_device_close(&dev);
+    fake_capture_stop(&f);
+    fv_test_log_capture_end();
+    assert_true(done);
+    unsigned long long summarised = 0;
+    int summaries = fv_test_log_lines("more like this in the last", &summarised);
+    int shown = fv_test_log_lines("; skipped", NULL) - summaries; /* a summary quotes its first message */
+    int windows = (int)(span / (30 * FV_NS_PER_S)) + 1;
+    printf("pupil flood: %d malformed messages in %d reads over %.1f simulated s: %d lines shown, %d summaries of "
+           "%llu\n", FLOOD, reads, (double)span * 1e-9, shown, summaries, summarised);
+    assert_true(reads >= FLOOD / (64 + 257)); /* a read skips a bounded number: the flood cannot hold it */
+    assert_true((unsigned long long)shown + summarised == FLOOD);
+    assert_true(shown >= 20 && shown <= 20 * windows);
+    assert_true(summaries >= 1 && summaries <= windows);
+    fv_assert_log_contains("payload is not msgpack (parse error: byte 0xc1 at offset 0");
+    /* the good message at the end may be far from the simulated clock: a clock jump, said once */
+    int others = fv_test_log_lines("the Pupil clock jumped", NULL);
+    assert_true(others <= 1);
+    if (fv_test_log_count(FV_LOG_LEVEL_WARN) != shown + summaries + others) {
+        fputs(fv_test_log_text(), stderr);
+        fail_msg("lines other than the malformed messages' and their summary: see above");
+    }
+    for (size_t i = 0; i <= FLOOD; i++) free(script[i].payload);
+    free(script);
+    free(good.payload);
+    free(rows);
+}
+
+/* Gaze whose Pupil time is an hour from what Pupil Remote's `t` says (a clock that jumped, or a hostile Capture):
+ * each such sample carries its receipt time and is warned about through a rate limit (3 lines, then a summary with
+ * the exact count); the driver resynchronises at most once a second (the original resynchronised at every read:
+ * six `t` round trips each time); the samples after the jump map to the right host time again. */
+static void live_clock_jumps_are_rate_limited_and_resync_is_throttled(void **state)
+{
+    (void)state;
+    size_t n;
+    row *rows = fake_export_rows(&n);
+    enum { BEFORE = 30, JUMPED = 300, AFTER = 30, TOTAL = BEFORE + JUMPED + AFTER };
+    fake_msg script[TOTAL];
+    int64_t jump_ns = 3600 * FV_NS_PER_S;
+    for (size_t i = 0; i < TOTAL; i++) {
+        row r = rows[i];
+        bool jumped = i >= BEFORE && i < BEFORE + JUMPED;
+        if (jumped) r.ts += 3600.0;
+        fake_row_message(&r, i, &script[i]);
+        script[i].due_pupil_ns = (int64_t)llround(rows[i].ts * 1e9);
+    }
+    static fake_capture f; /* static: a failed assertion leaves its threads running */
+    assert_int_equal(fake_capture_start(&f, 0, script[0].due_pupil_ns - 50 * FV_NS_PER_MS), 0);
+    int64_t host0 = fv_time_monotonic_ns(), pupil0 = fake_capture_pupil_now_ns(&f);
+    fv_device *dev = open_on(&f, "", NULL);
+    int t_open = atomic_load(&f.t_requests);
+    int64_t start = fv_time_monotonic_ns();
+    assert_int_equal(fake_capture_play(&f, script, TOTAL), 0);
+    size_t got = 0, jumped = 0, after_ok = 0;
+    int64_t deadline = start + 20 * FV_NS_PER_S;
+    while (got < TOTAL && fv_time_monotonic_ns() < deadline) {
+        fv_gaze_sample buf[64];
+        size_t c = 0;
+        (void)fv_device_read(dev, buf, 64, &c, 50);
+        for (size_t i = 0; i < c; i++, got++) {
+            const fv_gaze_sample *s = &buf[i];
+            if (s->t_device_ns > pupil0 + jump_ns / 2) {
+                jumped++;
+            } else if (got >= BEFORE + JUMPED) {
+                int64_t err = s->t_host_ns - (host0 + (s->t_device_ns - pupil0));
+                after_ok += err > -20 * FV_NS_PER_MS && err < 20 * FV_NS_PER_MS;
+            }
+        }
+    }
+    double secs = (double)(fv_time_monotonic_ns() - start) * 1e-9;
+    int t_during = atomic_load(&f.t_requests) - t_open;
+    fv_device_close(&dev);
+    fake_capture_stop(&f);
+    fv_test_log_capture_end();
+    unsigned long long summarised = 0;
+    int summaries = fv_test_log_lines("more like this in the last", &summarised);
+    int shown = fv_test_log_lines("the Pupil clock jumped", NULL) - summaries;
+    printf("pupil clock jump: %zu of %d samples, %zu jumped: %d lines + %d summaries of %llu; %d 't' requests in "
+           "%.2f s\n", got, TOTAL, jumped, shown, summaries, summarised, t_during, secs);
+    assert_int_equal(got, TOTAL);
+    assert_int_equal(jumped, JUMPED);
+    assert_true(shown >= 1 && shown <= 3);
+    assert_true((unsigned long long)shown + summarised == JUMPED);
+    fv_assert_log_contains("gaze at Pupil time 33296"); /* an hour after the export's 329367 s */
+    fv_assert_log_contains("s from its receipt: the Pupil clock jumped; resynchronising");
+    assert_true(t_during <= 6 * (int)(secs + 2.0)); /* six exchanges per resynchronisation, at most one a second */
+    assert_int_equal(after_ok, AFTER);
+    for (size_t i = 0; i < TOTAL; i++) free(script[i].payload);
+    free(rows);
+}
+
+/* A frame larger than any gaze payload (16 MiB) is refused by the socket at its header, before it is allocated
+ * (ZMQ_MAXMSGSIZE; the original took it whole and then said "exceeds"). libzmq drops that connection for good: after
+ * a second without gaze the driver subscribes again and the stream goes on. */
+static void live_oversized_frame_is_refused_before_it_is_allocated(void **state)
+{
+    (void)state;
+    size_t n;
+    row *rows = fake_export_rows(&n);
+    enum { PART = 20, TOTAL = 2 * PART + 1 };
+    fake_msg script[TOTAL];
+    for (size_t i = 0; i < TOTAL; i++) {
+        row r = rows[i];
+        if (i > PART) r.ts += 2.0; /* the second part 2 s later: the driver subscribes again after 1 s of silence */
+        fake_row_message(&r, i, &script[i]);
+    }
+    free(script[PART].payload);
+    script[PART].len = (size_t)16 << 20;
+    script[PART].payload = calloc(script[PART].len, 1);
+    static fake_capture f; /* static: a failed assertion leaves its threads running */
+    assert_int_equal(fake_capture_start(&f, 0, script[0].due_pupil_ns - 50 * FV_NS_PER_MS), 0);
+    fv_device *dev = open_on(&f, "", NULL);
+    assert_int_equal(fake_capture_play(&f, script, TOTAL), 0);
+    size_t got = 0;
+    int64_t deadline = fv_time_monotonic_ns() + 10 * FV_NS_PER_S;
+    while (got < 2 * PART && fv_time_monotonic_ns() < deadline) {
+        fv_gaze_sample buf[64];
+        size_t c = 0;
+        (void)fv_device_read(dev, buf, 64, &c, 50);
+        got += c;
+    }
+    fv_device_close(&dev);
+    fake_capture_stop(&f);
+    fv_test_log_capture_end();
+    printf("pupil oversized frame: %zu of %d good messages around it\n", got, 2 * PART);
+    assert_null(strstr(fv_test_log_text(), "exceeds"));
+    assert_int_equal(got, 2 * PART);
+    for (size_t i = 0; i < TOTAL; i++) free(script[i].payload);
+    free(rows);
+}
+
+/* Pupil Remote answers `t` with garbage, or not in time: the warning says which, quoting what came back (escaped,
+ * shortened), instead of calling both "no answer". */
+static void open_tells_a_garbage_answer_to_t_from_no_answer(void **state)
+{
+    (void)state;
+    static fake_capture f; /* static: a failed assertion leaves its threads running */
+    assert_int_equal(fake_capture_start(&f, 0, 1000 * FV_NS_PER_S), 0);
+    static const char garbage[] = "\x01garbage\nanswer\0with a NUL, and longer than thirty-two bytes";
+    f.t_reply = garbage;
+    f.t_reply_len = sizeof garbage - 1;
+    char want[256];
+    fv_device *dev = open_on(&f, "?timeout_ms=200", NULL);
+    snprintf(want, sizeof want, "no clock synchronisation with Pupil time (Pupil Remote answered 't' with "
+             "'\\x01garbage\\x0aanswer\\x00with a NUL, and ...' (%zu bytes), not a time in seconds)",
+             sizeof garbage - 1);
+    fv_assert_log_contains(want);
+    assert_null(strstr(fv_test_log_text(), "no answer"));
+    fv_assert_contains(dev->info.detail, "clock not synchronised");
+    fv_device_close(&dev);
+    fv_test_log_capture_end();
+
+    f.t_reply = NULL;
+    f.t_delay_ms = 400; /* answers after the driver's 200 ms */
+    dev = open_on(&f, "?timeout_ms=200", NULL);
+    fv_assert_log_contains("no clock synchronisation with Pupil time ('t' got no answer within 200 ms)");
+    assert_null(strstr(fv_test_log_text(), "answered 't'"));
+    fv_device_close(&dev);
+    fv_test_log_capture_end();
+
+    struct timespec ts = {0, 400 * 1000000L}; /* the fake's late answer is out */
+    nanosleep(&ts, NULL);
+    f.t_delay_ms = 0;
+    dev = open_on(&f, "?timeout_ms=200", NULL);
+    assert_null(strstr(fv_test_log_text(), "clock synchronisation"));
+    fv_assert_contains(dev->info.detail, "clock synchronised");
+    fv_device_close(&dev);
+    fv_test_log_capture_end();
+    fake_capture_stop(&f);
+}
+
 static void open_and_probe_without_capture(void **state)
 {
     (void)state;
@@ -533,9 +799,14 @@ int main(void)
         cmocka_unit_test(decode_2d_through_the_camera_model),
         cmocka_unit_test(decode_rejects_each_malformed_kind),
         cmocka_unit_test(decode_extremes_stay_finite),
+        cmocka_unit_test(decode_bounds_what_it_allocates_by_the_message),
         cmocka_unit_test(open_and_probe_without_capture),
         cmocka_unit_test(live_reconnects_when_capture_restarts),
         cmocka_unit_test(live_replay_matches_recorded_reader),
+        cmocka_unit_test(live_flood_of_malformed_messages_is_rate_limited),
+        cmocka_unit_test(live_clock_jumps_are_rate_limited_and_resync_is_throttled),
+        cmocka_unit_test(open_tells_a_garbage_answer_to_t_from_no_answer),
+        cmocka_unit_test(live_oversized_frame_is_refused_before_it_is_allocated),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
