@@ -27,17 +27,12 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <vulkan/vulkan.h>
-#define XR_USE_GRAPHICS_API_VULKAN
-#include <openxr/openxr.h>
-#include <openxr/openxr_platform.h>
-
 #include "fv_test.h"
+#include "xr_app_vk.h"
 
 #define WATCHDOG_S 60 /* the whole corpus runs in a few seconds */
 #define EXPECT(want, call) assert_int_equal((int)(call), (int)(want))
 #define CHECK_XR(call) EXPECT(XR_SUCCESS, call)
-#define CHECK_VK(call) assert_int_equal((int)(call), (int)VK_SUCCESS)
 #define UNKNOWN_TYPE ((XrStructureType)0x7ffff00d) /* no structure has this type */
 
 static const char *g_manifest;
@@ -49,11 +44,7 @@ typedef struct app {
     XrSession sess;
     XrSessionState state;
     XrSpace local;
-    /* Vulkan sessions */
-    VkInstance vk_inst;
-    VkPhysicalDevice phys;
-    VkDevice device;
-    uint32_t family;
+    xr_app_vk vk; /* Vulkan sessions */
 } app;
 
 static XrResult create_instance(app *a, const char *const *exts, uint32_t n_exts, const char *const *layers,
@@ -133,8 +124,8 @@ static void close_app(app *a)
     }
     CHECK_XR(xrDestroyInstance(a->inst));
     g_open = XR_NULL_HANDLE;
-    if (a->device) vkDestroyDevice(a->device, NULL);
-    if (a->vk_inst) vkDestroyInstance(a->vk_inst, NULL);
+    if (a->vk.device) vkDestroyDevice(a->vk.device, NULL);
+    if (a->vk.instance) vkDestroyInstance(a->vk.instance, NULL);
 }
 
 /* One frame: wait, begin, end with `n` layers; the xrEndFrame result. */
@@ -158,48 +149,11 @@ static void open_vulkan(app *a)
     unsetenv("FOVEA_XR_SCALE");
     XrSystemGetInfo sg = {.type = XR_TYPE_SYSTEM_GET_INFO, .formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY};
     CHECK_XR(xrGetSystem(a->inst, &sg, &a->sys));
-    PFN_xrGetVulkanGraphicsRequirements2KHR get_req = NULL;
-    PFN_xrCreateVulkanInstanceKHR create_inst = NULL;
-    PFN_xrGetVulkanGraphicsDevice2KHR get_dev = NULL;
-    PFN_xrCreateVulkanDeviceKHR create_dev = NULL;
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrGetVulkanGraphicsRequirements2KHR", (PFN_xrVoidFunction *)&get_req));
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrCreateVulkanInstanceKHR", (PFN_xrVoidFunction *)&create_inst));
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrGetVulkanGraphicsDevice2KHR", (PFN_xrVoidFunction *)&get_dev));
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrCreateVulkanDeviceKHR", (PFN_xrVoidFunction *)&create_dev));
-    XrGraphicsRequirementsVulkan2KHR req = {.type = XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR};
-    CHECK_XR(get_req(a->inst, a->sys, &req));
     VkApplicationInfo ai = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO, .pApplicationName = "test_xr_misuse",
                             .apiVersion = VK_API_VERSION_1_1};
     VkInstanceCreateInfo ici = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, .pApplicationInfo = &ai};
-    XrVulkanInstanceCreateInfoKHR xi = {.type = XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR, .systemId = a->sys,
-                                        .pfnGetInstanceProcAddr = vkGetInstanceProcAddr, .vulkanCreateInfo = &ici};
-    VkResult vr = VK_SUCCESS;
-    CHECK_XR(create_inst(a->inst, &xi, &a->vk_inst, &vr));
-    CHECK_VK(vr);
-    XrVulkanGraphicsDeviceGetInfoKHR dgi = {.type = XR_TYPE_VULKAN_GRAPHICS_DEVICE_GET_INFO_KHR, .systemId = a->sys,
-                                            .vulkanInstance = a->vk_inst};
-    CHECK_XR(get_dev(a->inst, &dgi, &a->phys));
-    uint32_t nf = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(a->phys, &nf, NULL);
-    VkQueueFamilyProperties qf[16];
-    if (nf > 16) nf = 16;
-    vkGetPhysicalDeviceQueueFamilyProperties(a->phys, &nf, qf);
-    a->family = UINT32_MAX;
-    for (uint32_t i = 0; i < nf && a->family == UINT32_MAX; i++)
-        if (qf[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) a->family = i;
-    assert_int_not_equal(a->family, UINT32_MAX);
-    float prio = 1.0f;
-    VkDeviceQueueCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO, .queueFamilyIndex = a->family,
-                                  .queueCount = 1, .pQueuePriorities = &prio};
-    VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, .queueCreateInfoCount = 1,
-                              .pQueueCreateInfos = &qi};
-    XrVulkanDeviceCreateInfoKHR xd = {.type = XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR, .systemId = a->sys,
-                                      .pfnGetInstanceProcAddr = vkGetInstanceProcAddr,
-                                      .vulkanPhysicalDevice = a->phys, .vulkanCreateInfo = &dci};
-    CHECK_XR(create_dev(a->inst, &xd, &a->device, &vr));
-    CHECK_VK(vr);
-    XrGraphicsBindingVulkanKHR gb = {.type = XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR, .instance = a->vk_inst,
-                                     .physicalDevice = a->phys, .device = a->device, .queueFamilyIndex = a->family};
+    xr_app_vk_create(a->inst, a->sys, &ici, &a->vk);
+    XrGraphicsBindingVulkanKHR gb = xr_app_vk_binding(&a->vk);
     create_session(a, &gb);
 }
 
@@ -779,32 +733,20 @@ static void recommended_sizes_stay_within_the_reported_maximum(void **state)
     dup2(fd, 2);
     close(fd);
     setenv("FOVEA_XR_HMD", path, 1);
+    /* the answers gathered with stderr in the file, checked after it is back */
+    XrViewConfigurationView v[2][3][2];
+    XrSystemProperties sp[2];
+    uint32_t n[2][3];
     for (int scale = 0; scale < 2; scale++) {
         setenv("FOVEA_XR_SCALE", scale ? "2.0" : "1.0", 1);
         app a;
         open_headless(&a, false);
-        XrSystemProperties sp = {.type = XR_TYPE_SYSTEM_PROPERTIES};
-        CHECK_XR(xrGetSystemProperties(a.inst, a.sys, &sp));
+        sp[scale] = (XrSystemProperties){.type = XR_TYPE_SYSTEM_PROPERTIES};
+        CHECK_XR(xrGetSystemProperties(a.inst, a.sys, &sp[scale]));
         for (int k = 0; k < 3; k++) {
-            XrViewConfigurationView v[2] = {{.type = XR_TYPE_VIEW_CONFIGURATION_VIEW},
-                                            {.type = XR_TYPE_VIEW_CONFIGURATION_VIEW}};
-            uint32_t n = 0;
+            v[scale][k][0] = v[scale][k][1] = (XrViewConfigurationView){.type = XR_TYPE_VIEW_CONFIGURATION_VIEW};
             CHECK_XR(xrEnumerateViewConfigurationViews(a.inst, a.sys, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 2,
-                                                       &n, v));
-            for (uint32_t i = 0; i < n; i++) {
-                print_message("scale %d: recommended %ux%u, max %ux%u (system %ux%u)\n", scale + 1,
-                              v[i].recommendedImageRectWidth, v[i].recommendedImageRectHeight,
-                              v[i].maxImageRectWidth, v[i].maxImageRectHeight,
-                              sp.graphicsProperties.maxSwapchainImageWidth,
-                              sp.graphicsProperties.maxSwapchainImageHeight);
-                assert_true(v[i].recommendedImageRectWidth <= v[i].maxImageRectWidth);
-                assert_true(v[i].recommendedImageRectHeight <= v[i].maxImageRectHeight);
-                assert_true(v[i].recommendedImageRectWidth <= sp.graphicsProperties.maxSwapchainImageWidth);
-                assert_true(v[i].recommendedImageRectHeight <= sp.graphicsProperties.maxSwapchainImageHeight);
-                /* the panel's per-eye aspect (1:2) kept, the larger side at the maximum */
-                assert_int_equal(v[i].recommendedImageRectHeight, sp.graphicsProperties.maxSwapchainImageHeight);
-                assert_int_equal(v[i].recommendedImageRectWidth * 2, v[i].recommendedImageRectHeight);
-            }
+                                                       &n[scale][k], v[scale][k]));
         }
         close_app(&a);
     }
@@ -813,6 +755,25 @@ static void recommended_sizes_stay_within_the_reported_maximum(void **state)
     close(saved);
     unsetenv("FOVEA_XR_HMD");
     unsetenv("FOVEA_XR_SCALE");
+    for (int scale = 0; scale < 2; scale++) {
+        const XrSystemGraphicsProperties *g = &sp[scale].graphicsProperties;
+        for (int k = 0; k < 3; k++) {
+            assert_int_equal(n[scale][k], 2);
+            for (uint32_t i = 0; i < 2; i++) {
+                const XrViewConfigurationView *x = &v[scale][k][i];
+                print_message("scale %d: recommended %ux%u, max %ux%u (system %ux%u)\n", scale + 1,
+                              x->recommendedImageRectWidth, x->recommendedImageRectHeight, x->maxImageRectWidth,
+                              x->maxImageRectHeight, g->maxSwapchainImageWidth, g->maxSwapchainImageHeight);
+                assert_true(x->recommendedImageRectWidth <= x->maxImageRectWidth);
+                assert_true(x->recommendedImageRectHeight <= x->maxImageRectHeight);
+                assert_true(x->recommendedImageRectWidth <= g->maxSwapchainImageWidth);
+                assert_true(x->recommendedImageRectHeight <= g->maxSwapchainImageHeight);
+                /* the panel's per-eye aspect (1:2) kept, the larger side at the maximum */
+                assert_int_equal(x->recommendedImageRectHeight, g->maxSwapchainImageHeight);
+                assert_int_equal(x->recommendedImageRectWidth * 2, x->recommendedImageRectHeight);
+            }
+        }
+    }
     char *text = fv_test_read_file(log, NULL);
     int said = 0;
     for (const char *p = text; (p = strstr(p, "exceeds the largest swapchain image")); p++) said++;
