@@ -217,6 +217,7 @@ static VkImageUsageFlags usage_of(XrSwapchainUsageFlags u, bool depth)
     if (u & XR_SWAPCHAIN_USAGE_SAMPLED_BIT) v |= VK_IMAGE_USAGE_SAMPLED_BIT;
     if (u & XR_SWAPCHAIN_USAGE_INPUT_ATTACHMENT_BIT_MND) v |= VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT;
     if (!depth) v |= VK_IMAGE_USAGE_SAMPLED_BIT; /* the compositor samples every colour image */
+    if (!v) v = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT; /* a depth image with no usage named: what it is for */
     return v;
 }
 

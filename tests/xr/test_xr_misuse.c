@@ -269,9 +269,13 @@ static void end_frame_layers_are_checked(void **state)
 {
     (void)state;
     app a;
+    const char *stats = fv_test_tmp("end_frame_stats.json");
+    remove(stats);
+    setenv("FOVEA_XR_STATS", stats, 1); /* written when the session is destroyed: how many frames were composited */
     open_vulkan(&a);
     XrSystemProperties sp = {.type = XR_TYPE_SYSTEM_PROPERTIES};
     CHECK_XR(xrGetSystemProperties(a.inst, a.sys, &sp));
+    print_message("maxLayerCount %u\n", sp.graphicsProperties.maxLayerCount);
     assert_true(sp.graphicsProperties.maxLayerCount >= XR_MIN_COMPOSITION_LAYERS_SUPPORTED);
     uint32_t max_layers = sp.graphicsProperties.maxLayerCount;
     begin_session(&a);
@@ -366,6 +370,14 @@ static void end_frame_layers_are_checked(void **state)
     EXPECT(XR_ERROR_HANDLE_INVALID, frame(&a, lp, 1));
     CHECK_XR(frame(&a, NULL, 0));
     close_app(&a);
+    unsetenv("FOVEA_XR_STATS");
+    /* the frames with layers were composited: the maximum (16 quads) and the projection layer */
+    char *json = fv_test_read_file(stats, NULL);
+    const char *k = strstr(json, "\"frames_composited\":");
+    assert_non_null(k);
+    print_message("frames composited: %d\n", atoi(k + strlen("\"frames_composited\":")));
+    assert_int_equal(atoi(k + strlen("\"frames_composited\":")), 2);
+    free(json);
 }
 
 /* Handles, structure types, call order and counts on a headless session (XR_MND_headless). */
@@ -698,6 +710,41 @@ static void next_chains_are_bounded_and_unknown_structures_ignored(void **state)
     sp.next = &gp;
     CHECK_XR(xrGetSystemProperties(a.inst, a.sys, &sp));
     assert_true(gp.supportsEyeGazeInteraction == XR_FALSE || gp.supportsEyeGazeInteraction == XR_TRUE);
+    /* the action system's input structs with the known-and-unknown chain: ignored */
+    create_session(&a, known_chain(c, &n));
+    XrActionSetCreateInfo si = {.type = XR_TYPE_ACTION_SET_CREATE_INFO, .next = known_chain(c, &n),
+                                .actionSetName = "misuse", .localizedActionSetName = "Misuse"};
+    XrActionSet set;
+    CHECK_XR(xrCreateActionSet(a.inst, &si, &set));
+    XrActionCreateInfo ai = {.type = XR_TYPE_ACTION_CREATE_INFO, .next = known_chain(c, &n), .actionName = "gaze",
+                             .actionType = XR_ACTION_TYPE_POSE_INPUT, .localizedActionName = "Gaze"};
+    XrAction gaze;
+    CHECK_XR(xrCreateAction(set, &ai, &gaze));
+    XrPath profile, binding;
+    CHECK_XR(xrStringToPath(a.inst, "/interaction_profiles/ext/eye_gaze_interaction", &profile));
+    CHECK_XR(xrStringToPath(a.inst, "/user/eyes_ext/input/gaze_ext/pose", &binding));
+    XrActionSuggestedBinding sb = {gaze, binding};
+    XrInteractionProfileSuggestedBinding ps = {.type = XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING,
+                                               .next = known_chain(c, &n), .interactionProfile = profile,
+                                               .countSuggestedBindings = 1, .suggestedBindings = &sb};
+    CHECK_XR(xrSuggestInteractionProfileBindings(a.inst, &ps));
+    XrSessionActionSetsAttachInfo at = {.type = XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO, .next = known_chain(c, &n),
+                                        .countActionSets = 1, .actionSets = &set};
+    CHECK_XR(xrAttachSessionActionSets(a.sess, &at));
+    XrActionSpaceCreateInfo asi = {.type = XR_TYPE_ACTION_SPACE_CREATE_INFO, .next = known_chain(c, &n),
+                                   .action = gaze, .poseInActionSpace = {.orientation = {0, 0, 0, 1}}};
+    XrSpace gaze_space;
+    CHECK_XR(xrCreateActionSpace(a.sess, &asi, &gaze_space));
+    asi.next = unknown_chain(c, 3, &c[1]);
+    EXPECT(XR_ERROR_VALIDATION_FAILURE, xrCreateActionSpace(a.sess, &asi, &gaze_space));
+    begin_session(&a);
+    XrActiveActionSet active = {set, XR_NULL_PATH};
+    XrActionsSyncInfo sync = {.type = XR_TYPE_ACTIONS_SYNC_INFO, .next = known_chain(c, &n),
+                              .countActiveActionSets = 1, .activeActionSets = &active};
+    CHECK_XR(xrSyncActions(a.sess, &sync));
+    XrActionStateGetInfo gi = {.type = XR_TYPE_ACTION_STATE_GET_INFO, .next = known_chain(c, &n), .action = gaze};
+    XrActionStatePose pose = {.type = XR_TYPE_ACTION_STATE_POSE, .next = (void *)known_chain(c, &n)};
+    CHECK_XR(xrGetActionStatePose(a.sess, &gi, &pose));
     close_app(&a);
 }
 
