@@ -290,7 +290,8 @@ static XrResult image_supported(fv_xr_compositor *c, const struct XrSwapchain_T 
                                            .flags = ic.flags};
     /* the external-memory answer asked for with the external info (Mesa's drivers write it unconditionally) */
     VkExternalImageFormatProperties ep = {.sType = VK_STRUCTURE_TYPE_EXTERNAL_IMAGE_FORMAT_PROPERTIES};
-    VkImageFormatProperties2 fp = {.sType = VK_STRUCTURE_TYPE_IMAGE_FORMAT_PROPERTIES_2, .pNext = sc->depth ? NULL : &ep};
+    VkImageFormatProperties2 fp = {.sType = VK_STRUCTURE_TYPE_IMAGE_FORMAT_PROPERTIES_2,
+                                   .pNext = sc->depth ? NULL : &ep};
     const XrSwapchainCreateInfo *ci = &sc->info;
     const char *why = NULL;
     if (vkGetPhysicalDeviceImageFormatProperties2(c->vk->phys, &fi, &fp) != VK_SUCCESS)

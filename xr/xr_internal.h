@@ -26,7 +26,7 @@
 #define FV_XR_MAX_SAMPLES 1u       /* swapchain sampleCount (maxSwapchainSampleCount) */
 #define FV_XR_MAX_CHAIN 64         /* links of a `next` chain the runtime walks (more, or a loop: VALIDATION_FAILURE) */
 #define FV_XR_VENDOR_ID 0x10005u   /* XrSystemProperties::vendorId (non-zero): fovea has no vendor id of its own; the
-                                    * Khronos-assigned id of Mesa (VK_VENDOR_ID_MESA), the driver stack it is built on */
+                                    * Khronos-assigned id of Mesa (VK_VENDOR_ID_MESA), the stack it is built on */
 #define FV_XR_MAX_SWAPCHAIN_IMAGES 3
 #define FV_XR_EVENT_CAP 64
 #define FV_XR_MAX_VIEWS 4          /* stereo, or quad views (XR_VARJO_quad_views) */

@@ -505,7 +505,8 @@ static XrResult check_layers(struct XrSession_T *s, const XrFrameEndInfo *info)
 {
     if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
     /* fovea's display is opaque: any other mode, known or not (as the conformance suite asks) */
-    if (info->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE) return XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED;
+    if (info->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE)
+        return XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED;
     if (info->layerCount > FV_XR_MAX_LAYERS) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
     if (info->layerCount && !info->layers) return XR_ERROR_VALIDATION_FAILURE;
     for (uint32_t i = 0; i < info->layerCount; i++) {

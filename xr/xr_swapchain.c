@@ -79,7 +79,8 @@ static XrResult check_create_info(struct XrSession_T *s, const XrSwapchainCreate
     for (uint32_t i = 0; i < n && i < 32; i++) ok |= formats[i] == info->format;
     if (!ok) return refuse(XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED, info, "not a format of xrEnumerateSwapchainFormats");
     bool depth = fv_xr_format_is_depth(s->egl ? fv_xr_egl_format_vk(info->format) : (VkFormat)info->format);
-    if (depth && (info->usageFlags & (XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT)))
+    if (depth &&
+        (info->usageFlags & (XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT)))
         return refuse(XR_ERROR_FEATURE_UNSUPPORTED, info, "a depth format cannot be a colour or storage image");
     if (!depth && (info->usageFlags & XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT))
         return refuse(XR_ERROR_FEATURE_UNSUPPORTED, info, "a colour format cannot be a depth-stencil attachment");

@@ -194,7 +194,8 @@ static void swapchain_create_infos_are_checked_against_the_reported_limits(void 
     XrViewConfigurationView views[2] = {{.type = XR_TYPE_VIEW_CONFIGURATION_VIEW},
                                         {.type = XR_TYPE_VIEW_CONFIGURATION_VIEW}};
     uint32_t nv = 0;
-    CHECK_XR(xrEnumerateViewConfigurationViews(a.inst, a.sys, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 2, &nv, views));
+    CHECK_XR(
+        xrEnumerateViewConfigurationViews(a.inst, a.sys, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 2, &nv, views));
     uint32_t max_samples = views[0].maxSwapchainSampleCount;
     XrSwapchain sc = XR_NULL_HANDLE;
     XrSwapchainCreateInfo ci = colour_info(&a, 64, 64);
