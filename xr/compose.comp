@@ -20,7 +20,15 @@ vec4 fetch(uint i, vec3 uvl)
     case 4u: return textureLod(sources[4], uvl, 0.0);
     case 5u: return textureLod(sources[5], uvl, 0.0);
     case 6u: return textureLod(sources[6], uvl, 0.0);
-    default: return textureLod(sources[7], uvl, 0.0);
+    case 7u: return textureLod(sources[7], uvl, 0.0);
+    case 8u: return textureLod(sources[8], uvl, 0.0);
+    case 9u: return textureLod(sources[9], uvl, 0.0);
+    case 10u: return textureLod(sources[10], uvl, 0.0);
+    case 11u: return textureLod(sources[11], uvl, 0.0);
+    case 12u: return textureLod(sources[12], uvl, 0.0);
+    case 13u: return textureLod(sources[13], uvl, 0.0);
+    case 14u: return textureLod(sources[14], uvl, 0.0);
+    default: return textureLod(sources[15], uvl, 0.0);
     }
 }
 

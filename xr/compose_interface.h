@@ -6,8 +6,9 @@
 #define FV_XR_COMPOSE_INTERFACE_H
 
 #define FV_XR_COMPOSE_GROUP 8
-#define FV_XR_COMPOSE_MAX_SOURCES 8  /* sampled images per frame: layers x eyes (a stereo projection uses 2) */
-#define FV_XR_COMPOSE_MAX_LAYERS 8   /* layers per eye */
+#define FV_XR_COMPOSE_MAX_SOURCES 16 /* sampled images per frame: distinct swapchains (a stereo projection uses 1 or 2);
+                                      * 16: Vulkan's minimum maxPerStageDescriptorSamplers */
+#define FV_XR_COMPOSE_MAX_LAYERS 32  /* layers per eye: maxLayerCount (16), each with a quad-views inset */
 #define FV_XR_COMPOSE_BINDING_SOURCES 0
 #define FV_XR_COMPOSE_BINDING_DISPLAY 1
 #define FV_XR_COMPOSE_BINDING_LAYERS 2

@@ -202,6 +202,9 @@ uint32_t fv_xr_compositor_formats(fv_xr_compositor *c, int64_t *out, uint32_t ca
     return n;
 }
 
+_Static_assert(FV_XR_COMPOSE_MAX_LAYERS >= 2 * FV_XR_MAX_LAYERS, "every layer of a frame, each with its inset");
+_Static_assert(FV_XR_COMPOSE_MAX_SOURCES == 16, "compose.comp's fetch() has a case per source");
+
 /* ---- swapchain images ------------------------------------------------------------------------------------------ */
 static VkImageUsageFlags usage_of(XrSwapchainUsageFlags u, bool depth)
 {
@@ -214,6 +217,7 @@ static VkImageUsageFlags usage_of(XrSwapchainUsageFlags u, bool depth)
     if (u & XR_SWAPCHAIN_USAGE_SAMPLED_BIT) v |= VK_IMAGE_USAGE_SAMPLED_BIT;
     if (u & XR_SWAPCHAIN_USAGE_INPUT_ATTACHMENT_BIT_MND) v |= VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT;
     if (!depth) v |= VK_IMAGE_USAGE_SAMPLED_BIT; /* the compositor samples every colour image */
+    if (!v) v = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT; /* a depth image with no usage named: what it is for */
     return v;
 }
 
@@ -242,16 +246,14 @@ static void image_fini(fv_xr_compositor *c, struct XrSession_T *s, fv_xr_swapcha
     memset(im, 0, sizeof *im);
 }
 
-/* One image: on fovea's device (exportable, dedicated), then the same on the app's device from the exported fd. */
-static XrResult image_init(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, fv_xr_swapchain_image *im)
+/* The Vulkan image of a swapchain's images (ext: the external-memory info it chains for a colour image). */
+static VkImageCreateInfo image_create_info(const struct XrSwapchain_T *sc, VkExternalMemoryImageCreateInfo *ext)
 {
-    struct XrSession_T *s = sc->session;
-    VkDevice ad = s->vk.device, cd = c->vk->device;
     const XrSwapchainCreateInfo *ci = &sc->info;
-    VkExternalMemoryImageCreateInfo ext = {.sType = VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_IMAGE_CREATE_INFO,
-                                           .handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
+    *ext = (VkExternalMemoryImageCreateInfo){.sType = VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_IMAGE_CREATE_INFO,
+                                             .handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
     VkImageCreateInfo ic = {.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
-                            .pNext = sc->depth ? NULL : &ext,
+                            .pNext = sc->depth ? NULL : ext,
                             .flags = (ci->usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT)
                                          ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT
                                          : 0,
@@ -267,9 +269,58 @@ static XrResult image_init(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32
                             .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED};
     if (ci->faceCount == 6) ic.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
     /* an EGL session (xr_egl.c): GL textures on the app's side, copied into the compositor's image */
+    if (sc->session->egl) ic.usage |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    return ic;
+}
+
+/* Whether the device can make the swapchain's images (its usage for its format, its size, mips, layers, samples):
+ * xrCreateSwapchain's checks against fovea's own limits come first; this is the device's word on the rest. */
+static XrResult image_supported(fv_xr_compositor *c, const struct XrSwapchain_T *sc)
+{
+    VkExternalMemoryImageCreateInfo ext;
+    VkImageCreateInfo ic = image_create_info(sc, &ext);
+    VkPhysicalDeviceExternalImageFormatInfo xi = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_IMAGE_FORMAT_INFO,
+                                                  .handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT};
+    VkPhysicalDeviceImageFormatInfo2 fi = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_IMAGE_FORMAT_INFO_2,
+                                           .pNext = sc->depth ? NULL : &xi,
+                                           .format = ic.format,
+                                           .type = ic.imageType,
+                                           .tiling = ic.tiling,
+                                           .usage = ic.usage,
+                                           .flags = ic.flags};
+    /* the external-memory answer asked for with the external info (Mesa's drivers write it unconditionally) */
+    VkExternalImageFormatProperties ep = {.sType = VK_STRUCTURE_TYPE_EXTERNAL_IMAGE_FORMAT_PROPERTIES};
+    VkImageFormatProperties2 fp = {.sType = VK_STRUCTURE_TYPE_IMAGE_FORMAT_PROPERTIES_2,
+                                   .pNext = sc->depth ? NULL : &ep};
+    const XrSwapchainCreateInfo *ci = &sc->info;
+    const char *why = NULL;
+    if (vkGetPhysicalDeviceImageFormatProperties2(c->vk->phys, &fi, &fp) != VK_SUCCESS)
+        why = "the usage flags are not supported for the format";
+    else if (ic.extent.width > fp.imageFormatProperties.maxExtent.width ||
+             ic.extent.height > fp.imageFormatProperties.maxExtent.height)
+        why = "the size exceeds the device's";
+    else if (ic.mipLevels > fp.imageFormatProperties.maxMipLevels)
+        why = "mipCount exceeds the device's";
+    else if (ic.arrayLayers > fp.imageFormatProperties.maxArrayLayers)
+        why = "arraySize x faceCount exceeds the device's";
+    if (why) {
+        FV_ERROR(FV_XR_LOG, "xrCreateSwapchain: format %lld, %ux%u, %u mips, %u layers, usage 0x%llx: %s",
+                 (long long)ci->format, ci->width, ci->height, ci->mipCount, ic.arrayLayers,
+                 (unsigned long long)ci->usageFlags, why);
+        return XR_ERROR_FEATURE_UNSUPPORTED;
+    }
+    return XR_SUCCESS;
+}
+
+/* One image: on fovea's device (exportable, dedicated), then the same on the app's device from the exported fd. */
+static XrResult image_init(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, fv_xr_swapchain_image *im)
+{
+    struct XrSession_T *s = sc->session;
+    VkDevice ad = s->vk.device, cd = c->vk->device;
+    VkExternalMemoryImageCreateInfo ext;
+    VkImageCreateInfo ic = image_create_info(sc, &ext);
     bool egl = s->egl != NULL;
     if (egl && sc->depth) return XR_SUCCESS;
-    if (egl) ic.usage |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     VkMemoryRequirements req;
     if (sc->depth) {
         /* depth images stay on the app's side: the compositor does not read depth */
@@ -353,6 +404,8 @@ static XrResult image_init(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32
 
 XrResult fv_xr_swapchain_images_create(fv_xr_compositor *c, struct XrSwapchain_T *sc)
 {
+    XrResult r = image_supported(c, sc);
+    if (r != XR_SUCCESS) return r;
     sc->images = calloc(sc->image_count, sizeof *sc->images);
     if (!sc->images) return XR_ERROR_OUT_OF_MEMORY;
     for (uint32_t i = 0; i < sc->image_count; i++) {

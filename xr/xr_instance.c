@@ -83,7 +83,9 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
                  (unsigned)XR_VERSION_PATCH(app->apiVersion));
         return XR_ERROR_API_VERSION_UNSUPPORTED;
     }
-    if (info->enabledApiLayerCount > 0) return XR_ERROR_API_LAYER_NOT_PRESENT; /* the loader strips them */
+    if (fv_xr_chain_check(info->next, "xrCreateInstance") != XR_SUCCESS) return XR_ERROR_VALIDATION_FAILURE;
+    /* enabledApiLayerNames: the loader has loaded the layers named there and passes the list on unchanged; they are
+     * not the runtime's business (a runtime has no layers of its own), so the names are ignored */
     if (info->enabledExtensionCount && !info->enabledExtensionNames) return XR_ERROR_VALIDATION_FAILURE;
     fv_xr_exts ext = {0};
     for (uint32_t i = 0; i < info->enabledExtensionCount; i++) {
@@ -127,10 +129,20 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
         return XR_ERROR_RUNTIME_FAILURE;
     }
     inst->render_scale = env_float("FOVEA_XR_SCALE", 1.0f, 0.02f, 2.0f);
-    float w = (float)inst->hmd.panel_width_px * 0.5f * inst->render_scale;
-    float h = (float)inst->hmd.panel_height_px * inst->render_scale;
-    inst->view_w = w < 16.0f ? 16u : (uint32_t)lroundf(w);
-    inst->view_h = h < 16.0f ? 16u : (uint32_t)lroundf(h);
+    double w = (double)inst->hmd.panel_width_px * 0.5 * inst->render_scale;
+    double h = (double)inst->hmd.panel_height_px * inst->render_scale;
+    if (w > FV_XR_MAX_IMAGE_SIZE || h > FV_XR_MAX_IMAGE_SIZE) {
+        /* no app could make a swapchain of that size: the largest it can, the aspect ratio kept */
+        double k = FV_XR_MAX_IMAGE_SIZE / fmax(w, h);
+        FV_WARN(FV_XR_LOG, "HMD %s: %.0fx%.0f per eye (panel %ux%u, FOVEA_XR_SCALE %g) exceeds the largest swapchain "
+                "image (%u); recommending %.0fx%.0f", inst->hmd.name, w, h, inst->hmd.panel_width_px,
+                inst->hmd.panel_height_px, (double)inst->render_scale, FV_XR_MAX_IMAGE_SIZE, fmin(round(w * k),
+                FV_XR_MAX_IMAGE_SIZE), fmin(round(h * k), FV_XR_MAX_IMAGE_SIZE));
+        w *= k;
+        h *= k;
+    }
+    inst->view_w = w < 16.0 ? 16u : (uint32_t)fmin(round(w), FV_XR_MAX_IMAGE_SIZE);
+    inst->view_h = h < 16.0 ? 16u : (uint32_t)fmin(round(h), FV_XR_MAX_IMAGE_SIZE);
     XrResult r = fv_xr_input_instance_init(inst);
     if (r != XR_SUCCESS) {
         pthread_mutex_destroy(&inst->lock);
@@ -211,9 +223,10 @@ FV_XR_DECL(xrStructureTypeToString)(XrInstance instance, XrStructureType value,
 FV_XR_DECL(xrGetSystem)(XrInstance instance, const XrSystemGetInfo *info, XrSystemId *out)
 {
     if (!fv_xr_instance_check(instance)) return XR_ERROR_HANDLE_INVALID;
-    if (!info || !out || info->type != XR_TYPE_SYSTEM_GET_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (info->formFactor != XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY && info->formFactor != XR_FORM_FACTOR_HANDHELD_DISPLAY)
+    if (!info || !out || info->type != XR_TYPE_SYSTEM_GET_INFO ||
+        fv_xr_chain_check(info->next, "xrGetSystem") != XR_SUCCESS)
         return XR_ERROR_VALIDATION_FAILURE;
+    /* a head-mounted display only: any other form factor, known or not (the conformance suite asks it) */
     if (info->formFactor != XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY) return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
     *out = FV_XR_SYSTEM_ID;
     return XR_SUCCESS;
@@ -225,26 +238,30 @@ FV_XR_DECL(xrGetSystemProperties)(XrInstance instance, XrSystemId system, XrSyst
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (system != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
     if (!props || props->type != XR_TYPE_SYSTEM_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
+    /* the extensions' structures, each filled only when its extension is enabled (else ignored, like any structure
+     * the runtime does not recognise) */
+    XrSystemEyeGazeInteractionPropertiesEXT *gaze = NULL;
+    XrSystemFoveatedRenderingPropertiesVARJO *fov = NULL;
+    if (fv_xr_chain_find(props->next, inst->ext.eye_gaze ? XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT
+                                                         : XR_TYPE_UNKNOWN,
+                         "xrGetSystemProperties", (const void **)&gaze) != XR_SUCCESS ||
+        fv_xr_chain_find(props->next, inst->ext.foveated ? XR_TYPE_SYSTEM_FOVEATED_RENDERING_PROPERTIES_VARJO
+                                                         : XR_TYPE_UNKNOWN,
+                         "xrGetSystemProperties", (const void **)&fov) != XR_SUCCESS)
+        return XR_ERROR_VALIDATION_FAILURE;
     props->systemId = system;
-    props->vendorId = 0;
+    props->vendorId = FV_XR_VENDOR_ID;
     snprintf(props->systemName, sizeof props->systemName, "fovea (%s)", inst->hmd.name);
-    props->graphicsProperties.maxSwapchainImageWidth = 4096;
-    props->graphicsProperties.maxSwapchainImageHeight = 4096;
+    props->graphicsProperties.maxSwapchainImageWidth = FV_XR_MAX_IMAGE_SIZE;
+    props->graphicsProperties.maxSwapchainImageHeight = FV_XR_MAX_IMAGE_SIZE;
     props->graphicsProperties.maxLayerCount = FV_XR_MAX_LAYERS;
     /* No head tracker in fovea today: the head pose is given (static), not tracked. */
     props->trackingProperties.orientationTracking = XR_FALSE;
     props->trackingProperties.positionTracking = XR_FALSE;
-    for (XrBaseOutStructure *b = props->next; b; b = b->next)
-        if (b->type == XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT) {
-            if (!inst->ext.eye_gaze) return XR_ERROR_VALIDATION_FAILURE;
-            ((XrSystemEyeGazeInteractionPropertiesEXT *)b)->supportsEyeGazeInteraction =
-                inst->gaze && fv_xr_gaze_present(inst->gaze) ? XR_TRUE : XR_FALSE;
-        } else if (b->type == XR_TYPE_SYSTEM_FOVEATED_RENDERING_PROPERTIES_VARJO) {
-            if (!inst->ext.foveated) return XR_ERROR_VALIDATION_FAILURE;
-            /* rendering gaze: fovea's gaze pipeline on an open source */
-            ((XrSystemFoveatedRenderingPropertiesVARJO *)b)->supportsFoveatedRendering =
-                inst->gaze && fv_xr_gaze_present(inst->gaze) ? XR_TRUE : XR_FALSE;
-        }
+    bool gaze_present = inst->gaze && fv_xr_gaze_present(inst->gaze);
+    if (gaze) gaze->supportsEyeGazeInteraction = gaze_present ? XR_TRUE : XR_FALSE;
+    /* rendering gaze: fovea's gaze pipeline on an open source */
+    if (fov) fov->supportsFoveatedRendering = gaze_present ? XR_TRUE : XR_FALSE;
     return XR_SUCCESS;
 }
 
@@ -258,10 +275,7 @@ XrResult fv_xr_check_view_config(struct XrInstance_T *inst, XrViewConfigurationT
         if (out_views) *out_views = 4; /* wide left, wide right, inset left, inset right (xr_quad.c) */
         return XR_SUCCESS;
     }
-    if (type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO || type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO ||
-        type == XR_VIEW_CONFIGURATION_TYPE_SECONDARY_MONO_FIRST_PERSON_OBSERVER_MSFT)
-        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
-    return XR_ERROR_VALIDATION_FAILURE;
+    return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED; /* any other, known or not (as the conformance suite asks) */
 }
 
 FV_XR_DECL(xrEnumerateViewConfigurations)(XrInstance instance, XrSystemId system, uint32_t cap, uint32_t *count,
@@ -310,20 +324,22 @@ FV_XR_DECL(xrEnumerateViewConfigurationViews)(XrInstance instance, XrSystemId sy
     if (cap == 0) return XR_SUCCESS;
     if (cap < n) return XR_ERROR_SIZE_INSUFFICIENT;
     for (uint32_t i = 0; i < n; i++) {
-        if (views[i].type != XR_TYPE_VIEW_CONFIGURATION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+        const XrFoveatedViewConfigurationViewVARJO *fv = NULL; /* ignored unless XR_VARJO_foveated_rendering */
+        if (views[i].type != XR_TYPE_VIEW_CONFIGURATION_VIEW ||
+            fv_xr_chain_find(views[i].next, inst->ext.foveated ? XR_TYPE_FOVEATED_VIEW_CONFIGURATION_VIEW_VARJO
+                                                                : XR_TYPE_UNKNOWN,
+                             "xrEnumerateViewConfigurationViews", (const void **)&fv) != XR_SUCCESS)
+            return XR_ERROR_VALIDATION_FAILURE;
         views[i].recommendedImageRectWidth = inst->view_w;
         views[i].recommendedImageRectHeight = inst->view_h;
         if (n == 4) {
-            const XrFoveatedViewConfigurationViewVARJO *fv =
-                inst->ext.foveated ? fv_xr_find_next(views[i].next, XR_TYPE_FOVEATED_VIEW_CONFIGURATION_VIEW_VARJO)
-                                   : NULL;
             fv_xr_quad_view_size(inst, i, fv && fv->foveatedRenderingActive, &views[i].recommendedImageRectWidth,
                                  &views[i].recommendedImageRectHeight);
         }
-        views[i].maxImageRectWidth = 4096;
-        views[i].maxImageRectHeight = 4096;
+        views[i].maxImageRectWidth = FV_XR_MAX_IMAGE_SIZE;
+        views[i].maxImageRectHeight = FV_XR_MAX_IMAGE_SIZE;
         views[i].recommendedSwapchainSampleCount = 1;
-        views[i].maxSwapchainSampleCount = 1;
+        views[i].maxSwapchainSampleCount = FV_XR_MAX_SAMPLES;
     }
     return XR_SUCCESS;
 }

@@ -19,7 +19,14 @@
 
 #define FV_XR_LOG "xr"
 #define FV_XR_SYSTEM_ID ((XrSystemId)1)
-#define FV_XR_MAX_LAYERS 8         /* composition layers per frame (xrGetSystemProperties maxLayerCount) */
+#define FV_XR_MAX_LAYERS 16        /* composition layers per frame (xrGetSystemProperties maxLayerCount); the spec's
+                                    * minimum (XR_MIN_COMPOSITION_LAYERS_SUPPORTED) */
+#define FV_XR_MAX_IMAGE_SIZE 4096u /* swapchain width / height (maxSwapchainImageWidth/Height, maxImageRect*) */
+#define FV_XR_MAX_ARRAY_SIZE 16u   /* swapchain arraySize */
+#define FV_XR_MAX_SAMPLES 1u       /* swapchain sampleCount (maxSwapchainSampleCount) */
+#define FV_XR_MAX_CHAIN 64         /* links of a `next` chain the runtime walks (more, or a loop: VALIDATION_FAILURE) */
+#define FV_XR_VENDOR_ID 0x10005u   /* XrSystemProperties::vendorId (non-zero): fovea has no vendor id of its own; the
+                                    * Khronos-assigned id of Mesa (VK_VENDOR_ID_MESA), the stack it is built on */
 #define FV_XR_MAX_SWAPCHAIN_IMAGES 3
 #define FV_XR_EVENT_CAP 64
 #define FV_XR_MAX_VIEWS 4          /* stereo, or quad views (XR_VARJO_quad_views) */
@@ -162,8 +169,13 @@ bool fv_xr_handle_live(const void *h, uint32_t magic);
 XrInstance fv_xr_instance_check(XrInstance instance);
 XrSession fv_xr_session_check(XrSession session);
 int64_t fv_xr_now_ns(void);
-/** A struct of the given type at the head of `p` (its type field), or NULL. */
-const void *fv_xr_find_next(const void *next, XrStructureType type);
+/** The one walker of `next` chains (input and output): the first struct of `type` in the chain from `next` (NULL:
+ *  none; type XR_TYPE_UNKNOWN only checks the chain), the whole chain walked and bounded: a loop or more than
+ *  FV_XR_MAX_CHAIN links is XR_ERROR_VALIDATION_FAILURE (logged, naming `what`). Structures of unknown types are
+ *  skipped (the spec: a runtime ignores what it does not recognise). */
+XrResult fv_xr_chain_find(const void *next, XrStructureType type, const char *what, const void **out);
+/** fv_xr_chain_find(next, XR_TYPE_UNKNOWN, ...): the chain is walkable. */
+XrResult fv_xr_chain_check(const void *next, const char *what);
 /** Queue an event (the oldest is dropped and counted when the queue is full). Instance lock held. */
 void fv_xr_event_push(struct XrInstance_T *inst, const void *event, size_t size);
 /** Set a session's state and queue XrEventDataSessionStateChanged. Instance lock held. */

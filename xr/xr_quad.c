@@ -87,8 +87,9 @@ void fv_xr_quad_view_size(const struct XrInstance_T *inst, uint32_t view, bool f
 bool fv_xr_quad_locate(struct XrSession_T *s, const XrViewLocateInfo *info, XrView *views)
 {
     struct XrInstance_T *inst = s->inst;
-    const XrViewLocateFoveatedRenderingVARJO *fr =
-        inst->ext.foveated ? fv_xr_find_next(info->next, XR_TYPE_VIEW_LOCATE_FOVEATED_RENDERING_VARJO) : NULL;
+    const XrViewLocateFoveatedRenderingVARJO *fr = NULL; /* xrLocateViews checked the chain */
+    if (inst->ext.foveated)
+        fv_xr_chain_find(info->next, XR_TYPE_VIEW_LOCATE_FOVEATED_RENDERING_VARJO, "xrLocateViews", (const void **)&fr);
     bool foveated = fr && fr->foveatedRenderingActive;
     double cx = 0.0, cy = 0.0, u = FV_XR_QUAD_NOMINAL_UNCERTAINTY_DEG;
     bool tracked = false;

@@ -76,11 +76,25 @@ int64_t fv_xr_now_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
-const void *fv_xr_find_next(const void *next, XrStructureType type)
+XrResult fv_xr_chain_find(const void *next, XrStructureType type, const char *what, const void **out)
 {
-    for (const XrBaseInStructure *b = next; b; b = b->next)
-        if (b->type == type) return b;
-    return NULL;
+    const void *found = NULL;
+    int links = 0;
+    for (const XrBaseInStructure *b = next; b; b = b->next) {
+        if (++links > FV_XR_MAX_CHAIN) {
+            FV_ERROR(FV_XR_LOG, "%s: the next chain has more than %d structures (or loops)", what, FV_XR_MAX_CHAIN);
+            if (out) *out = NULL;
+            return XR_ERROR_VALIDATION_FAILURE;
+        }
+        if (!found && type != XR_TYPE_UNKNOWN && b->type == type) found = b;
+    }
+    if (out) *out = found;
+    return XR_SUCCESS;
+}
+
+XrResult fv_xr_chain_check(const void *next, const char *what)
+{
+    return fv_xr_chain_find(next, XR_TYPE_UNKNOWN, what, NULL);
 }
 
 bool fv_xr_pose_valid(const XrPosef *p)

@@ -49,8 +49,15 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
     if (!info || !out || info->type != XR_TYPE_SESSION_CREATE_INFO || info->createFlags != 0)
         return XR_ERROR_VALIDATION_FAILURE;
     if (info->systemId != FV_XR_SYSTEM_ID) return XR_ERROR_SYSTEM_INVALID;
-    const XrGraphicsBindingVulkanKHR *vkb = fv_xr_find_next(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
-    const void *eglb = fv_xr_find_next(info->next, XR_TYPE_GRAPHICS_BINDING_EGL_MNDX);
+    /* a binding of an extension the app did not enable is ignored (like any structure the runtime does not know) */
+    const XrGraphicsBindingVulkanKHR *vkb = NULL;
+    const void *eglb = NULL;
+    if (fv_xr_chain_find(info->next, inst->ext.vulkan || inst->ext.vulkan2 ? XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR
+                                                                            : XR_TYPE_UNKNOWN,
+                         "xrCreateSession", (const void **)&vkb) != XR_SUCCESS ||
+        fv_xr_chain_find(info->next, inst->ext.egl ? XR_TYPE_GRAPHICS_BINDING_EGL_MNDX : XR_TYPE_UNKNOWN,
+                         "xrCreateSession", &eglb) != XR_SUCCESS)
+        return XR_ERROR_VALIDATION_FAILURE;
     if (vkb && eglb) {
         FV_ERROR(FV_XR_LOG, "xrCreateSession: two graphics bindings (Vulkan and EGL)");
         return XR_ERROR_VALIDATION_FAILURE;
@@ -77,10 +84,6 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
         goto fail;
     }
     if (vkb) {
-        if (!inst->ext.vulkan && !inst->ext.vulkan2) {
-            r = XR_ERROR_GRAPHICS_DEVICE_INVALID;
-            goto fail;
-        }
         if (!inst->graphics_requirements_queried || !inst->comp) {
             r = XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING;
             goto fail;
@@ -269,7 +272,9 @@ FV_XR_DECL(xrBeginSession)(XrSession session, const XrSessionBeginInfo *info)
 {
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!info || info->type != XR_TYPE_SESSION_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (!info || info->type != XR_TYPE_SESSION_BEGIN_INFO ||
+        fv_xr_chain_check(info->next, "xrBeginSession") != XR_SUCCESS)
+        return XR_ERROR_VALIDATION_FAILURE;
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = XR_SUCCESS;
     uint32_t views = 0;
@@ -383,7 +388,9 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
 {
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    if ((info && info->type != XR_TYPE_FRAME_WAIT_INFO) || !state || state->type != XR_TYPE_FRAME_STATE)
+    if ((info && info->type != XR_TYPE_FRAME_WAIT_INFO) || !state || state->type != XR_TYPE_FRAME_STATE ||
+        (info && fv_xr_chain_check(info->next, "xrWaitFrame") != XR_SUCCESS) ||
+        fv_xr_chain_check(state->next, "xrWaitFrame: XrFrameState") != XR_SUCCESS)
         return XR_ERROR_VALIDATION_FAILURE;
     int64_t t_enter = fv_xr_now_ns();
     pthread_mutex_lock(&s->inst->lock);
@@ -441,7 +448,8 @@ FV_XR_DECL(xrBeginFrame)(XrSession session, const XrFrameBeginInfo *info)
 {
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (info && info->type != XR_TYPE_FRAME_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info && (info->type != XR_TYPE_FRAME_BEGIN_INFO || fv_xr_chain_check(info->next, "xrBeginFrame") != XR_SUCCESS))
+        return XR_ERROR_VALIDATION_FAILURE;
     int64_t t0 = fv_xr_now_ns();
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = XR_SUCCESS;
@@ -496,24 +504,27 @@ static bool fov_valid(const XrFovf *f)
 static XrResult check_layers(struct XrSession_T *s, const XrFrameEndInfo *info)
 {
     if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
-    if (info->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE) {
-        if (info->environmentBlendMode == XR_ENVIRONMENT_BLEND_MODE_ADDITIVE ||
-            info->environmentBlendMode == XR_ENVIRONMENT_BLEND_MODE_ALPHA_BLEND)
-            return XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED;
-        return XR_ERROR_VALIDATION_FAILURE;
-    }
+    /* fovea's display is opaque: any other mode, known or not (as the conformance suite asks) */
+    if (info->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE)
+        return XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED;
     if (info->layerCount > FV_XR_MAX_LAYERS) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
     if (info->layerCount && !info->layers) return XR_ERROR_VALIDATION_FAILURE;
     for (uint32_t i = 0; i < info->layerCount; i++) {
         const XrCompositionLayerBaseHeader *l = info->layers[i];
         if (!l) return XR_ERROR_LAYER_INVALID;
+        if (fv_xr_chain_check(l->next, "xrEndFrame: layer") != XR_SUCCESS) return XR_ERROR_VALIDATION_FAILURE;
+        /* XR_MND_headless: nothing is shown, so the layers are ignored, placeholders included (a projection with no
+         * views, a quad with no swapchain: an app's frame loop written for a display) */
+        if (s->headless) continue;
         if (!fv_xr_handle_live(l->space, FV_XR_MAGIC_SPACE) || ((struct XrSpace_T *)l->space)->session != s)
             return XR_ERROR_HANDLE_INVALID;
         if (l->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
             const XrCompositionLayerProjection *p = (const void *)l;
             if (p->viewCount != s->view_count || !p->views) return XR_ERROR_VALIDATION_FAILURE;
             for (uint32_t v = 0; v < p->viewCount; v++) {
-                if (p->views[v].type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+                if (p->views[v].type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW ||
+                    fv_xr_chain_check(p->views[v].next, "xrEndFrame: projection view") != XR_SUCCESS)
+                    return XR_ERROR_VALIDATION_FAILURE;
                 if (!fv_xr_pose_valid(&p->views[v].pose)) return XR_ERROR_POSE_INVALID;
                 if (!fov_valid(&p->views[v].fov)) return XR_ERROR_VALIDATION_FAILURE;
                 XrResult r = check_sub_image(s, &p->views[v].subImage);
@@ -538,7 +549,8 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
 {
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!info || info->type != XR_TYPE_FRAME_END_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (!info || info->type != XR_TYPE_FRAME_END_INFO || fv_xr_chain_check(info->next, "xrEndFrame") != XR_SUCCESS)
+        return XR_ERROR_VALIDATION_FAILURE;
     int64_t t0 = fv_xr_now_ns();
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = XR_SUCCESS;

@@ -93,12 +93,9 @@ FV_XR_DECL(xrCreateReferenceSpace)(XrSession session, const XrReferenceSpaceCrea
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_REFERENCE_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (!ref_type_supported(s, info->referenceSpaceType)) {
-        bool known = info->referenceSpaceType == XR_REFERENCE_SPACE_TYPE_UNBOUNDED_MSFT ||
-                     info->referenceSpaceType == XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO ||
-                     info->referenceSpaceType == XR_REFERENCE_SPACE_TYPE_LOCAL_FLOOR_EXT;
-        return known ? XR_ERROR_REFERENCE_SPACE_UNSUPPORTED : XR_ERROR_VALIDATION_FAILURE;
-    }
+    if (fv_xr_chain_check(info->next, "xrCreateReferenceSpace") != XR_SUCCESS) return XR_ERROR_VALIDATION_FAILURE;
+    /* any type this session does not offer, known to fovea or not (the spec; the conformance suite asks it) */
+    if (!ref_type_supported(s, info->referenceSpaceType)) return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
     if (!fv_xr_pose_valid(&info->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
     struct XrSpace_T *sp = calloc(1, sizeof *sp);
     if (!sp) return XR_ERROR_OUT_OF_MEMORY;
@@ -131,7 +128,9 @@ FV_XR_DECL(xrCreateActionSpace)(XrSession session, const XrActionSpaceCreateInfo
 {
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!info || !out || info->type != XR_TYPE_ACTION_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (!info || !out || info->type != XR_TYPE_ACTION_SPACE_CREATE_INFO ||
+        fv_xr_chain_check(info->next, "xrCreateActionSpace") != XR_SUCCESS)
+        return XR_ERROR_VALIDATION_FAILURE;
     if (!fv_xr_pose_valid(&info->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = fv_xr_input_check_space(s, info);
@@ -261,6 +260,9 @@ FV_XR_DECL(xrLocateSpace)(XrSpace space, XrSpace base, XrTime time, XrSpaceLocat
     struct XrSpace_T *a = space, *b = base;
     if (a->session != b->session) return XR_ERROR_VALIDATION_FAILURE;
     if (!location || location->type != XR_TYPE_SPACE_LOCATION) return XR_ERROR_VALIDATION_FAILURE;
+    XrSpaceVelocity *vel = NULL;
+    if (fv_xr_chain_find(location->next, XR_TYPE_SPACE_VELOCITY, "xrLocateSpace", (const void **)&vel) != XR_SUCCESS)
+        return XR_ERROR_VALIDATION_FAILURE;
     if (time <= 0) return XR_ERROR_TIME_INVALID;
     struct XrSession_T *s = a->session;
     pthread_mutex_lock(&s->inst->lock);
@@ -268,7 +270,6 @@ FV_XR_DECL(xrLocateSpace)(XrSpace space, XrSpace base, XrTime time, XrSpaceLocat
     if (r == XR_SUCCESS) {
         XrSpaceLocationFlags f = fv_xr_space_relate(a, b, time, &location->pose);
         location->locationFlags = f;
-        XrSpaceVelocity *vel = (XrSpaceVelocity *)fv_xr_find_next(location->next, XR_TYPE_SPACE_VELOCITY);
         if (vel) {
             /* reference spaces and the static head do not move relative to each other; gaze velocity is unknown */
             bool both_ref = a->kind == FV_XR_SPACE_REFERENCE && b->kind == FV_XR_SPACE_REFERENCE;
@@ -289,6 +290,9 @@ FV_XR_DECL(xrLocateViews)(XrSession session, const XrViewLocateInfo *info, XrVie
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_VIEW_LOCATE_INFO || !state || state->type != XR_TYPE_VIEW_STATE || !count ||
         (cap && !views))
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (fv_xr_chain_check(info->next, "xrLocateViews") != XR_SUCCESS ||
+        fv_xr_chain_check(state->next, "xrLocateViews: XrViewState") != XR_SUCCESS)
         return XR_ERROR_VALIDATION_FAILURE;
     if (!fv_xr_handle_live(info->space, FV_XR_MAGIC_SPACE) || ((struct XrSpace_T *)info->space)->session != s)
         return XR_ERROR_HANDLE_INVALID;
@@ -313,7 +317,7 @@ FV_XR_DECL(xrLocateViews)(XrSession session, const XrViewLocateInfo *info, XrVie
     XrPosef base_inv = pose_inv(base);
     const fv_hmd_profile *h = &s->inst->hmd;
     for (uint32_t i = 0; i < n; i++) {
-        if (views[i].type != XR_TYPE_VIEW) {
+        if (views[i].type != XR_TYPE_VIEW || fv_xr_chain_check(views[i].next, "xrLocateViews: XrView") != XR_SUCCESS) {
             pthread_mutex_unlock(&s->inst->lock);
             return XR_ERROR_VALIDATION_FAILURE;
         }

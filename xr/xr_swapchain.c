@@ -31,32 +31,74 @@ FV_XR_DECL(xrEnumerateSwapchainFormats)(XrSession session, uint32_t cap, uint32_
     return r;
 }
 
+/* The usage flags OpenXR 1.0 defines (and XR_MND_swapchain_usage_input_attachment_bit's). */
+#define KNOWN_USAGE                                                                                                    \
+    (XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |                       \
+     XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT |                                   \
+     XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT | XR_SWAPCHAIN_USAGE_SAMPLED_BIT | XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT |    \
+     XR_SWAPCHAIN_USAGE_INPUT_ATTACHMENT_BIT_MND)
+
+static XrResult refuse(XrResult r, const XrSwapchainCreateInfo *info, const char *why)
+{
+    FV_ERROR(FV_XR_LOG, "xrCreateSwapchain: %ux%u, %u mips, %u samples, array %u, faces %u, format %lld: %s",
+             info->width, info->height, info->mipCount, info->sampleCount, info->arraySize, info->faceCount,
+             (long long)info->format, why);
+    return r;
+}
+
+/* XrSwapchainCreateInfo against the limits the runtime reports (xrGetSystemProperties,
+ * xrEnumerateViewConfigurationViews, xrEnumerateSwapchainFormats), before anything is made. Instance lock held. */
+static XrResult check_create_info(struct XrSession_T *s, const XrSwapchainCreateInfo *info)
+{
+    if (info->createFlags & ~(XrSwapchainCreateFlags)(XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT |
+                                                       XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT))
+        return refuse(XR_ERROR_VALIDATION_FAILURE, info, "unknown createFlags bits");
+    if (info->createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT)
+        return refuse(XR_ERROR_FEATURE_UNSUPPORTED, info, "protected content is not supported");
+    if (info->usageFlags & ~(XrSwapchainUsageFlags)KNOWN_USAGE)
+        return refuse(XR_ERROR_VALIDATION_FAILURE, info, "unknown usageFlags bits");
+    if (info->width == 0 || info->height == 0 || info->width > FV_XR_MAX_IMAGE_SIZE ||
+        info->height > FV_XR_MAX_IMAGE_SIZE)
+        return refuse(XR_ERROR_VALIDATION_FAILURE, info, "width and height must be 1..maxSwapchainImageWidth/Height");
+    uint32_t max_mips = 1; /* floor(log2(max(w, h))) + 1 */
+    for (uint32_t d = info->width > info->height ? info->width : info->height; d > 1; d >>= 1) max_mips++;
+    if (info->mipCount == 0 || info->mipCount > max_mips)
+        return refuse(XR_ERROR_VALIDATION_FAILURE, info, "mipCount must be 1..floor(log2(max(width, height)))+1");
+    if (info->sampleCount == 0) return refuse(XR_ERROR_VALIDATION_FAILURE, info, "sampleCount must not be 0");
+    if (info->sampleCount > FV_XR_MAX_SAMPLES)
+        return refuse(XR_ERROR_FEATURE_UNSUPPORTED, info, "sampleCount above maxSwapchainSampleCount");
+    if (info->faceCount != 1 && info->faceCount != 6)
+        return refuse(XR_ERROR_VALIDATION_FAILURE, info, "faceCount must be 1 or 6");
+    if (info->faceCount == 6)
+        return refuse(XR_ERROR_FEATURE_UNSUPPORTED, info, "cube maps (faceCount 6) are not supported");
+    if (info->arraySize == 0 || info->arraySize > FV_XR_MAX_ARRAY_SIZE)
+        return refuse(XR_ERROR_VALIDATION_FAILURE, info, "arraySize must be 1..FV_XR_MAX_ARRAY_SIZE (16)");
+    int64_t formats[32];
+    uint32_t n = (s->egl ? fv_xr_egl_formats : fv_xr_compositor_formats)(s->inst->comp, formats, 32);
+    bool ok = false;
+    for (uint32_t i = 0; i < n && i < 32; i++) ok |= formats[i] == info->format;
+    if (!ok) return refuse(XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED, info, "not a format of xrEnumerateSwapchainFormats");
+    bool depth = fv_xr_format_is_depth(s->egl ? fv_xr_egl_format_vk(info->format) : (VkFormat)info->format);
+    if (depth &&
+        (info->usageFlags & (XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT)))
+        return refuse(XR_ERROR_FEATURE_UNSUPPORTED, info, "a depth format cannot be a colour or storage image");
+    if (!depth && (info->usageFlags & XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT))
+        return refuse(XR_ERROR_FEATURE_UNSUPPORTED, info, "a colour format cannot be a depth-stencil attachment");
+    return XR_SUCCESS;
+}
+
 FV_XR_DECL(xrCreateSwapchain)(XrSession session, const XrSwapchainCreateInfo *info, XrSwapchain *out)
 {
     struct XrSession_T *s = fv_xr_session_check(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    if (!info || !out || info->type != XR_TYPE_SWAPCHAIN_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (s->headless) return XR_ERROR_FEATURE_UNSUPPORTED; /* XR_MND_headless sessions have no swapchains */
-    if (info->createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT) return XR_ERROR_FEATURE_UNSUPPORTED;
-    if (info->createFlags & ~(XrSwapchainCreateFlags)(XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT |
-                                                       XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT))
+    if (!info || !out || info->type != XR_TYPE_SWAPCHAIN_CREATE_INFO ||
+        fv_xr_chain_check(info->next, "xrCreateSwapchain") != XR_SUCCESS)
         return XR_ERROR_VALIDATION_FAILURE;
-    if (info->faceCount != 1 || info->arraySize == 0 || info->mipCount == 0 || info->width == 0 ||
-        info->height == 0 || info->sampleCount != 1)
-        return info->sampleCount > 1 || info->faceCount == 6 ? XR_ERROR_FEATURE_UNSUPPORTED
-                                                             : XR_ERROR_VALIDATION_FAILURE;
-    if (info->width > 4096 || info->height > 4096 || info->arraySize > 16) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (s->headless) return XR_ERROR_FEATURE_UNSUPPORTED; /* XR_MND_headless sessions have no swapchains */
     pthread_mutex_lock(&s->inst->lock);
-    XrResult r = XR_SUCCESS;
     struct XrSwapchain_T *sc = NULL;
-    int64_t formats[16];
-    uint32_t n = (s->egl ? fv_xr_egl_formats : fv_xr_compositor_formats)(s->inst->comp, formats, 16);
-    bool ok = false;
-    for (uint32_t i = 0; i < n && i < 16; i++) ok |= formats[i] == info->format;
-    if (!ok) {
-        r = XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
-        goto done;
-    }
+    XrResult r = check_create_info(s, info);
+    if (r != XR_SUCCESS) goto done;
     sc = calloc(1, sizeof *sc);
     if (!sc) {
         r = XR_ERROR_OUT_OF_MEMORY;
@@ -68,10 +110,6 @@ FV_XR_DECL(xrCreateSwapchain)(XrSession session, const XrSwapchainCreateInfo *in
     sc->info.next = NULL;
     sc->format = s->egl ? fv_xr_egl_format_vk(info->format) : (VkFormat)info->format;
     sc->depth = fv_xr_format_is_depth(sc->format);
-    if (sc->depth && (info->usageFlags & XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT)) {
-        r = XR_ERROR_VALIDATION_FAILURE;
-        goto done;
-    }
     sc->image_count = (info->createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) ? 1 : FV_XR_MAX_SWAPCHAIN_IMAGES;
     sc->last_released = -1;
     r = fv_xr_swapchain_images_create(s->inst->comp, sc);
@@ -156,7 +194,10 @@ FV_XR_DECL(xrAcquireSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImag
 {
     struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
-    if ((info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO) || !index) return XR_ERROR_VALIDATION_FAILURE;
+    if ((info && (info->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO ||
+                  fv_xr_chain_check(info->next, "xrAcquireSwapchainImage") != XR_SUCCESS)) ||
+        !index)
+        return XR_ERROR_VALIDATION_FAILURE;
     struct XrSession_T *s = sc->session;
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = XR_SUCCESS;
@@ -183,7 +224,9 @@ FV_XR_DECL(xrWaitSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageWa
 {
     struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
-    if (!info || info->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (!info || info->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO ||
+        fv_xr_chain_check(info->next, "xrWaitSwapchainImage") != XR_SUCCESS)
+        return XR_ERROR_VALIDATION_FAILURE;
     struct XrSession_T *s = sc->session;
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = XR_SUCCESS;
@@ -201,7 +244,9 @@ FV_XR_DECL(xrReleaseSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImag
 {
     struct XrSwapchain_T *sc = fv_xr_swapchain_check(swapchain);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
-    if (info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info && (info->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO ||
+                 fv_xr_chain_check(info->next, "xrReleaseSwapchainImage") != XR_SUCCESS))
+        return XR_ERROR_VALIDATION_FAILURE;
     struct XrSession_T *s = sc->session;
     pthread_mutex_lock(&s->inst->lock);
     XrResult r = XR_SUCCESS;

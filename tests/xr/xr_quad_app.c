@@ -20,12 +20,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <vulkan/vulkan.h>
-#define XR_USE_GRAPHICS_API_VULKAN 1
-#include <openxr/openxr.h>
-#include <openxr/openxr_platform.h>
-
 #include "xr_app.h"
+#include "xr_app_vk.h"
 
 #define CHECK_XR(call)                                                                                                 \
     do {                                                                                                               \
@@ -156,16 +152,6 @@ static void create_instance(app *a, bool stereo_only)
 /* The app's Vulkan instance and device, made by the runtime (XR_KHR_vulkan_enable2), with the validation layer. */
 static void create_vulkan(app *a)
 {
-    PFN_xrGetVulkanGraphicsRequirements2KHR get_req = NULL;
-    PFN_xrCreateVulkanInstanceKHR create_inst = NULL;
-    PFN_xrGetVulkanGraphicsDevice2KHR get_dev = NULL;
-    PFN_xrCreateVulkanDeviceKHR create_dev = NULL;
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrGetVulkanGraphicsRequirements2KHR", (PFN_xrVoidFunction *)&get_req));
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrCreateVulkanInstanceKHR", (PFN_xrVoidFunction *)&create_inst));
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrGetVulkanGraphicsDevice2KHR", (PFN_xrVoidFunction *)&get_dev));
-    CHECK_XR(xrGetInstanceProcAddr(a->inst, "xrCreateVulkanDeviceKHR", (PFN_xrVoidFunction *)&create_dev));
-    XrGraphicsRequirementsVulkan2KHR req = {.type = XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR};
-    CHECK_XR(get_req(a->inst, a->system, &req));
     const char *layers[] = {"VK_LAYER_KHRONOS_validation"};
     const char *iexts[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
     VkApplicationInfo ai = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO, .pApplicationName = "fovea xr_quad_app",
@@ -184,46 +170,15 @@ static void create_vulkan(app *a)
                                 .ppEnabledLayerNames = layers,
                                 .enabledExtensionCount = 1,
                                 .ppEnabledExtensionNames = iexts};
-    XrVulkanInstanceCreateInfoKHR xi = {.type = XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR,
-                                        .systemId = a->system,
-                                        .pfnGetInstanceProcAddr = vkGetInstanceProcAddr,
-                                        .vulkanCreateInfo = &ici};
-    VkResult vr = VK_SUCCESS;
-    CHECK_XR(create_inst(a->inst, &xi, &a->vk_inst, &vr));
-    CHECK_VK(vr);
+    xr_app_vk vk;
+    xr_app_vk_create(a->inst, a->system, &ici, &vk);
+    a->vk_inst = vk.instance;
+    a->phys = vk.phys;
+    a->device = vk.device;
+    a->family = vk.family;
     PFN_vkCreateDebugUtilsMessengerEXT cm =
         (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(a->vk_inst, "vkCreateDebugUtilsMessengerEXT");
     if (cm) CHECK_VK(cm(a->vk_inst, &mi, NULL, &a->messenger));
-    XrVulkanGraphicsDeviceGetInfoKHR dgi = {.type = XR_TYPE_VULKAN_GRAPHICS_DEVICE_GET_INFO_KHR,
-                                            .systemId = a->system,
-                                            .vulkanInstance = a->vk_inst};
-    CHECK_XR(get_dev(a->inst, &dgi, &a->phys));
-    uint32_t nf = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(a->phys, &nf, NULL);
-    VkQueueFamilyProperties qf[16];
-    if (nf > 16) nf = 16;
-    vkGetPhysicalDeviceQueueFamilyProperties(a->phys, &nf, qf);
-    a->family = UINT32_MAX;
-    for (uint32_t i = 0; i < nf && a->family == UINT32_MAX; i++)
-        if (qf[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) a->family = i;
-    if (a->family == UINT32_MAX) {
-        fprintf(stderr, "xr_quad_app: no graphics queue\n");
-        exit(1);
-    }
-    float prio = 1.0f;
-    VkDeviceQueueCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
-                                  .queueFamilyIndex = a->family,
-                                  .queueCount = 1,
-                                  .pQueuePriorities = &prio};
-    VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, .queueCreateInfoCount = 1,
-                              .pQueueCreateInfos = &qi};
-    XrVulkanDeviceCreateInfoKHR xd = {.type = XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR,
-                                      .systemId = a->system,
-                                      .pfnGetInstanceProcAddr = vkGetInstanceProcAddr,
-                                      .vulkanPhysicalDevice = a->phys,
-                                      .vulkanCreateInfo = &dci};
-    CHECK_XR(create_dev(a->inst, &xd, &a->device, &vr));
-    CHECK_VK(vr);
     vkGetDeviceQueue(a->device, a->family, 0, &a->queue);
     VkCommandPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
                                    .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,

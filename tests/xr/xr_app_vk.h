@@ -1,0 +1,28 @@
+/* @brief The Vulkan side of a small OpenXR app through the loader (XR_KHR_vulkan_enable2): the app's VkInstance and
+ * VkDevice made by the runtime, on the physical device it names, with one graphics queue. Shared by xr_quad_app and
+ * test_xr_misuse. Any failed call prints the call and its result and exits (status 1). */
+#ifndef FV_XR_APP_VK_H
+#define FV_XR_APP_VK_H
+
+#include <stdint.h>
+
+#include <vulkan/vulkan.h>
+#define XR_USE_GRAPHICS_API_VULKAN 1
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+
+typedef struct xr_app_vk {
+    VkInstance instance;
+    VkPhysicalDevice phys;
+    VkDevice device;
+    uint32_t family; /* the graphics queue family (queue 0 of it) */
+} xr_app_vk;
+
+/** The instance from `ici` (the app's layers and extensions) and a device with one graphics queue, through
+ *  xrCreateVulkanInstanceKHR / xrGetVulkanGraphicsDevice2KHR / xrCreateVulkanDeviceKHR (the graphics requirements
+ *  queried first). */
+void xr_app_vk_create(XrInstance inst, XrSystemId system, const VkInstanceCreateInfo *ici, xr_app_vk *out);
+/** The binding for xrCreateSession. */
+XrGraphicsBindingVulkanKHR xr_app_vk_binding(const xr_app_vk *vk);
+
+#endif
