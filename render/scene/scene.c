@@ -25,12 +25,18 @@ void fv_scene_copy_name(char *dst, size_t cap, const char *src)
     if (!cap) return;
     if (!src) src = "";
     size_t n = strlen(src);
-    if (n >= cap) {
-        n = cap - 1;
+    bool cut = n >= cap;
+    if (cut) {
+        /* never silently: a cut name ends in "..." (when the buffer has room for it) */
+        n = cap > 4 ? cap - 4 : cap - 1;
         /* cut before a UTF-8 character the buffer cannot hold whole (continuation bytes are 10xxxxxx) */
         while (n > 0 && ((unsigned char)src[n] & 0xC0u) == 0x80u) n--;
     }
     memcpy(dst, src, n);
+    if (cut && cap > 4) {
+        memcpy(dst + n, "...", 3);
+        n += 3;
+    }
     dst[n] = '\0';
 }
 

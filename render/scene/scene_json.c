@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "fv_json_scan.h"
 #include "fv_log.h"
 #include "fv_scene.h"
 #include "scene_internal.h"
@@ -318,13 +319,16 @@ static fv_quat euler_xyz_deg(fv_vec3 deg)
     return fv_quat_normalize(fv_quat_mul(qz, fv_quat_mul(qy, qx)));
 }
 
-/* Resolve a model path against the scene file's folder. */
-static void resolve_path(const jctx *c, const char *model, char *out, size_t cap)
+/* Resolve a model path against the scene file's folder; false (after the error, naming the field) when the
+ * result does not fit FV_SCENE_PATH_MAX: a cut path could name another file that exists. */
+static bool resolve_path(jctx *c, const char *field, const char *model, char *out, size_t cap)
 {
-    if (model[0] == '/' || !c->base_dir || !c->base_dir[0])
-        snprintf(out, cap, "%s", model);
-    else
-        snprintf(out, cap, "%s/%s", c->base_dir, model);
+    bool relative = model[0] != '/' && c->base_dir && c->base_dir[0];
+    int n = relative ? snprintf(out, cap, "%s/%s", c->base_dir, model) : snprintf(out, cap, "%s", model);
+    if (n >= 0 && (size_t)n < cap) return true;
+    JERR(c, field, "the model path is %d bytes%s, more than the %zu-byte limit ('%.60s...')", n,
+         relative ? " once joined to the scene file's folder" : "", cap - 1, model);
+    return false;
 }
 
 static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, float default_unit, bool *have_head,
@@ -342,6 +346,7 @@ static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, floa
     opt_string(c, o, path, "name", &name);
     jpath(p, path, "model");
     if (!model && !cJSON_GetObjectItemCaseSensitive(o, "model")) JERR(c, p, "missing (a model file or \"builtin:NAME\")");
+    if (model && !model[0]) JERR(c, p, "is empty (a model file or \"builtin:NAME\")");
 
     fv_node root = fv_node_default();
     fv_scene_copy_name(root.name, sizeof root.name, name ? name : (model ? model : path));
@@ -393,7 +398,7 @@ static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, floa
         }
     } else {
         char full[FV_SCENE_PATH_MAX];
-        resolve_path(c, model, full, sizeof full);
+        if (!resolve_path(c, p, model, full, sizeof full)) return;
         if (!c->allow_files) {
             JERR(c, p, "model files are not allowed here ('%s')", full);
             return;
@@ -529,66 +534,6 @@ static void parse_head(jctx *c, fv_scene *s, const cJSON *j)
     }
 }
 
-/* What the text holds, found in one pass before cJSON builds a tree for it: how many values, how deep it nests
- * (cJSON refuses more than CJSON_NESTING_LIMIT levels without saying so), and the first "\u0000" in a string
- * (cJSON would cut the string there, silently). */
-typedef struct json_scan {
-    size_t values;
-    size_t too_deep_at; /* offset of the bracket that passes the nesting limit, or SIZE_MAX */
-    size_t nul_at;      /* offset of the first \u0000 escape, or SIZE_MAX */
-    size_t nul_count;
-    size_t open_string_at; /* offset of the quote of a string the text ends inside, or SIZE_MAX */
-} json_scan;
-
-static void json_prescan(const char *json, size_t len, json_scan *out)
-{
-    *out = (json_scan){1, SIZE_MAX, SIZE_MAX, 0, SIZE_MAX};
-    size_t depth = 0, string_at = 0;
-    bool in_string = false;
-    for (size_t i = 0; i < len; i++) {
-        char ch = json[i];
-        if (in_string) {
-            if (ch == '\\') {
-                if (i + 5 < len && json[i + 1] == 'u' && !memcmp(json + i + 2, "0000", 4)) {
-                    if (out->nul_at == SIZE_MAX) out->nul_at = i;
-                    out->nul_count++;
-                }
-                i++; /* the escaped character */
-            } else if (ch == '"') {
-                in_string = false;
-            }
-            continue;
-        }
-        if (ch == '"') {
-            in_string = true;
-            string_at = i;
-        } else if (ch == '[' || ch == '{') {
-            out->values++;
-            if (++depth > CJSON_NESTING_LIMIT && out->too_deep_at == SIZE_MAX) out->too_deep_at = i;
-        } else if (ch == ']' || ch == '}') {
-            if (depth) depth--;
-        } else if (ch == ',') {
-            out->values++;
-        }
-    }
-    if (in_string) out->open_string_at = string_at;
-}
-
-/* Line and column (1-based) of a byte offset. */
-static void line_col(const char *json, size_t off, int *line, int *col)
-{
-    *line = 1;
-    *col = 1;
-    for (size_t i = 0; i < off; i++) {
-        if (json[i] == '\n') {
-            (*line)++;
-            *col = 1;
-        } else {
-            (*col)++;
-        }
-    }
-}
-
 static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **out_scene);
 
 fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir, const char *origin,
@@ -600,6 +545,11 @@ fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir
     if (!json) {
         FV_ERROR("scene", "%s: no scene text", c.origin);
         return FV_ERR_INVALID_ARG;
+    }
+    if (strlen(c.origin) >= FV_SCENE_PATH_MAX) { /* the scene's source, and the folder its models resolve from */
+        FV_ERROR("scene", "%.60s...: the scene file's path is %zu bytes, more than the %d-byte limit", c.origin,
+                 strlen(c.origin), FV_SCENE_PATH_MAX - 1);
+        return FV_ERR_RANGE;
     }
     /* Every message of the load (this file's and its model files') passes one budget: a few of each kind, then
      * one "... and N more" line each, then the count. */
@@ -618,11 +568,11 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
     fv_result r = FV_OK;
     cJSON *root = NULL;
     fv_scene *s = NULL;
-    json_scan scan;
-    json_prescan(json, len, &scan);
+    fv_json_scan scan;
+    fv_json_scan_text(json, len, CJSON_NESTING_LIMIT, &scan);
     int line, col;
     if (scan.too_deep_at != SIZE_MAX) {
-        line_col(json, scan.too_deep_at, &line, &col);
+        fv_text_line_col(json, scan.too_deep_at, &line, &col);
         FV_ERROR("scene", "%s: line %d column %d: invalid JSON: nested deeper than %d levels (the parser's limit)",
                  c.origin, line, col, CJSON_NESTING_LIMIT);
         return FV_ERR_PARSE;
@@ -633,7 +583,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
         return FV_ERR_RANGE;
     }
     if (scan.nul_at != SIZE_MAX) {
-        line_col(json, scan.nul_at, &line, &col);
+        fv_text_line_col(json, scan.nul_at, &line, &col);
         FV_ERROR("scene", "%s: line %d column %d: a string holds \\u0000 (a NUL character)%s, which names and paths "
                  "cannot carry; remove it", c.origin, line, col, scan.nul_count > 1 ? ", the first of several" : "");
         return FV_ERR_PARSE;
@@ -642,7 +592,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
     root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
     if (!root) {
         size_t off = (end && end >= json && end <= json + len) ? (size_t)(end - json) : 0;
-        line_col(json, off, &line, &col);
+        fv_text_line_col(json, off, &line, &col);
         /* cJSON points at the token where parsing stopped; when nothing but blanks follows it, the text was cut. */
         bool cut = true;
         for (size_t i = off + 1; i < len && cut; i++)
@@ -653,7 +603,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
         }
         if (scan.open_string_at != SIZE_MAX && off >= scan.open_string_at) {
             int sl, sc;
-            line_col(json, scan.open_string_at, &sl, &sc);
+            fv_text_line_col(json, scan.open_string_at, &sl, &sc);
             FV_ERROR("scene", "%s: line %d column %d: invalid JSON (the text ends inside the string that starts "
                      "there: a missing '\"')", c.origin, sl, sc);
         } else if (off >= len || cut)

@@ -373,18 +373,61 @@ static void nesting_values_and_nul_characters_are_refused_with_the_reason(void *
     fv_scene_destroy(&s);
 }
 
-static void long_names_are_cut_between_utf8_characters(void **state)
+static void long_names_are_cut_visibly_between_utf8_characters(void **state)
 {
     (void)state;
-    /* 62 ASCII bytes then a 3-byte character: the 64-byte name holds 63 bytes, so the character goes whole */
+    /* 59 ASCII bytes, a 3-byte character, 2 more: 64 bytes do not fit the 64-byte name (63 and a NUL). The cut is
+     * visible: 60 bytes then "...", and before the character that would not fit whole: 59 a's then "..." */
     char json[512], name[80];
-    memset(name, 'a', 62);
-    strcpy(name + 62, "\xe2\x82\xac");
+    memset(name, 'a', 59);
+    strcpy(name + 59, "\xe2\x82\xac" "bb");
     snprintf(json, sizeof json, "{\"name\":\"%s\",\"objects\":[{\"model\":\"builtin:cornell\"}]}", name);
     fv_scene *s = NULL;
     assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, NULL, &s), FV_OK);
     assert_int_equal(strlen(s->name), 62);
+    assert_string_equal(s->name + 59, "...");
     fv_scene_destroy(&s);
+    /* 63 bytes fit whole */
+    memset(name, 'b', 63);
+    name[63] = '\0';
+    snprintf(json, sizeof json, "{\"name\":\"%s\",\"objects\":[{\"model\":\"builtin:cornell\"}]}", name);
+    assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, NULL, &s), FV_OK);
+    assert_string_equal(s->name, name);
+    fv_scene_destroy(&s);
+}
+
+/* A model path that does not fit FV_SCENE_PATH_MAX was cut, and the cut named another file that exists: it loaded
+ * that file. Now the path is refused, naming the field, its length and the limit. An empty model says so. */
+static void long_model_paths_are_refused_not_cut_and_empty_ones_named(void **state)
+{
+    (void)state;
+    const char *tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const char *file = fv_test_write_file("cut_target.obj", tri, strlen(tri));
+    const char *slash = strrchr(file, '/');
+    char prefix[FV_SCENE_PATH_MAX + 1], model[FV_SCENE_PATH_MAX + 64], json[FV_SCENE_PATH_MAX + 256];
+    /* "<dir>/././.../cut_target.obj" of exactly FV_SCENE_PATH_MAX - 1 bytes: what the cut would leave */
+    size_t dir_len = (size_t)(slash - file), name_len = strlen(slash);
+    size_t pad = FV_SCENE_PATH_MAX - 1 - dir_len - name_len;
+    assert_true(pad >= 2);
+    memcpy(prefix, file, dir_len);
+    size_t n = dir_len;
+    if (pad % 2) prefix[n++] = '/';
+    for (size_t i = 0; i < pad / 2; i++, n += 2) memcpy(prefix + n, "/.", 2);
+    memcpy(prefix + n, slash, name_len + 1);
+    assert_int_equal(strlen(prefix), FV_SCENE_PATH_MAX - 1);
+    snprintf(model, sizeof model, "%s/../missing.obj", prefix);
+    snprintf(json, sizeof json, "{\"objects\":[{\"model\":\"%s\"}]}", model);
+    char want[160];
+    snprintf(want, sizeof want, "objects[0].model: the model path is %zu bytes, more than the %d-byte limit",
+             strlen(model), FV_SCENE_PATH_MAX - 1);
+    const char *cut[] = {want, NULL};
+    expect_error(json, cut);
+    /* the same for a relative path joined to the scene file's folder */
+    snprintf(json, sizeof json, "{\"objects\":[{\"model\":\"%s\"}]}", prefix + 1);
+    const char *joined[] = {"objects[0].model: the model path is", "once joined to the scene file's folder", NULL};
+    expect_error(json, joined);
+    const char *empty[] = {"objects[0].model: is empty (a model file or \"builtin:NAME\")", NULL};
+    expect_error("{\"objects\":[{\"model\":\"\"}]}", empty);
 }
 
 int main(void)
@@ -402,7 +445,8 @@ int main(void)
         cmocka_unit_test(buffer_without_terminator_and_embedded_nul_are_safe),
         cmocka_unit_test(a_flood_of_one_error_is_summarised_and_limits_come_before_the_work),
         cmocka_unit_test(nesting_values_and_nul_characters_are_refused_with_the_reason),
-        cmocka_unit_test(long_names_are_cut_between_utf8_characters),
+        cmocka_unit_test(long_names_are_cut_visibly_between_utf8_characters),
+        cmocka_unit_test(long_model_paths_are_refused_not_cut_and_empty_ones_named),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
