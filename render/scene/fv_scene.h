@@ -19,6 +19,11 @@
 #define FV_SCENE_MAX_INDICES (192u * 1024u * 1024u)
 #define FV_SCENE_MAX_ITEMS 65536u /* meshes, nodes, materials, lights, textures each */
 #define FV_SCENE_MAX_TEXTURE_DIM 16384u
+/** The largest |coordinate| in metres of any position a scene holds or makes: world-space vertices at t = 0, node
+ *  translations and animation amplitudes, light, camera and head positions; and the largest node scale factor.
+ *  1000 km: a float's step there is 6 cm, further out nothing draws sensibly (the GPU's depth and shading lose
+ *  their precision; Embree refuses rays past 1.8e18). Loaders refuse a scene beyond it, naming the item. */
+#define FV_SCENE_MAX_COORD_M 1.0e6
 /** Interpupillary distance used when nothing says otherwise, and the largest accepted (millimetres). */
 #define FV_SCENE_DEFAULT_IPD_MM 63.0f
 #define FV_SCENE_MAX_IPD_MM 100.0f
@@ -175,6 +180,11 @@ uint64_t fv_scene_triangle_count(const fv_scene *s);
 /** Check every invariant (indices in range, finite values, parents before children...). Logs each broken rule
  *  with the scene source and the item; returns FV_ERR_PARSE if any is broken. */
 FV_MUST_CHECK fv_result fv_scene_validate(const fv_scene *s);
+/** Check every position and size against FV_SCENE_MAX_COORD_M (non-finite ones fail too): node translations,
+ *  scales and animation amplitudes, each drawn node's world bounds at t = 0, lights, cameras and the head. Logs each
+ *  item beyond it (source, item, value, bound; at most 16 lines) and returns FV_ERR_RANGE, else FV_OK. Part of
+ *  fv_scene_validate; renderers run it on scenes they did not load. */
+FV_MUST_CHECK fv_result fv_scene_check_extent(const fv_scene *s);
 /** Place the head so the whole scene is in view (used when a file has no camera): it looks at the centre of the
  *  world bounds along -z from the +z side (or along +z from the -z side when clearly more triangle area faces -z,
  *  as for a box open towards -z), far enough that the bounding sphere fits the narrowest half-angle of the HMD

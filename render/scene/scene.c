@@ -2,6 +2,7 @@
  * automatic head framing. */
 #include "fv_scene.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -438,6 +439,60 @@ uint64_t fv_scene_triangle_count(const fv_scene *s)
 
 /* ---- validation ------------------------------------------------------------------------------------------- */
 
+/* The component of v farthest from 0 that is beyond FV_SCENE_MAX_COORD_M or not finite; false when none is. */
+static bool v3_beyond(fv_vec3 v, double bound, double *out)
+{
+    const float c[3] = {v.x, v.y, v.z};
+    for (int k = 0; k < 3; k++)
+        if (!(fabs((double)c[k]) <= bound)) {
+            *out = c[k];
+            return true;
+        }
+    return false;
+}
+
+fv_result fv_scene_check_extent(const fv_scene *s)
+{
+    if (!s) return FV_ERR_INVALID_ARG;
+    const char *src = src_of(s);
+    const double B = FV_SCENE_MAX_COORD_M;
+    int bad = 0;
+    double v;
+#define BEYOND(what, ...)                                                                                              \
+    do {                                                                                                               \
+        if (bad < 16)                                                                                                  \
+            FV_ERROR("scene", "%s: " what ": %g is beyond the +-%g m bound of a position or size", src, __VA_ARGS__, v, \
+                     B);                                                                                               \
+        bad++;                                                                                                         \
+    } while (0)
+    for (uint32_t i = 0; i < s->node_count; i++) {
+        const fv_node *n = &s->nodes[i];
+        if (v3_beyond(n->translation_m, B, &v)) BEYOND("node %u '%s': translation (m)", i, n->name);
+        if (v3_beyond(n->scale, B, &v)) BEYOND("node %u '%s': scale", i, n->name);
+        if (v3_beyond(n->anim.amplitude_m, B, &v)) BEYOND("node %u '%s': animation amplitude", i, n->name);
+        if (!node_draws(s, n) || !s->meshes[n->mesh].vertex_count) continue;
+        const fv_mesh *m = &s->meshes[n->mesh];
+        fv_mat4 w = fv_scene_node_world(s, i, 0.0);
+        for (int c = 0; c < 8; c++) {
+            fv_vec3 p = fv_v3((c & 1) ? m->bounds_max.x : m->bounds_min.x, (c & 2) ? m->bounds_max.y : m->bounds_min.y,
+                              (c & 4) ? m->bounds_max.z : m->bounds_min.z);
+            if (v3_beyond(fv_mat4_mul_point(&w, p), B, &v)) {
+                BEYOND("node %u '%s': mesh '%s' in world space (m)", i, n->name, m->name);
+                break;
+            }
+        }
+    }
+    for (uint32_t i = 0; i < s->light_count; i++)
+        if (s->lights[i].type != FV_LIGHT_DIRECTIONAL && v3_beyond(s->lights[i].position_m, B, &v))
+            BEYOND("light %u '%s': position (m)", i, s->lights[i].name);
+    for (uint32_t i = 0; i < s->camera_count; i++)
+        if (v3_beyond(s->cameras[i].position_m, B, &v)) BEYOND("camera %u '%s': position (m)", i, s->cameras[i].name);
+    if (v3_beyond(s->head.position_m, B, &v)) BEYOND("head: position (m)%s", "");
+#undef BEYOND
+    if (bad > 16) FV_ERROR("scene", "%s: ... and %d more positions beyond the bound", src, bad - 16);
+    return bad ? FV_ERR_RANGE : FV_OK;
+}
+
 static bool finite_quat(fv_quat q) { return isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w); }
 
 fv_result fv_scene_validate(const fv_scene *s)
@@ -543,6 +598,7 @@ fv_result fv_scene_validate(const fv_scene *s)
     if (!fv_v3_isfinite(s->ambient)) BROKEN("%s: ambient must be finite", src);
 #undef BROKEN
     if (bad > 32) FV_ERROR("scene", "%s: ... and %d more problems", src, bad - 32);
+    if (!bad && fv_scene_check_extent(s) < 0) return FV_ERR_RANGE; /* finite, but too far out */
     return bad ? FV_ERR_PARSE : FV_OK;
 }
 

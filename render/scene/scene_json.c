@@ -71,7 +71,8 @@ static void check_keys(jctx *c, const cJSON *obj, const char *path, const char *
     }
 }
 
-enum { NUM_ANY = 0, NUM_NONNEG = 1, NUM_POSITIVE = 2 };
+/* NUM_COORD: a position in metres, |v| <= FV_SCENE_MAX_COORD_M; NUM_SIZE: a scale factor in (0, that bound]. */
+enum { NUM_ANY = 0, NUM_NONNEG = 1, NUM_POSITIVE = 2, NUM_COORD = 3, NUM_SIZE = 4 };
 
 static bool check_number(jctx *c, const cJSON *j, const char *path, int rule, float *out)
 {
@@ -88,8 +89,17 @@ static bool check_number(jctx *c, const cJSON *j, const char *path, int rule, fl
         JERR(c, path, "%g is negative; it must be >= 0", v);
         return false;
     }
-    if (rule == NUM_POSITIVE && !(v > 0)) {
+    if ((rule == NUM_POSITIVE || rule == NUM_SIZE) && !(v > 0)) {
         JERR(c, path, "%g must be > 0", v);
+        return false;
+    }
+    if ((rule == NUM_COORD || rule == NUM_SIZE) && fabs(v) > FV_SCENE_MAX_COORD_M) {
+        if (rule == NUM_COORD)
+            JERR(c, path, "%g m is outside -%g..%g m, the bound of a position (no renderer keeps precision past it)", v,
+                 FV_SCENE_MAX_COORD_M, FV_SCENE_MAX_COORD_M);
+        else
+            JERR(c, path, "%g is more than %g, the largest scale (no renderer keeps precision past it)", v,
+                 FV_SCENE_MAX_COORD_M);
         return false;
     }
     *out = (float)v;
@@ -286,7 +296,7 @@ static void parse_animation(jctx *c, const cJSON *j, const char *path, fv_animat
         out->kind = FV_ANIM_BOB;
         out->amplitude_m = fv_v3(0, 0.05f, 0);
         out->freq_hz = 0.5f;
-        opt_vec3(c, b, p, "amplitude_m", NUM_ANY, &out->amplitude_m);
+        opt_vec3(c, b, p, "amplitude_m", NUM_COORD, &out->amplitude_m);
         opt_number(c, b, p, "freq_hz", NUM_NONNEG, &out->freq_hz);
         opt_number(c, b, p, "phase_deg", NUM_ANY, &phase_deg);
     } else if (u) {
@@ -350,19 +360,19 @@ static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, floa
 
     fv_node root = fv_node_default();
     fv_scene_copy_name(root.name, sizeof root.name, name ? name : (model ? model : path));
-    opt_vec3(c, o, path, "translate_m", NUM_ANY, &root.translation_m);
+    opt_vec3(c, o, path, "translate_m", NUM_COORD, &root.translation_m);
     fv_vec3 rot = fv_v3(0, 0, 0);
     if (opt_vec3(c, o, path, "rotate_deg", NUM_ANY, &rot)) root.rotation = euler_xyz_deg(rot);
     const cJSON *sc = cJSON_GetObjectItemCaseSensitive(o, "scale");
     jpath(p, path, "scale");
     if (cJSON_IsArray(sc)) {
-        opt_vec3(c, o, path, "scale", NUM_POSITIVE, &root.scale);
+        opt_vec3(c, o, path, "scale", NUM_SIZE, &root.scale);
     } else if (sc) {
         float k;
-        if (check_number(c, sc, p, NUM_POSITIVE, &k)) root.scale = fv_v3(k, k, k);
+        if (check_number(c, sc, p, NUM_SIZE, &k)) root.scale = fv_v3(k, k, k);
     }
     float unit = default_unit;
-    opt_number(c, o, path, "unit_scale_m", NUM_POSITIVE, &unit);
+    opt_number(c, o, path, "unit_scale_m", NUM_SIZE, &unit);
     fv_material ov = fv_material_default();
     unsigned mask = 0;
     const cJSON *mat = cJSON_GetObjectItemCaseSensitive(o, "material");
@@ -469,7 +479,7 @@ static void parse_light(jctx *c, fv_scene *dst, const cJSON *j, int index)
     l.direction = fv_v3(0, -1, 0);
     l.inner_cone_rad = (float)fv_deg_to_rad(30.0);
     l.outer_cone_rad = (float)fv_deg_to_rad(45.0);
-    opt_vec3(c, j, path, "position_m", NUM_ANY, &l.position_m);
+    opt_vec3(c, j, path, "position_m", NUM_COORD, &l.position_m);
     opt_vec3(c, j, path, "color", NUM_NONNEG, &l.color);
     opt_number(c, j, path, "intensity", NUM_NONNEG, &l.intensity);
     opt_number(c, j, path, "range_m", NUM_NONNEG, &l.range_m);
@@ -482,7 +492,7 @@ static void parse_light(jctx *c, fv_scene *dst, const cJSON *j, int index)
         JERR(c, p, "the direction is zero");
     }
     fv_vec3 target;
-    if (at && opt_vec3(c, j, path, "look_at_m", NUM_ANY, &target)) {
+    if (at && opt_vec3(c, j, path, "look_at_m", NUM_COORD, &target)) {
         d = fv_v3_sub(target, l.position_m);
         if (!(fv_v3_len(d) > 1e-6f)) {
             jpath(p, path, "look_at_m");
@@ -514,8 +524,8 @@ static void parse_head(jctx *c, fv_scene *s, const cJSON *j)
     fv_vec3 pos = s->head.position_m, at = fv_v3(0, 0, 0);
     bool has_pos = cJSON_GetObjectItemCaseSensitive(j, "position_m") != NULL;
     bool has_at = cJSON_GetObjectItemCaseSensitive(j, "look_at_m") != NULL;
-    bool ok = opt_vec3(c, j, "head", "position_m", NUM_ANY, &pos);
-    ok = opt_vec3(c, j, "head", "look_at_m", NUM_ANY, &at) && ok;
+    bool ok = opt_vec3(c, j, "head", "position_m", NUM_COORD, &pos);
+    ok = opt_vec3(c, j, "head", "look_at_m", NUM_COORD, &at) && ok;
     float ipd = s->head.ipd_mm;
     if (opt_number(c, j, "head", "ipd_mm", NUM_POSITIVE, &ipd) && ipd > FV_SCENE_MAX_IPD_MM)
         JERR(c, "head.ipd_mm", "%g mm is more than the %g mm limit", (double)ipd, (double)FV_SCENE_MAX_IPD_MM);
@@ -631,7 +641,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
     if ((r = fv_scene_create(name, &s)) < 0) goto fail;
     fv_scene_copy_name(s->source, sizeof s->source, c.origin);
     float unit = 0.0f; /* 0: each model file's units are guessed */
-    opt_number(&c, root, "", "unit_scale_m", NUM_POSITIVE, &unit);
+    opt_number(&c, root, "", "unit_scale_m", NUM_SIZE, &unit);
     s->unit_scale_m = unit > 0 ? unit : 1.0f;
     opt_vec3(&c, root, "", "ambient", NUM_NONNEG, &s->ambient);
 

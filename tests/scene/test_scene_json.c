@@ -430,6 +430,50 @@ static void long_model_paths_are_refused_not_cut_and_empty_ones_named(void **sta
     expect_error("{\"objects\":[{\"model\":\"\"}]}", empty);
 }
 
+/* A head at 1e20 m loaded, and `fovea reference` then aborted inside Embree: every position and size that becomes
+ * geometry is checked against FV_SCENE_MAX_COORD_M, naming the field, the value and the bound. Within the bound per
+ * field but beyond it once composed (a model moved to the edge), the loader's check names the node. */
+static void positions_and_sizes_beyond_the_bound_are_refused(void **state)
+{
+    (void)state;
+    const char *head[] = {"head.position_m[2]: 1e+20 m is outside -1e+06..1e+06 m, the bound of a position", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\"}],\"head\":{\"position_m\":[0,0,1e20]}}", head);
+    const char *fields[] = {"objects[0].translate_m[0]: -2e+06 m is outside -1e+06..1e+06 m",
+                            "objects[0].scale: 1e+07 is more than 1e+06, the largest scale",
+                            "objects[1].unit_scale_m: 1e+09 is more than 1e+06",
+                            "objects[1].animate.bob.amplitude_m[1]: 1e+08 m is outside",
+                            "lights[0].position_m[1]: 3e+07 m is outside",
+                            "lights[0].look_at_m[0]: 1e+30 m is outside",
+                            "head.look_at_m[2]: -1e+07 m is outside", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"translate_m\":[-2e6,0,0],\"scale\":1e7},"
+                 "{\"model\":\"builtin:cornell\",\"unit_scale_m\":1e9,\"animate\":{\"bob\":{\"amplitude_m\":[0,1e8,0]}}}],"
+                 "\"lights\":[{\"type\":\"spot\",\"position_m\":[0,3e7,0],\"look_at_m\":[1e30,0,0]}],"
+                 "\"head\":{\"position_m\":[0,0,1],\"look_at_m\":[0,0,-1e7]}}",
+                 fields);
+    const char *composed[] = {"mesh '", "in world space (m): ", "is beyond the +-1e+06 m bound", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"translate_m\":[999999,0,0],\"scale\":1000}],"
+                 "\"head\":{\"position_m\":[0,0,1]}}",
+                 composed);
+    /* the bounds themselves load */
+    const char *ok = "{\"objects\":[{\"model\":\"builtin:cornell\",\"translate_m\":[-999000,0,0]}],"
+                     "\"lights\":[{\"type\":\"point\",\"position_m\":[0,1e6,0]}],\"head\":{\"position_m\":[-1e6,0,1]}}";
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    fv_result r = fv_scene_load_json_buffer(ok, strlen(ok), NULL, "ok.scene.json", &s);
+    if (r != FV_OK) fail_msg("%s; log:\n%s", fv_result_str(r), fv_test_log_text());
+    fv_test_log_capture_end();
+    assert_int_equal(fv_scene_check_extent(s), FV_OK);
+    uint32_t last = s->light_count - 1; /* the file's light, after the built-in's own */
+    s->lights[last].position_m.y = 1.0001e6f; /* a scene changed in code: the same check */
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_check_extent(s), FV_ERR_RANGE);
+    char want[128];
+    snprintf(want, sizeof want, "light %u 'light0': position (m): 1.0001e+06 is beyond the +-1e+06 m bound", last);
+    fv_assert_log_contains(want);
+    fv_test_log_capture_end();
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -447,6 +491,7 @@ int main(void)
         cmocka_unit_test(nesting_values_and_nul_characters_are_refused_with_the_reason),
         cmocka_unit_test(long_names_are_cut_visibly_between_utf8_characters),
         cmocka_unit_test(long_model_paths_are_refused_not_cut_and_empty_ones_named),
+        cmocka_unit_test(positions_and_sizes_beyond_the_bound_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
