@@ -24,6 +24,13 @@
  *  1000 km: a float's step there is 6 cm, further out nothing draws sensibly (the GPU's depth and shading lose
  *  their precision; Embree refuses rays past 1.8e18). Loaders refuse a scene beyond it, naming the item. */
 #define FV_SCENE_MAX_COORD_M 1.0e6
+/** Absorption and reduced scattering coefficients (mm^-1) are 0 or in [FV_SCENE_SIGMA_MIN_PER_MM,
+ *  FV_SCENE_SIGMA_MAX_PER_MM]. Below the minimum (a mean free path over 1 km) nothing scatters at any scene's scale,
+ *  and the GPU's float dipole squares depths of 1/sigma (up to 2700 times that for its virtual source): the minimum
+ *  keeps them far inside the float range. A denormal (a float below 1.2e-38) is far below it and refused as such,
+ *  not read as 0. The maximum is a mean free path of 1 nm. */
+#define FV_SCENE_SIGMA_MIN_PER_MM 1e-6
+#define FV_SCENE_SIGMA_MAX_PER_MM 1e6
 /** Interpupillary distance used when nothing says otherwise, and the largest accepted (millimetres). */
 #define FV_SCENE_DEFAULT_IPD_MM 63.0f
 #define FV_SCENE_MAX_IPD_MM 100.0f
@@ -217,6 +224,9 @@ FV_MUST_CHECK fv_result fv_scene_load_json_file(const char *path, fv_scene **out
 /** Look up a measured material (Jensen et al. 2001) by case-insensitive name ("marble", "skin1"). Unknown name:
  *  FV_ERR_NOT_FOUND, not logged (the caller knows the context to name). */
 FV_MUST_CHECK fv_result fv_translucency_preset(const char *name, fv_translucency *out);
+/** Why v is not an accepted coefficient (one phrase naming the range "0 or 1e-06..1e+06 mm^-1"), or NULL when it
+ *  is one. */
+const char *fv_translucency_coefficient_problem(double v);
 /** Names of the presets, NULL-terminated. */
 const char *const *fv_translucency_preset_names(void);
 

@@ -555,10 +555,10 @@ fv_result fv_scene_validate(const fv_scene *s)
         if (t->enabled) {
             bool any_s = false;
             for (int c = 0; c < 3; c++) {
-                if (!isfinite(t->sigma_a_per_mm[c]) || t->sigma_a_per_mm[c] < 0)
-                    BROKEN("%s: material %u '%s': sigma_a_per_mm[%d] = %g must be finite and >= 0", src, i, m->name, c, (double)t->sigma_a_per_mm[c]);
-                if (!isfinite(t->sigma_s_prime_per_mm[c]) || t->sigma_s_prime_per_mm[c] < 0)
-                    BROKEN("%s: material %u '%s': sigma_s_prime_per_mm[%d] = %g must be finite and >= 0", src, i, m->name, c, (double)t->sigma_s_prime_per_mm[c]);
+                const char *why = fv_translucency_coefficient_problem(t->sigma_a_per_mm[c]);
+                if (why) BROKEN("%s: material %u '%s': sigma_a_per_mm[%d] = %g %s", src, i, m->name, c, (double)t->sigma_a_per_mm[c], why);
+                why = fv_translucency_coefficient_problem(t->sigma_s_prime_per_mm[c]);
+                if (why) BROKEN("%s: material %u '%s': sigma_s_prime_per_mm[%d] = %g %s", src, i, m->name, c, (double)t->sigma_s_prime_per_mm[c], why);
                 if (t->sigma_s_prime_per_mm[c] > 0) any_s = true;
             }
             if (!any_s) BROKEN("%s: material %u '%s': sigma_s_prime_per_mm is all zero", src, i, m->name);

@@ -72,7 +72,9 @@ static void check_keys(jctx *c, const cJSON *obj, const char *path, const char *
 }
 
 /* NUM_COORD: a position in metres, |v| <= FV_SCENE_MAX_COORD_M; NUM_SIZE: a scale factor in (0, that bound]. */
-enum { NUM_ANY = 0, NUM_NONNEG = 1, NUM_POSITIVE = 2, NUM_COORD = 3, NUM_SIZE = 4 };
+/* NUM_SIGMA: a translucency coefficient, fv_translucency_coefficient_problem's range (checked on the double, before
+ * a denormal would turn into a float 0). */
+enum { NUM_ANY = 0, NUM_NONNEG = 1, NUM_POSITIVE = 2, NUM_COORD = 3, NUM_SIZE = 4, NUM_SIGMA = 5 };
 
 static bool check_number(jctx *c, const cJSON *j, const char *path, int rule, float *out)
 {
@@ -83,6 +85,11 @@ static bool check_number(jctx *c, const cJSON *j, const char *path, int rule, fl
     double v = j->valuedouble;
     if (!isfinite(v) || fabs(v) > 3.0e38) {
         JERR(c, path, "%g is not a finite number", v);
+        return false;
+    }
+    const char *why = rule == NUM_SIGMA ? fv_translucency_coefficient_problem(v) : NULL;
+    if (why) {
+        JERR(c, path, "%g %s", v, why);
         return false;
     }
     if (rule == NUM_NONNEG && v < 0) {
@@ -207,11 +214,11 @@ static void parse_translucency(jctx *c, const cJSON *j, const char *path, fv_tra
     char p[JPATH_MAX];
     if (a) {
         jpath(p, path, "sigma_a_per_mm");
-        parse_vec(c, a, p, 3, NUM_NONNEG, t.sigma_a_per_mm);
+        parse_vec(c, a, p, 3, NUM_SIGMA, t.sigma_a_per_mm);
     }
     if (s) {
         jpath(p, path, "sigma_s_prime_per_mm");
-        if (parse_vec(c, s, p, 3, NUM_NONNEG, t.sigma_s_prime_per_mm) &&
+        if (parse_vec(c, s, p, 3, NUM_SIGMA, t.sigma_s_prime_per_mm) &&
             !(t.sigma_s_prime_per_mm[0] > 0 || t.sigma_s_prime_per_mm[1] > 0 || t.sigma_s_prime_per_mm[2] > 0))
             JERR(c, p, "all three are zero; a translucent material must scatter");
     }

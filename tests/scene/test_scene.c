@@ -192,7 +192,7 @@ static void validate_reports_each_broken_rule(void **state)
     s->head.ipd_mm = INFINITY;
     fv_test_log_capture_begin();
     assert_int_equal(fv_scene_validate(s), FV_ERR_PARSE);
-    fv_assert_log_contains("sigma_a_per_mm[1] = -0.5 must be finite and >= 0");
+    fv_assert_log_contains("sigma_a_per_mm[1] = -0.5 is negative; a coefficient is 0 or in 1e-06..1e+06 mm^-1");
     fv_assert_log_contains("eta nan must be > 0");
     fv_assert_log_contains("mesh 0 'tri': material 7 does not exist");
     fv_assert_log_contains("direction is zero");

@@ -172,6 +172,15 @@ static void negative_and_non_finite_coefficients_are_errors(void **state)
     expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
                  "{\"sigma_a_per_mm\":[0,0,0],\"sigma_s_prime_per_mm\":[0,0,0]}}}]}",
                  zero);
+    /* a denormal (of double: 1e-310, which a float would read as 0; of float: 1e-40) is a tiny positive number
+     * below the smallest coefficient, and said so with the range; above the largest likewise */
+    const char *tiny[] = {"sigma_a_per_mm[0]: 1e-310 is below the smallest positive coefficient, 1e-06 mm^-1 (a "
+                          "coefficient is 0 or in 1e-06..1e+06 mm^-1",
+                          "sigma_s_prime_per_mm[1]: 1e-40 is below the smallest positive coefficient",
+                          "sigma_s_prime_per_mm[2]: 2e+06 is more than the largest coefficient, 1e+06 mm^-1", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"sigma_a_per_mm\":[1e-310,0,0],\"sigma_s_prime_per_mm\":[1,1e-40,2e6]}}}]}",
+                 tiny);
     const char *eta[] = {"translucency.eta: 0 must be > 0", NULL};
     expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
                  "{\"preset\":\"skin1\",\"eta\":0}}}]}",
