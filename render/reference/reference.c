@@ -336,6 +336,9 @@ static fv_result render(const fv_scene *scene, const fv_frame_input *in, const f
                  scene->source[0] ? scene->source : scene->name);
         return FV_ERR_INVALID_ARG;
     }
+    fv_scene_warn_cost(scene, d.eye_width, d.eye_height,
+                       d.mode == FV_REFERENCE_MODEL ? "the reference's model mode (a shadow ray per light)"
+                                                    : "the reference's path mode (a shadow ray per light and bounce)");
 
     render_job *job = calloc(1, sizeof *job);
     pthread_t *threads = calloc(d.threads, sizeof *threads);

@@ -31,6 +31,14 @@
  *  not read as 0. The maximum is a mean free path of 1 nm. */
 #define FV_SCENE_SIGMA_MIN_PER_MM 1e-6
 #define FV_SCENE_SIGMA_MAX_PER_MM 1e6
+/** Lights every pixel sums: the shade pass and the reference's model mode loop over all of a scene's lights (no
+ *  culling), so a frame costs lights x pixels light evaluations. Past this many lights that is over 3e8 a frame at
+ *  720x800 per eye, seconds a frame on a CPU rasteriser: fv_scene_warn_cost says so in one line with the estimate.
+ *  The limit stays FV_SCENE_MAX_ITEMS (an offline reference render may want many lights), which is about 7.5e10
+ *  evaluations a frame at the default size (~500 s a frame on lavapipe). The other per-pixel loops are capped by
+ *  constants and knobs, not by the scene: shadow maps, GI's reflective shadow maps and SSS maps serve the first 4, 2
+ *  and 4 lights, at most 7 SSS maps. */
+#define FV_SCENE_LIGHTS_WARN 256
 /** Interpupillary distance used when nothing says otherwise, and the largest accepted (millimetres). */
 #define FV_SCENE_DEFAULT_IPD_MM 63.0f
 #define FV_SCENE_MAX_IPD_MM 100.0f
@@ -192,6 +200,12 @@ FV_MUST_CHECK fv_result fv_scene_validate(const fv_scene *s);
  *  item beyond it (source, item, value, bound; at most 16 lines) and returns FV_ERR_RANGE, else FV_OK. Part of
  *  fv_scene_validate; renderers run it on scenes they did not load. */
 FV_MUST_CHECK fv_result fv_scene_check_extent(const fv_scene *s);
+/** Light evaluations a frame of both eyes costs at eye_w x eye_h per eye: lights x pixels (saturated). */
+uint64_t fv_scene_light_evaluations(const fv_scene *s, uint32_t eye_w, uint32_t eye_h);
+/** When the scene has more than FV_SCENE_LIGHTS_WARN lights, log one warning line and return true: `who` (the
+ *  renderer that pays), the lights, the per-frame estimate at this size and at the default 720x800, and what to
+ *  change. Called when a renderer takes the scene. */
+bool fv_scene_warn_cost(const fv_scene *s, uint32_t eye_w, uint32_t eye_h, const char *who);
 /** Place the head so the whole scene is in view (used when a file has no camera): it looks at the centre of the
  *  world bounds along -z from the +z side (or along +z from the -z side when clearly more triangle area faces -z,
  *  as for a box open towards -z), far enough that the bounding sphere fits the narrowest half-angle of the HMD

@@ -602,6 +602,26 @@ fv_result fv_scene_validate(const fv_scene *s)
     return bad ? FV_ERR_PARSE : FV_OK;
 }
 
+/* ---- cost ------------------------------------------------------------------------------------------------- */
+
+uint64_t fv_scene_light_evaluations(const fv_scene *s, uint32_t eye_w, uint32_t eye_h)
+{
+    if (!s) return 0;
+    uint64_t px = 2u * (uint64_t)eye_w * eye_h, n = s->light_count;
+    return n && px > UINT64_MAX / n ? UINT64_MAX : n * px;
+}
+
+bool fv_scene_warn_cost(const fv_scene *s, uint32_t eye_w, uint32_t eye_h, const char *who)
+{
+    if (!s || s->light_count <= FV_SCENE_LIGHTS_WARN) return false;
+    FV_WARN("scene", "%s: %u lights, and %s sums every light at every pixel: about %.2g light evaluations a frame at "
+            "%ux%u per eye (%.2g at the default 720x800; lavapipe manages about 1.5e8 a second); keep to %u lights or "
+            "fewer (merge them, or drop the faint and far ones) or render smaller", src_of(s), s->light_count,
+            who ? who : "the renderer", (double)fv_scene_light_evaluations(s, eye_w, eye_h), eye_w, eye_h,
+            (double)fv_scene_light_evaluations(s, 720, 800), FV_SCENE_LIGHTS_WARN);
+    return true;
+}
+
 /* ---- head ------------------------------------------------------------------------------------------------- */
 static bool node_draws(const fv_scene *s, const fv_node *n);
 

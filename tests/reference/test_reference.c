@@ -539,6 +539,30 @@ static void broken_desc_and_null_arguments_are_rejected(void **state)
     fv_test_log_capture_end();
 }
 
+/* More lights than FV_SCENE_LIGHTS_WARN: the reference says what a frame costs before it starts (one line). */
+static void many_lights_are_announced_before_the_render(void **state)
+{
+    (void)state;
+    fv_scene *s = rt_plane_scene(fv_v3(1, 1, 1), 1.0);
+    fv_light l;
+    memset(&l, 0, sizeof l);
+    l.type = FV_LIGHT_POINT;
+    l.color = fv_v3(1, 1, 1);
+    l.intensity = 1e-3f;
+    l.position_m = fv_v3(0, 0.5f, 0);
+    while (s->light_count <= FV_SCENE_LIGHTS_WARN) assert_int_equal(fv_scene_add_light(s, &l, NULL), FV_OK);
+    fv_frame_input in = rt_views(&s->head, 4, 4);
+    float img[4 * 4 * 3];
+    fv_reference_desc d = {.eye_width = 4, .eye_height = 4, .threads = 1};
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_reference_render(s, &in, &d, img, NULL, NULL), FV_OK);
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 1);
+    fv_assert_log_contains("257 lights, and the reference's model mode (a shadow ray per light) sums every light at "
+                           "every pixel: about 8.2e+03 light evaluations a frame at 4x4 per eye");
+    fv_test_log_capture_end();
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -551,6 +575,7 @@ int main(void)
         cmocka_unit_test(same_seed_gives_identical_images_on_1_and_2_threads_and_another_seed_differs),
         cmocka_unit_test(extreme_scenes_give_finite_images),
         cmocka_unit_test(broken_desc_and_null_arguments_are_rejected),
+        cmocka_unit_test(many_lights_are_announced_before_the_render),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
