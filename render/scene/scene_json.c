@@ -83,8 +83,12 @@ static bool check_number(jctx *c, const cJSON *j, const char *path, int rule, fl
         return false;
     }
     double v = j->valuedouble;
-    if (!isfinite(v) || fabs(v) > 3.0e38) {
+    if (!isfinite(v)) {
         JERR(c, path, "%g is not a finite number", v);
+        return false;
+    }
+    if (fabs(v) > 3.0e38) { /* finite, but not as a float */
+        JERR(c, path, "%g is beyond the float range (+-3e+38)", v);
         return false;
     }
     const char *why = rule == NUM_SIGMA ? fv_translucency_coefficient_problem(v) : NULL;

@@ -181,6 +181,10 @@ static void negative_and_non_finite_coefficients_are_errors(void **state)
     expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
                  "{\"sigma_a_per_mm\":[1e-310,0,0],\"sigma_s_prime_per_mm\":[1,1e-40,2e6]}}}]}",
                  tiny);
+    const char *big[] = {"translucency.eta: 1e+300 is beyond the float range (+-3e+38)", NULL}; /* not "not finite" */
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"preset\":\"marble\",\"eta\":1e300}}}]}",
+                 big);
     const char *eta[] = {"translucency.eta: 0 must be > 0", NULL};
     expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
                  "{\"preset\":\"skin1\",\"eta\":0}}}]}",
