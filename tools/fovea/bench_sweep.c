@@ -80,8 +80,12 @@ fv_result fv_bench_plan_add(fv_bench_plan *p, const char *arg, char *err, size_t
         if (FV_FAILED(res)) return res;
         int dup = same_as(s, v, &q, parsed);
         if (dup >= 0) { /* benching the same setting twice only costs time: keep the first, say so once */
-            size_t at = strlen(s->dropped);
-            snprintf(s->dropped + at, sizeof s->dropped - at, "%s%s (as %s)", at ? ", " : "", v, s->values[dup]);
+            size_t at = strlen(s->dropped), room = sizeof s->dropped - at;
+            int n = snprintf(NULL, 0, "%s%s (as %s)", at ? ", " : "", v, s->values[dup]);
+            if (n >= 0 && (size_t)n + 5 < room) /* keeps room for ", ...": a long list ends visibly, not cut */
+                snprintf(s->dropped + at, room, "%s%s (as %s)", at ? ", " : "", v, s->values[dup]);
+            else if (at < 3 || strcmp(s->dropped + at - 3, "...") != 0)
+                snprintf(s->dropped + at, room, "%s...", at ? ", " : "");
             s->dropped_count++;
         } else {
             parsed[s->value_count] = s->knob ? fv_knob_get(s->knob, &q) : (fv_knob_value){.i = 0};
