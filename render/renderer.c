@@ -391,6 +391,7 @@ fv_result fv_renderer_load_scene(fv_renderer *r, const fv_scene *scene)
     if (res != FV_OK) goto fail;
     FV_INFO(MOD, "%s: %u draws, %u lights, %llu triangles uploaded", scene->source, r->scene.draw_count,
             r->scene.light_count, (unsigned long long)fv_scene_triangle_count(scene));
+    fv_scene_warn_cost(scene, r->desc.eye_width, r->desc.eye_height, "the shade pass");
     return FV_OK;
 fail:
     FV_ERROR(MOD, "%s: loading the scene into the renderer failed: %s", scene->source, fv_result_str(res));

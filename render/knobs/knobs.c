@@ -5,6 +5,7 @@
 #include <assert.h>
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -281,6 +282,19 @@ static void fmt_number(double d, bool is_float, char *buf, size_t size)
     }
 }
 
+/* A float knob holds a float: its bounds as the parser applies them are the table's doubles rounded to float (0.01
+ * is 0.00999999977... as a float, below the double 0.01). Every comparison and every printed bound uses these. */
+static double bound_lo(const fv_knob *k) { return k->type == FV_KNOB_FLOAT ? (double)(float)k->min : k->min; }
+static double bound_hi(const fv_knob *k) { return k->type == FV_KNOB_FLOAT ? (double)(float)k->max : k->max; }
+
+/* The bounds as text that reads back (through parse_value) as exactly the bounds. */
+static void format_bounds(const fv_knob *k, char *lo, char *hi, size_t size)
+{
+    bool is_float = k->type == FV_KNOB_FLOAT;
+    fmt_number(bound_lo(k), is_float, lo, size);
+    fmt_number(bound_hi(k), is_float, hi, size);
+}
+
 const char *fv_knob_format_range(const fv_knob *k, char *buf, size_t size)
 {
     if (!buf || size == 0) return buf;
@@ -295,8 +309,7 @@ const char *fv_knob_format_range(const fv_knob *k, char *buf, size_t size)
         break;
     case FV_KNOB_INT:
     case FV_KNOB_FLOAT:
-        fmt_number(k->min, false, lo, sizeof lo);
-        fmt_number(k->max, false, hi, sizeof hi);
+        format_bounds(k, lo, hi, sizeof lo);
         say(buf, size, &at, "%s..%s%s", lo, hi, k->pow2 ? ", powers of two" : "");
         break;
     }
@@ -308,8 +321,7 @@ static void expected(const fv_knob *k, char *buf, size_t size)
 {
     size_t at = 0;
     char lo[32], hi[32];
-    fmt_number(k->min, false, lo, sizeof lo);
-    fmt_number(k->max, false, hi, sizeof hi);
+    format_bounds(k, lo, hi, sizeof lo);
     switch (k->type) {
     case FV_KNOB_BOOL: say(buf, size, &at, "one of on, off, true, false, 1, 0"); return;
     case FV_KNOB_ENUM:
@@ -367,7 +379,7 @@ static bool value_ok(const fv_knob *k, fv_knob_value v)
     case FV_KNOB_BOOL: return true;
     case FV_KNOB_ENUM: return v.i >= 0 && v.i < (int64_t)k->choice_count;
     case FV_KNOB_INT: return (double)v.i >= k->min && (double)v.i <= k->max && (!k->pow2 || is_pow2(v.i));
-    case FV_KNOB_FLOAT: return isfinite(v.f) && (double)v.f >= k->min && (double)v.f <= k->max;
+    case FV_KNOB_FLOAT: return isfinite(v.f) && (double)v.f >= bound_lo(k) && (double)v.f <= bound_hi(k);
     }
     return false;
 }
@@ -419,7 +431,8 @@ static fv_result parse_value(const fv_knob *k, const char *s, fv_knob_value *out
     case FV_KNOB_FLOAT: {
         double d = strtod(s, &end);
         if (*end != '\0' || isnan(d)) return FV_ERR_PARSE;
-        if (!isfinite(d) || d < k->min || d > k->max) return FV_ERR_RANGE; /* underflow to 0 is fine */
+        /* the value is stored as a float: compare that float with the float bounds (underflow to 0 is fine) */
+        if (!isfinite(d) || fabs(d) > FLT_MAX || (float)d < (float)k->min || (float)d > (float)k->max) return FV_ERR_RANGE;
         out->f = (float)d;
         break;
     }

@@ -93,7 +93,8 @@ fv_reference_desc fv_reference_desc_defaults(const fv_reference_desc *desc);
  *  eye) receive eye_width * eye_height linear RGB float triples, rows top to bottom (y down, as Vulkan's image).
  *  The scene and input are only read; they must not change during the call. Blocks until done; safe to call from
  *  several threads at once (each call has its own Embree scene). Every output value is finite and >= 0.
- *  Errors: FV_ERR_INVALID_ARG (NULL scene/input, a broken desc: each rule logged), FV_ERR_NO_MEMORY,
+ *  Errors: FV_ERR_INVALID_ARG (NULL scene/input, a broken desc: each rule logged; an eye position or a scene
+ *  position that is not finite or beyond FV_SCENE_MAX_COORD_M, see fv_scene_check_extent), FV_ERR_NO_MEMORY,
  *  FV_ERR_CANCELLED (desc->cancelled said stop: the outputs are partly written),
  *  FV_ERR_UNSUPPORTED (Embree could not start). stats may be NULL. */
 FV_MUST_CHECK fv_result fv_reference_render(const fv_scene *scene, const fv_frame_input *in,

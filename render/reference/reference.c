@@ -331,6 +331,26 @@ static fv_result render(const fv_scene *scene, const fv_frame_input *in, const f
     fv_reference_desc d = fv_reference_desc_defaults(desc);
     if (!desc_validate(&d)) return FV_ERR_INVALID_ARG;
     if (!out[0] && !out[1] && !out_f64[0] && !out_f64[1]) return FV_OK;
+    /* Limits before work: positions no renderer keeps (Embree aborts on rays from past 1.8e18 m) are refused. */
+    bool far = false;
+    for (int e = 0; e < 2; e++) {
+        fv_vec3 p = in->eye[e].pos_world;
+        if (fabs((double)p.x) <= FV_SCENE_MAX_COORD_M && fabs((double)p.y) <= FV_SCENE_MAX_COORD_M &&
+            fabs((double)p.z) <= FV_SCENE_MAX_COORD_M)
+            continue;
+        FV_ERROR(REF_MOD, "%s: eye %d at (%g, %g, %g) m is not finite or beyond the +-%g m bound of a position",
+                 scene->source[0] ? scene->source : scene->name, e, (double)p.x, (double)p.y, (double)p.z, FV_SCENE_MAX_COORD_M);
+        far = true;
+    }
+    if (fv_scene_check_extent(scene) < 0) far = true; /* it said which items */
+    if (far) {
+        FV_ERROR(REF_MOD, "%s: not rendered: positions beyond the bound (see above)",
+                 scene->source[0] ? scene->source : scene->name);
+        return FV_ERR_INVALID_ARG;
+    }
+    fv_scene_warn_cost(scene, d.eye_width, d.eye_height,
+                       d.mode == FV_REFERENCE_MODEL ? "the reference's model mode (a shadow ray per light)"
+                                                    : "the reference's path mode (a shadow ray per light and bounce)");
 
     render_job *job = calloc(1, sizeof *job);
     pthread_t *threads = calloc(d.threads, sizeof *threads);

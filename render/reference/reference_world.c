@@ -313,9 +313,18 @@ static void embree_ray(struct RTCRay *r, dvec3 o, dvec3 d, double t_max)
     r->mask = 0xffffffffu;
 }
 
+/* Whether Embree takes the ray: it asserts (and aborts) on an origin past its FLT_LARGE (1.8e18) or a non-finite
+ * value. fv_reference_render refuses scenes and eyes beyond FV_SCENE_MAX_COORD_M first; this is the last guard. */
+#define REF_MAX_RAY_ORIGIN 1.0e18
+static bool ray_ok(dvec3 o, dvec3 d)
+{
+    return dv_finite(o) && dv_finite(d) && fabs(o.x) <= REF_MAX_RAY_ORIGIN && fabs(o.y) <= REF_MAX_RAY_ORIGIN &&
+           fabs(o.z) <= REF_MAX_RAY_ORIGIN;
+}
+
 bool ref_trace(const ref_world *w, dvec3 o, dvec3 d, double t_max, const dvec3 *face_to, ref_hit *out)
 {
-    if (!dv_finite(o) || !dv_finite(d) || !(t_max > 0)) return false;
+    if (!ray_ok(o, d) || !(t_max > 0)) return false;
     struct RTCRayHit rh;
     embree_ray(&rh.ray, o, d, t_max);
     memset(&rh.hit, 0, sizeof rh.hit);
@@ -376,7 +385,7 @@ bool ref_trace(const ref_world *w, dvec3 o, dvec3 d, double t_max, const dvec3 *
 bool ref_visible(const ref_world *w, dvec3 o, dvec3 d, double t_max)
 {
     if (!(t_max > 0)) return true;
-    if (!dv_finite(o) || !dv_finite(d)) return false;
+    if (!ray_ok(o, d)) return false;
     struct RTCRay r;
     embree_ray(&r, o, d, t_max);
     struct RTCIntersectContext ctx;

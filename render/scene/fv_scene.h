@@ -19,6 +19,26 @@
 #define FV_SCENE_MAX_INDICES (192u * 1024u * 1024u)
 #define FV_SCENE_MAX_ITEMS 65536u /* meshes, nodes, materials, lights, textures each */
 #define FV_SCENE_MAX_TEXTURE_DIM 16384u
+/** The largest |coordinate| in metres of any position a scene holds or makes: world-space vertices at t = 0, node
+ *  translations and animation amplitudes, light, camera and head positions; and the largest node scale factor.
+ *  1000 km: a float's step there is 6 cm, further out nothing draws sensibly (the GPU's depth and shading lose
+ *  their precision; Embree refuses rays past 1.8e18). Loaders refuse a scene beyond it, naming the item. */
+#define FV_SCENE_MAX_COORD_M 1.0e6
+/** Absorption and reduced scattering coefficients (mm^-1) are 0 or in [FV_SCENE_SIGMA_MIN_PER_MM,
+ *  FV_SCENE_SIGMA_MAX_PER_MM]. Below the minimum (a mean free path over 1 km) nothing scatters at any scene's scale,
+ *  and the GPU's float dipole squares depths of 1/sigma (up to 2700 times that for its virtual source): the minimum
+ *  keeps them far inside the float range. A denormal (a float below 1.2e-38) is far below it and refused as such,
+ *  not read as 0. The maximum is a mean free path of 1 nm. */
+#define FV_SCENE_SIGMA_MIN_PER_MM 1e-6
+#define FV_SCENE_SIGMA_MAX_PER_MM 1e6
+/** Lights every pixel sums: the shade pass and the reference's model mode loop over all of a scene's lights (no
+ *  culling), so a frame costs lights x pixels light evaluations. Past this many lights that is over 3e8 a frame at
+ *  720x800 per eye, seconds a frame on a CPU rasteriser: fv_scene_warn_cost says so in one line with the estimate.
+ *  The limit stays FV_SCENE_MAX_ITEMS (an offline reference render may want many lights), which is about 7.5e10
+ *  evaluations a frame at the default size (~500 s a frame on lavapipe). The other per-pixel loops are capped by
+ *  constants and knobs, not by the scene: shadow maps, GI's reflective shadow maps and SSS maps serve the first 4, 2
+ *  and 4 lights, at most 7 SSS maps. */
+#define FV_SCENE_LIGHTS_WARN 256
 /** Interpupillary distance used when nothing says otherwise, and the largest accepted (millimetres). */
 #define FV_SCENE_DEFAULT_IPD_MM 63.0f
 #define FV_SCENE_MAX_IPD_MM 100.0f
@@ -175,6 +195,17 @@ uint64_t fv_scene_triangle_count(const fv_scene *s);
 /** Check every invariant (indices in range, finite values, parents before children...). Logs each broken rule
  *  with the scene source and the item; returns FV_ERR_PARSE if any is broken. */
 FV_MUST_CHECK fv_result fv_scene_validate(const fv_scene *s);
+/** Check every position and size against FV_SCENE_MAX_COORD_M (non-finite ones fail too): node translations,
+ *  scales and animation amplitudes, each drawn node's world bounds at t = 0, lights, cameras and the head. Logs each
+ *  item beyond it (source, item, value, bound; at most 16 lines) and returns FV_ERR_RANGE, else FV_OK. Part of
+ *  fv_scene_validate; renderers run it on scenes they did not load. */
+FV_MUST_CHECK fv_result fv_scene_check_extent(const fv_scene *s);
+/** Light evaluations a frame of both eyes costs at eye_w x eye_h per eye: lights x pixels (saturated). */
+uint64_t fv_scene_light_evaluations(const fv_scene *s, uint32_t eye_w, uint32_t eye_h);
+/** When the scene has more than FV_SCENE_LIGHTS_WARN lights, log one warning line and return true: `who` (the
+ *  renderer that pays), the lights, the per-frame estimate at this size and at the default 720x800, and what to
+ *  change. Called when a renderer takes the scene. */
+bool fv_scene_warn_cost(const fv_scene *s, uint32_t eye_w, uint32_t eye_h, const char *who);
 /** Place the head so the whole scene is in view (used when a file has no camera): it looks at the centre of the
  *  world bounds along -z from the +z side (or along +z from the -z side when clearly more triangle area faces -z,
  *  as for a box open towards -z), far enough that the bounding sphere fits the narrowest half-angle of the HMD
@@ -207,6 +238,9 @@ FV_MUST_CHECK fv_result fv_scene_load_json_file(const char *path, fv_scene **out
 /** Look up a measured material (Jensen et al. 2001) by case-insensitive name ("marble", "skin1"). Unknown name:
  *  FV_ERR_NOT_FOUND, not logged (the caller knows the context to name). */
 FV_MUST_CHECK fv_result fv_translucency_preset(const char *name, fv_translucency *out);
+/** Why v is not an accepted coefficient (one phrase naming the range "0 or 1e-06..1e+06 mm^-1"), or NULL when it
+ *  is one. */
+const char *fv_translucency_coefficient_problem(double v);
 /** Names of the presets, NULL-terminated. */
 const char *const *fv_translucency_preset_names(void);
 

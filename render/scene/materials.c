@@ -5,6 +5,7 @@
  * shared/data/materials/jensen2001.csv (see its PROVENANCE.md; tests/scene checks this table against it row by row).
  * eta: 1.5 for marble and 1.3 elsewhere, as the paper's table; only marble, the milks and skins were cross-checked. */
 #include <ctype.h>
+#include <math.h>
 #include <string.h>
 
 #include "fv_log.h"
@@ -63,4 +64,16 @@ fv_result fv_translucency_preset(const char *name, fv_translucency *out)
         return FV_OK;
     }
     return FV_ERR_NOT_FOUND;
+}
+
+const char *fv_translucency_coefficient_problem(double v)
+{
+    if (v == 0.0 || (v >= FV_SCENE_SIGMA_MIN_PER_MM && v <= FV_SCENE_SIGMA_MAX_PER_MM)) return NULL;
+    if (isnan(v)) return "is not a number; a coefficient is 0 or in 1e-06..1e+06 mm^-1";
+    if (v < 0) return "is negative; a coefficient is 0 or in 1e-06..1e+06 mm^-1";
+    if (v < FV_SCENE_SIGMA_MIN_PER_MM)
+        return "is below the smallest positive coefficient, 1e-06 mm^-1 (a coefficient is 0 or in 1e-06..1e+06 "
+               "mm^-1: a mean free path over 1 km scatters nothing at a scene's scale, and the GPU's float dipole "
+               "needs 1/sigma well inside the float range)";
+    return "is more than the largest coefficient, 1e+06 mm^-1 (a coefficient is 0 or in 1e-06..1e+06 mm^-1)";
 }

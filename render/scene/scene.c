@@ -2,6 +2,7 @@
  * automatic head framing. */
 #include "fv_scene.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,12 +26,18 @@ void fv_scene_copy_name(char *dst, size_t cap, const char *src)
     if (!cap) return;
     if (!src) src = "";
     size_t n = strlen(src);
-    if (n >= cap) {
-        n = cap - 1;
+    bool cut = n >= cap;
+    if (cut) {
+        /* never silently: a cut name ends in "..." (when the buffer has room for it) */
+        n = cap > 4 ? cap - 4 : cap - 1;
         /* cut before a UTF-8 character the buffer cannot hold whole (continuation bytes are 10xxxxxx) */
         while (n > 0 && ((unsigned char)src[n] & 0xC0u) == 0x80u) n--;
     }
     memcpy(dst, src, n);
+    if (cut && cap > 4) {
+        memcpy(dst + n, "...", 3);
+        n += 3;
+    }
     dst[n] = '\0';
 }
 
@@ -432,6 +439,60 @@ uint64_t fv_scene_triangle_count(const fv_scene *s)
 
 /* ---- validation ------------------------------------------------------------------------------------------- */
 
+/* The component of v farthest from 0 that is beyond FV_SCENE_MAX_COORD_M or not finite; false when none is. */
+static bool v3_beyond(fv_vec3 v, double bound, double *out)
+{
+    const float c[3] = {v.x, v.y, v.z};
+    for (int k = 0; k < 3; k++)
+        if (!(fabs((double)c[k]) <= bound)) {
+            *out = c[k];
+            return true;
+        }
+    return false;
+}
+
+fv_result fv_scene_check_extent(const fv_scene *s)
+{
+    if (!s) return FV_ERR_INVALID_ARG;
+    const char *src = src_of(s);
+    const double B = FV_SCENE_MAX_COORD_M;
+    int bad = 0;
+    double v;
+#define BEYOND(what, ...)                                                                                              \
+    do {                                                                                                               \
+        if (bad < 16)                                                                                                  \
+            FV_ERROR("scene", "%s: " what ": %g is beyond the +-%g m bound of a position or size", src, __VA_ARGS__, v, \
+                     B);                                                                                               \
+        bad++;                                                                                                         \
+    } while (0)
+    for (uint32_t i = 0; i < s->node_count; i++) {
+        const fv_node *n = &s->nodes[i];
+        if (v3_beyond(n->translation_m, B, &v)) BEYOND("node %u '%s': translation (m)", i, n->name);
+        if (v3_beyond(n->scale, B, &v)) BEYOND("node %u '%s': scale", i, n->name);
+        if (v3_beyond(n->anim.amplitude_m, B, &v)) BEYOND("node %u '%s': animation amplitude", i, n->name);
+        if (!node_draws(s, n) || !s->meshes[n->mesh].vertex_count) continue;
+        const fv_mesh *m = &s->meshes[n->mesh];
+        fv_mat4 w = fv_scene_node_world(s, i, 0.0);
+        for (int c = 0; c < 8; c++) {
+            fv_vec3 p = fv_v3((c & 1) ? m->bounds_max.x : m->bounds_min.x, (c & 2) ? m->bounds_max.y : m->bounds_min.y,
+                              (c & 4) ? m->bounds_max.z : m->bounds_min.z);
+            if (v3_beyond(fv_mat4_mul_point(&w, p), B, &v)) {
+                BEYOND("node %u '%s': mesh '%s' in world space (m)", i, n->name, m->name);
+                break;
+            }
+        }
+    }
+    for (uint32_t i = 0; i < s->light_count; i++)
+        if (s->lights[i].type != FV_LIGHT_DIRECTIONAL && v3_beyond(s->lights[i].position_m, B, &v))
+            BEYOND("light %u '%s': position (m)", i, s->lights[i].name);
+    for (uint32_t i = 0; i < s->camera_count; i++)
+        if (v3_beyond(s->cameras[i].position_m, B, &v)) BEYOND("camera %u '%s': position (m)", i, s->cameras[i].name);
+    if (v3_beyond(s->head.position_m, B, &v)) BEYOND("head: position (m)%s", "");
+#undef BEYOND
+    if (bad > 16) FV_ERROR("scene", "%s: ... and %d more positions beyond the bound", src, bad - 16);
+    return bad ? FV_ERR_RANGE : FV_OK;
+}
+
 static bool finite_quat(fv_quat q) { return isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w); }
 
 fv_result fv_scene_validate(const fv_scene *s)
@@ -494,10 +555,10 @@ fv_result fv_scene_validate(const fv_scene *s)
         if (t->enabled) {
             bool any_s = false;
             for (int c = 0; c < 3; c++) {
-                if (!isfinite(t->sigma_a_per_mm[c]) || t->sigma_a_per_mm[c] < 0)
-                    BROKEN("%s: material %u '%s': sigma_a_per_mm[%d] = %g must be finite and >= 0", src, i, m->name, c, (double)t->sigma_a_per_mm[c]);
-                if (!isfinite(t->sigma_s_prime_per_mm[c]) || t->sigma_s_prime_per_mm[c] < 0)
-                    BROKEN("%s: material %u '%s': sigma_s_prime_per_mm[%d] = %g must be finite and >= 0", src, i, m->name, c, (double)t->sigma_s_prime_per_mm[c]);
+                const char *why = fv_translucency_coefficient_problem(t->sigma_a_per_mm[c]);
+                if (why) BROKEN("%s: material %u '%s': sigma_a_per_mm[%d] = %g %s", src, i, m->name, c, (double)t->sigma_a_per_mm[c], why);
+                why = fv_translucency_coefficient_problem(t->sigma_s_prime_per_mm[c]);
+                if (why) BROKEN("%s: material %u '%s': sigma_s_prime_per_mm[%d] = %g %s", src, i, m->name, c, (double)t->sigma_s_prime_per_mm[c], why);
                 if (t->sigma_s_prime_per_mm[c] > 0) any_s = true;
             }
             if (!any_s) BROKEN("%s: material %u '%s': sigma_s_prime_per_mm is all zero", src, i, m->name);
@@ -537,7 +598,28 @@ fv_result fv_scene_validate(const fv_scene *s)
     if (!fv_v3_isfinite(s->ambient)) BROKEN("%s: ambient must be finite", src);
 #undef BROKEN
     if (bad > 32) FV_ERROR("scene", "%s: ... and %d more problems", src, bad - 32);
+    if (!bad && fv_scene_check_extent(s) < 0) return FV_ERR_RANGE; /* finite, but too far out */
     return bad ? FV_ERR_PARSE : FV_OK;
+}
+
+/* ---- cost ------------------------------------------------------------------------------------------------- */
+
+uint64_t fv_scene_light_evaluations(const fv_scene *s, uint32_t eye_w, uint32_t eye_h)
+{
+    if (!s) return 0;
+    uint64_t px = 2u * (uint64_t)eye_w * eye_h, n = s->light_count;
+    return n && px > UINT64_MAX / n ? UINT64_MAX : n * px;
+}
+
+bool fv_scene_warn_cost(const fv_scene *s, uint32_t eye_w, uint32_t eye_h, const char *who)
+{
+    if (!s || s->light_count <= FV_SCENE_LIGHTS_WARN) return false;
+    FV_WARN("scene", "%s: %u lights, and %s sums every light at every pixel: about %.2g light evaluations a frame at "
+            "%ux%u per eye (%.2g at the default 720x800; lavapipe manages about 1.5e8 a second); keep to %u lights or "
+            "fewer (merge them, or drop the faint and far ones) or render smaller", src_of(s), s->light_count,
+            who ? who : "the renderer", (double)fv_scene_light_evaluations(s, eye_w, eye_h), eye_w, eye_h,
+            (double)fv_scene_light_evaluations(s, 720, 800), FV_SCENE_LIGHTS_WARN);
+    return true;
 }
 
 /* ---- head ------------------------------------------------------------------------------------------------- */

@@ -367,7 +367,9 @@ static fv_result convert_node(import_ctx *c, const struct aiNode *an, int32_t pa
     for (unsigned k = first + 1; k < an->mNumMeshes; k++) {
         if (an->mMeshes[k] >= c->ai->mNumMeshes || c->mesh_map[an->mMeshes[k]] < 0) continue;
         fv_node extra = fv_node_default();
-        snprintf(extra.name, sizeof extra.name, "%.40s#%u", an->mName.data, k);
+        char label[FV_SCENE_NAME_MAX + 16];
+        snprintf(label, sizeof label, "%s#%u", n.name, k);
+        fv_scene_copy_name(extra.name, sizeof extra.name, label);
         extra.parent = (int32_t)self;
         extra.mesh = c->mesh_map[an->mMeshes[k]];
         FV_TRY(fv_scene_add_node(c->s, &extra, NULL));
@@ -379,8 +381,10 @@ static fv_result convert_node(import_ctx *c, const struct aiNode *an, int32_t pa
 
 static int32_t node_by_name(const fv_scene *s, const char *name)
 {
+    char stored[FV_SCENE_NAME_MAX]; /* the name as a node keeps it (a long one cut with "...") */
+    fv_scene_copy_name(stored, sizeof stored, name);
     for (uint32_t i = 0; i < s->node_count; i++)
-        if (!strcmp(s->nodes[i].name, name)) return (int32_t)i;
+        if (!strcmp(s->nodes[i].name, stored)) return (int32_t)i;
     return -1;
 }
 
@@ -594,7 +598,9 @@ fv_result fv_scene_add_default_lights(fv_scene *s, const char *origin)
         if (fv_v3_len(nsum) < 0.25f * 2.0f * (float)area) dir = fv_v3(0, -1, 0);
         fv_light l;
         memset(&l, 0, sizeof l);
-        snprintf(l.name, sizeof l.name, "emitter:%.50s", n->name);
+        char label[FV_SCENE_NAME_MAX + 16];
+        snprintf(label, sizeof label, "emitter:%s", n->name);
+        fv_scene_copy_name(l.name, sizeof l.name, label);
         l.type = FV_LIGHT_SPOT;
         l.position_m = fv_v3_add(centre, fv_v3_scale(dir, 1e-3f));
         l.direction = dir;
@@ -654,6 +660,11 @@ static fv_result import_file(const char *path, float unit_scale_m, bool default_
     if (!path || !*path) {
         FV_ERROR("scene", "no model path given");
         return FV_ERR_INVALID_ARG;
+    }
+    if (strlen(path) >= FV_SCENE_PATH_MAX) { /* the scene's source and the folder textures resolve from */
+        FV_ERROR("scene", "%.60s...: the model path is %zu bytes, more than the %d-byte limit", path, strlen(path),
+                 FV_SCENE_PATH_MAX - 1);
+        return FV_ERR_RANGE;
     }
     struct stat st;
     if (stat(path, &st) != 0) {

@@ -8,7 +8,8 @@
 
 #include "fv_scene.h"
 
-/** Copy a NUL-terminated string into a fixed buffer, truncating before a UTF-8 character that does not fit whole. */
+/** Copy a NUL-terminated name into a fixed buffer. One that does not fit is cut visibly: before a UTF-8 character
+ *  that does not fit whole, then "..." (paths are never cut: their loaders refuse what does not fit). */
 void fv_scene_copy_name(char *dst, size_t cap, const char *src);
 /** Quaternion of the rotation whose columns are the local +x, +y, +z axes in world space (orthonormal). */
 fv_quat fv_scene_quat_from_basis(fv_vec3 right, fv_vec3 up, fv_vec3 back);

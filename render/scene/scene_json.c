@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "fv_json_scan.h"
 #include "fv_log.h"
 #include "fv_scene.h"
 #include "scene_internal.h"
@@ -70,7 +71,10 @@ static void check_keys(jctx *c, const cJSON *obj, const char *path, const char *
     }
 }
 
-enum { NUM_ANY = 0, NUM_NONNEG = 1, NUM_POSITIVE = 2 };
+/* NUM_COORD: a position in metres, |v| <= FV_SCENE_MAX_COORD_M; NUM_SIZE: a scale factor in (0, that bound]. */
+/* NUM_SIGMA: a translucency coefficient, fv_translucency_coefficient_problem's range (checked on the double, before
+ * a denormal would turn into a float 0). */
+enum { NUM_ANY = 0, NUM_NONNEG = 1, NUM_POSITIVE = 2, NUM_COORD = 3, NUM_SIZE = 4, NUM_SIGMA = 5 };
 
 static bool check_number(jctx *c, const cJSON *j, const char *path, int rule, float *out)
 {
@@ -79,16 +83,34 @@ static bool check_number(jctx *c, const cJSON *j, const char *path, int rule, fl
         return false;
     }
     double v = j->valuedouble;
-    if (!isfinite(v) || fabs(v) > 3.0e38) {
+    if (!isfinite(v)) {
         JERR(c, path, "%g is not a finite number", v);
+        return false;
+    }
+    if (fabs(v) > 3.0e38) { /* finite, but not as a float */
+        JERR(c, path, "%g is beyond the float range (+-3e+38)", v);
+        return false;
+    }
+    const char *why = rule == NUM_SIGMA ? fv_translucency_coefficient_problem(v) : NULL;
+    if (why) {
+        JERR(c, path, "%g %s", v, why);
         return false;
     }
     if (rule == NUM_NONNEG && v < 0) {
         JERR(c, path, "%g is negative; it must be >= 0", v);
         return false;
     }
-    if (rule == NUM_POSITIVE && !(v > 0)) {
+    if ((rule == NUM_POSITIVE || rule == NUM_SIZE) && !(v > 0)) {
         JERR(c, path, "%g must be > 0", v);
+        return false;
+    }
+    if ((rule == NUM_COORD || rule == NUM_SIZE) && fabs(v) > FV_SCENE_MAX_COORD_M) {
+        if (rule == NUM_COORD)
+            JERR(c, path, "%g m is outside -%g..%g m, the bound of a position (no renderer keeps precision past it)", v,
+                 FV_SCENE_MAX_COORD_M, FV_SCENE_MAX_COORD_M);
+        else
+            JERR(c, path, "%g is more than %g, the largest scale (no renderer keeps precision past it)", v,
+                 FV_SCENE_MAX_COORD_M);
         return false;
     }
     *out = (float)v;
@@ -196,11 +218,11 @@ static void parse_translucency(jctx *c, const cJSON *j, const char *path, fv_tra
     char p[JPATH_MAX];
     if (a) {
         jpath(p, path, "sigma_a_per_mm");
-        parse_vec(c, a, p, 3, NUM_NONNEG, t.sigma_a_per_mm);
+        parse_vec(c, a, p, 3, NUM_SIGMA, t.sigma_a_per_mm);
     }
     if (s) {
         jpath(p, path, "sigma_s_prime_per_mm");
-        if (parse_vec(c, s, p, 3, NUM_NONNEG, t.sigma_s_prime_per_mm) &&
+        if (parse_vec(c, s, p, 3, NUM_SIGMA, t.sigma_s_prime_per_mm) &&
             !(t.sigma_s_prime_per_mm[0] > 0 || t.sigma_s_prime_per_mm[1] > 0 || t.sigma_s_prime_per_mm[2] > 0))
             JERR(c, p, "all three are zero; a translucent material must scatter");
     }
@@ -285,7 +307,7 @@ static void parse_animation(jctx *c, const cJSON *j, const char *path, fv_animat
         out->kind = FV_ANIM_BOB;
         out->amplitude_m = fv_v3(0, 0.05f, 0);
         out->freq_hz = 0.5f;
-        opt_vec3(c, b, p, "amplitude_m", NUM_ANY, &out->amplitude_m);
+        opt_vec3(c, b, p, "amplitude_m", NUM_COORD, &out->amplitude_m);
         opt_number(c, b, p, "freq_hz", NUM_NONNEG, &out->freq_hz);
         opt_number(c, b, p, "phase_deg", NUM_ANY, &phase_deg);
     } else if (u) {
@@ -318,13 +340,16 @@ static fv_quat euler_xyz_deg(fv_vec3 deg)
     return fv_quat_normalize(fv_quat_mul(qz, fv_quat_mul(qy, qx)));
 }
 
-/* Resolve a model path against the scene file's folder. */
-static void resolve_path(const jctx *c, const char *model, char *out, size_t cap)
+/* Resolve a model path against the scene file's folder; false (after the error, naming the field) when the
+ * result does not fit FV_SCENE_PATH_MAX: a cut path could name another file that exists. */
+static bool resolve_path(jctx *c, const char *field, const char *model, char *out, size_t cap)
 {
-    if (model[0] == '/' || !c->base_dir || !c->base_dir[0])
-        snprintf(out, cap, "%s", model);
-    else
-        snprintf(out, cap, "%s/%s", c->base_dir, model);
+    bool relative = model[0] != '/' && c->base_dir && c->base_dir[0];
+    int n = relative ? snprintf(out, cap, "%s/%s", c->base_dir, model) : snprintf(out, cap, "%s", model);
+    if (n >= 0 && (size_t)n < cap) return true;
+    JERR(c, field, "the model path is %d bytes%s, more than the %zu-byte limit ('%.60s...')", n,
+         relative ? " once joined to the scene file's folder" : "", cap - 1, model);
+    return false;
 }
 
 static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, float default_unit, bool *have_head,
@@ -342,22 +367,23 @@ static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, floa
     opt_string(c, o, path, "name", &name);
     jpath(p, path, "model");
     if (!model && !cJSON_GetObjectItemCaseSensitive(o, "model")) JERR(c, p, "missing (a model file or \"builtin:NAME\")");
+    if (model && !model[0]) JERR(c, p, "is empty (a model file or \"builtin:NAME\")");
 
     fv_node root = fv_node_default();
     fv_scene_copy_name(root.name, sizeof root.name, name ? name : (model ? model : path));
-    opt_vec3(c, o, path, "translate_m", NUM_ANY, &root.translation_m);
+    opt_vec3(c, o, path, "translate_m", NUM_COORD, &root.translation_m);
     fv_vec3 rot = fv_v3(0, 0, 0);
     if (opt_vec3(c, o, path, "rotate_deg", NUM_ANY, &rot)) root.rotation = euler_xyz_deg(rot);
     const cJSON *sc = cJSON_GetObjectItemCaseSensitive(o, "scale");
     jpath(p, path, "scale");
     if (cJSON_IsArray(sc)) {
-        opt_vec3(c, o, path, "scale", NUM_POSITIVE, &root.scale);
+        opt_vec3(c, o, path, "scale", NUM_SIZE, &root.scale);
     } else if (sc) {
         float k;
-        if (check_number(c, sc, p, NUM_POSITIVE, &k)) root.scale = fv_v3(k, k, k);
+        if (check_number(c, sc, p, NUM_SIZE, &k)) root.scale = fv_v3(k, k, k);
     }
     float unit = default_unit;
-    opt_number(c, o, path, "unit_scale_m", NUM_POSITIVE, &unit);
+    opt_number(c, o, path, "unit_scale_m", NUM_SIZE, &unit);
     fv_material ov = fv_material_default();
     unsigned mask = 0;
     const cJSON *mat = cJSON_GetObjectItemCaseSensitive(o, "material");
@@ -393,7 +419,7 @@ static void parse_object(jctx *c, fv_scene *dst, const cJSON *o, int index, floa
         }
     } else {
         char full[FV_SCENE_PATH_MAX];
-        resolve_path(c, model, full, sizeof full);
+        if (!resolve_path(c, p, model, full, sizeof full)) return;
         if (!c->allow_files) {
             JERR(c, p, "model files are not allowed here ('%s')", full);
             return;
@@ -464,7 +490,7 @@ static void parse_light(jctx *c, fv_scene *dst, const cJSON *j, int index)
     l.direction = fv_v3(0, -1, 0);
     l.inner_cone_rad = (float)fv_deg_to_rad(30.0);
     l.outer_cone_rad = (float)fv_deg_to_rad(45.0);
-    opt_vec3(c, j, path, "position_m", NUM_ANY, &l.position_m);
+    opt_vec3(c, j, path, "position_m", NUM_COORD, &l.position_m);
     opt_vec3(c, j, path, "color", NUM_NONNEG, &l.color);
     opt_number(c, j, path, "intensity", NUM_NONNEG, &l.intensity);
     opt_number(c, j, path, "range_m", NUM_NONNEG, &l.range_m);
@@ -477,7 +503,7 @@ static void parse_light(jctx *c, fv_scene *dst, const cJSON *j, int index)
         JERR(c, p, "the direction is zero");
     }
     fv_vec3 target;
-    if (at && opt_vec3(c, j, path, "look_at_m", NUM_ANY, &target)) {
+    if (at && opt_vec3(c, j, path, "look_at_m", NUM_COORD, &target)) {
         d = fv_v3_sub(target, l.position_m);
         if (!(fv_v3_len(d) > 1e-6f)) {
             jpath(p, path, "look_at_m");
@@ -509,8 +535,8 @@ static void parse_head(jctx *c, fv_scene *s, const cJSON *j)
     fv_vec3 pos = s->head.position_m, at = fv_v3(0, 0, 0);
     bool has_pos = cJSON_GetObjectItemCaseSensitive(j, "position_m") != NULL;
     bool has_at = cJSON_GetObjectItemCaseSensitive(j, "look_at_m") != NULL;
-    bool ok = opt_vec3(c, j, "head", "position_m", NUM_ANY, &pos);
-    ok = opt_vec3(c, j, "head", "look_at_m", NUM_ANY, &at) && ok;
+    bool ok = opt_vec3(c, j, "head", "position_m", NUM_COORD, &pos);
+    ok = opt_vec3(c, j, "head", "look_at_m", NUM_COORD, &at) && ok;
     float ipd = s->head.ipd_mm;
     if (opt_number(c, j, "head", "ipd_mm", NUM_POSITIVE, &ipd) && ipd > FV_SCENE_MAX_IPD_MM)
         JERR(c, "head.ipd_mm", "%g mm is more than the %g mm limit", (double)ipd, (double)FV_SCENE_MAX_IPD_MM);
@@ -535,66 +561,6 @@ static void parse_head(jctx *c, fv_scene *s, const cJSON *j)
             fv_quat_mul(s->head.orientation, fv_quat_axis_angle(fv_v3(0, 0, 1), (float)fv_deg_to_rad(-roll))));
 }
 
-/* What the text holds, found in one pass before cJSON builds a tree for it: how many values, how deep it nests
- * (cJSON refuses more than CJSON_NESTING_LIMIT levels without saying so), and the first "\u0000" in a string
- * (cJSON would cut the string there, silently). */
-typedef struct json_scan {
-    size_t values;
-    size_t too_deep_at; /* offset of the bracket that passes the nesting limit, or SIZE_MAX */
-    size_t nul_at;      /* offset of the first \u0000 escape, or SIZE_MAX */
-    size_t nul_count;
-    size_t open_string_at; /* offset of the quote of a string the text ends inside, or SIZE_MAX */
-} json_scan;
-
-static void json_prescan(const char *json, size_t len, json_scan *out)
-{
-    *out = (json_scan){1, SIZE_MAX, SIZE_MAX, 0, SIZE_MAX};
-    size_t depth = 0, string_at = 0;
-    bool in_string = false;
-    for (size_t i = 0; i < len; i++) {
-        char ch = json[i];
-        if (in_string) {
-            if (ch == '\\') {
-                if (i + 5 < len && json[i + 1] == 'u' && !memcmp(json + i + 2, "0000", 4)) {
-                    if (out->nul_at == SIZE_MAX) out->nul_at = i;
-                    out->nul_count++;
-                }
-                i++; /* the escaped character */
-            } else if (ch == '"') {
-                in_string = false;
-            }
-            continue;
-        }
-        if (ch == '"') {
-            in_string = true;
-            string_at = i;
-        } else if (ch == '[' || ch == '{') {
-            out->values++;
-            if (++depth > CJSON_NESTING_LIMIT && out->too_deep_at == SIZE_MAX) out->too_deep_at = i;
-        } else if (ch == ']' || ch == '}') {
-            if (depth) depth--;
-        } else if (ch == ',') {
-            out->values++;
-        }
-    }
-    if (in_string) out->open_string_at = string_at;
-}
-
-/* Line and column (1-based) of a byte offset. */
-static void line_col(const char *json, size_t off, int *line, int *col)
-{
-    *line = 1;
-    *col = 1;
-    for (size_t i = 0; i < off; i++) {
-        if (json[i] == '\n') {
-            (*line)++;
-            *col = 1;
-        } else {
-            (*col)++;
-        }
-    }
-}
-
 static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **out_scene);
 
 fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir, const char *origin,
@@ -606,6 +572,11 @@ fv_result fv_scene_parse_json(const char *json, size_t len, const char *base_dir
     if (!json) {
         FV_ERROR("scene", "%s: no scene text", c.origin);
         return FV_ERR_INVALID_ARG;
+    }
+    if (strlen(c.origin) >= FV_SCENE_PATH_MAX) { /* the scene's source, and the folder its models resolve from */
+        FV_ERROR("scene", "%.60s...: the scene file's path is %zu bytes, more than the %d-byte limit", c.origin,
+                 strlen(c.origin), FV_SCENE_PATH_MAX - 1);
+        return FV_ERR_RANGE;
     }
     /* Every message of the load (this file's and its model files') passes one budget: a few of each kind, then
      * one "... and N more" line each, then the count. */
@@ -624,11 +595,11 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
     fv_result r = FV_OK;
     cJSON *root = NULL;
     fv_scene *s = NULL;
-    json_scan scan;
-    json_prescan(json, len, &scan);
+    fv_json_scan scan;
+    fv_json_scan_text(json, len, CJSON_NESTING_LIMIT, &scan);
     int line, col;
     if (scan.too_deep_at != SIZE_MAX) {
-        line_col(json, scan.too_deep_at, &line, &col);
+        fv_text_line_col(json, scan.too_deep_at, &line, &col);
         FV_ERROR("scene", "%s: line %d column %d: invalid JSON: nested deeper than %d levels (the parser's limit)",
                  c.origin, line, col, CJSON_NESTING_LIMIT);
         return FV_ERR_PARSE;
@@ -639,7 +610,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
         return FV_ERR_RANGE;
     }
     if (scan.nul_at != SIZE_MAX) {
-        line_col(json, scan.nul_at, &line, &col);
+        fv_text_line_col(json, scan.nul_at, &line, &col);
         FV_ERROR("scene", "%s: line %d column %d: a string holds \\u0000 (a NUL character)%s, which names and paths "
                  "cannot carry; remove it", c.origin, line, col, scan.nul_count > 1 ? ", the first of several" : "");
         return FV_ERR_PARSE;
@@ -648,7 +619,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
     root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
     if (!root) {
         size_t off = (end && end >= json && end <= json + len) ? (size_t)(end - json) : 0;
-        line_col(json, off, &line, &col);
+        fv_text_line_col(json, off, &line, &col);
         /* cJSON points at the token where parsing stopped; when nothing but blanks follows it, the text was cut. */
         bool cut = true;
         for (size_t i = off + 1; i < len && cut; i++)
@@ -659,7 +630,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
         }
         if (scan.open_string_at != SIZE_MAX && off >= scan.open_string_at) {
             int sl, sc;
-            line_col(json, scan.open_string_at, &sl, &sc);
+            fv_text_line_col(json, scan.open_string_at, &sl, &sc);
             FV_ERROR("scene", "%s: line %d column %d: invalid JSON (the text ends inside the string that starts "
                      "there: a missing '\"')", c.origin, sl, sc);
         } else if (off >= len || cut)
@@ -687,7 +658,7 @@ static fv_result parse_json(jctx *cp, const char *json, size_t len, fv_scene **o
     if ((r = fv_scene_create(name, &s)) < 0) goto fail;
     fv_scene_copy_name(s->source, sizeof s->source, c.origin);
     float unit = 0.0f; /* 0: each model file's units are guessed */
-    opt_number(&c, root, "", "unit_scale_m", NUM_POSITIVE, &unit);
+    opt_number(&c, root, "", "unit_scale_m", NUM_SIZE, &unit);
     s->unit_scale_m = unit > 0 ? unit : 1.0f;
     opt_vec3(&c, root, "", "ambient", NUM_NONNEG, &s->ambient);
 

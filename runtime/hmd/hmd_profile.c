@@ -4,12 +4,14 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
 #include "fv_hmd.h"
+#include "fv_json_scan.h"
 #include "hmd_builtin.h"
 #include "hmd_internal.h"
 
@@ -65,7 +67,12 @@ static bool text(const ctx *c, const cJSON *obj, const char *key, const char *pa
         say(c->err, c->err_size, "%s: %s: %s", c->origin, path, it ? "not a non-empty string" : "missing (a string)");
         return false;
     }
-    if (out) snprintf(out, out_size, "%s", it->valuestring);
+    size_t n = strlen(it->valuestring);
+    if (out && n >= out_size) { /* never cut silently */
+        say(c->err, c->err_size, "%s: %s: %zu bytes, more than the %zu-byte limit", c->origin, path, n, out_size - 1);
+        return false;
+    }
+    if (out) memcpy(out, it->valuestring, n + 1);
     return true;
 }
 
@@ -221,6 +228,15 @@ fv_result fv_hmd_profile_parse(const char *json, size_t len, const char *origin,
 {
     if (!json || !out) return FV_ERR_INVALID_ARG;
     ctx c = {.origin = origin ? origin : "(profile)", .err = err, .err_size = err_size};
+    fv_json_scan scan; /* cJSON gives up past its nesting limit without saying so: check it first */
+    fv_json_scan_text(json, len, CJSON_NESTING_LIMIT, &scan);
+    if (scan.too_deep_at != SIZE_MAX) {
+        int line, col;
+        fv_text_line_col(json, scan.too_deep_at, &line, &col);
+        say(err, err_size, "%s:%d:%d: not valid JSON: nested deeper than %d levels (the JSON parser's limit)",
+            c.origin, line, col, CJSON_NESTING_LIMIT);
+        return FV_ERR_PARSE;
+    }
     cJSON *root = cJSON_ParseWithLength(json, len);
     if (!root) {
         const char *at = cJSON_GetErrorPtr();
@@ -232,7 +248,9 @@ fv_result fv_hmd_profile_parse(const char *json, size_t len, const char *origin,
     }
     fv_hmd_profile p;
     memset(&p, 0, sizeof p);
-    snprintf(p.origin, sizeof p.origin, "%s", c.origin);
+    size_t olen = strlen(c.origin); /* a label: a long path keeps its end (the file name) after "..." */
+    if (olen < sizeof p.origin) memcpy(p.origin, c.origin, olen + 1);
+    else snprintf(p.origin, sizeof p.origin, "...%s", c.origin + olen - (sizeof p.origin - 4));
     fv_result res = parse_root(&c, root, &p);
     cJSON_Delete(root);
     if (res == FV_OK) *out = p;

@@ -11,12 +11,12 @@
 #include "fv_test.h"
 
 static const char *g_fovea;
+static fv_test_cmd g_res; /* the last command's result */
 
 static fv_test_cmd *run(const char *args)
 {
-    static fv_test_cmd res;
-    fv_test_run_cmd(&res, NULL, g_fovea, args);
-    return &res;
+    fv_test_run_cmd(&g_res, NULL, g_fovea, args);
+    return &g_res;
 }
 
 static const cJSON *item(const cJSON *o, const char *key)
@@ -105,9 +105,12 @@ static void small_sweep_writes_json_csv_and_plots(void **state)
     (void)state;
     const char *dir;
     cJSON *j = bench_json("bench_small",
-                          "--scene cornell --eye-size 48x48 --frames 3 --sweep shadow.splits=1,2 "
+                          "--scene cornell --eye-size 48x48 --frames 3 --sweep shadow.splits=1,2,2,01 "
                           "--sweep shadow.filter=none,pcf3 --reference model",
                           &dir);
+    /* 2 and 01 repeat 2 and 1 once parsed: dropped with one warning line, not benched again */
+    fv_assert_contains(g_res.err, "fovea bench: warning: --sweep shadow.splits: 2 values repeat an earlier one and "
+                                  "are benched once: 2 (as 2), 01 (as 1)\n");
     assert_string_equal(item(j, "scene")->valuestring, "cornell");
     assert_true(cJSON_IsString(item(j, "device")));
     assert_int_equal((int)item(j, "eye_width")->valuedouble, 48);

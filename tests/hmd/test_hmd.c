@@ -212,6 +212,41 @@ static void malformed_fields_are_named(void **state)
     fv_assert_contains(err, "empty.json:1: not valid JSON");
 }
 
+/* cJSON gives up past 1000 levels of nesting without saying why: the error says the nesting is too deep, with the
+ * limit, the file, line and column. A name that does not fit is refused, not cut. */
+static void too_deep_nesting_and_too_long_text_are_named(void **state)
+{
+    (void)state;
+    size_t depth = 1001, len = 2 * depth + 64;
+    char *deep = malloc(len);
+    size_t n = (size_t)snprintf(deep, len, "{\"format\": \"fovea-hmd 1\",\n\"x\": ");
+    for (size_t i = 0; i < depth; i++) deep[n++] = '[';
+    for (size_t i = 0; i < depth; i++) deep[n++] = ']';
+    deep[n++] = '}';
+    const char *path = fv_test_write_file("deep.json", deep, n);
+    free(deep);
+    char err[512];
+    fv_hmd_profile p;
+    assert_int_equal(fv_hmd_profile_load(path, &p, err, sizeof err), FV_ERR_PARSE);
+    fv_assert_contains(err, "deep.json:2:");
+    fv_assert_contains(err, "nested deeper than 1000 levels");
+    /* 1000 levels is within cJSON's limit: then the missing fields are what is wrong */
+    deep = malloc(len);
+    n = (size_t)snprintf(deep, len, "{\"x\": ");
+    for (size_t i = 0; i < 999; i++) deep[n++] = '[';
+    for (size_t i = 0; i < 999; i++) deep[n++] = ']';
+    deep[n++] = '}';
+    assert_int_equal(fv_hmd_profile_parse(deep, n, "ok.json", &p, err, sizeof err), FV_ERR_PARSE);
+    fv_assert_contains(err, "ok.json: format: missing");
+    free(deep);
+    char name[FV_HMD_NAME_MAX + 8], to[FV_HMD_NAME_MAX + 32];
+    memset(name, 'n', sizeof name - 1);
+    name[sizeof name - 1] = '\0';
+    snprintf(to, sizeof to, "\"name\": \"%s\"", name);
+    const char *e = parse_edited("\"name\": \"htc-vive\"", to, FV_ERR_PARSE);
+    fv_assert_contains(e, "edited.json: name: 71 bytes, more than the 63-byte limit");
+}
+
 static void extremes_stay_finite(void **state)
 {
     (void)state;
@@ -341,6 +376,7 @@ int main(void)
         cmocka_unit_test(inverse_undoes_forward_within_1e9),
         cmocka_unit_test(folding_profile_is_refused),
         cmocka_unit_test(malformed_fields_are_named),
+        cmocka_unit_test(too_deep_nesting_and_too_long_text_are_named),
         cmocka_unit_test(extremes_stay_finite),
         cmocka_unit_test(hidden_area_mask_covers_only_hidden_pixels),
     };

@@ -5,6 +5,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "fv_test.h"
@@ -434,6 +435,59 @@ static void equal_sees_every_knob_and_view_setting(void **state)
     assert_false(fv_quality_equal(&a, NULL));
 }
 
+/* Every number knob: the bounds its range text prints, fed back as values, are accepted; a value just outside each
+ * bound is refused with FV_ERR_RANGE and a message that prints the same bounds (fovea.min_prob=0.01 used to be
+ * refused as "'0.01' is not a number in 0.01..1": the float 0.01 is below the double 0.01). */
+static void printed_bounds_are_accepted_and_just_outside_refused(void **state)
+{
+    (void)state;
+    size_t n = 0;
+    const fv_knob *k = fv_knobs(&n);
+    size_t checked = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (k[i].type != FV_KNOB_INT && k[i].type != FV_KNOB_FLOAT) continue;
+        char range[128], lo[64], hi[64], a[256], err[512];
+        fv_knob_format_range(&k[i], range, sizeof range);
+        const char *dots = strstr(range, "..");
+        assert_non_null(dots);
+        snprintf(lo, sizeof lo, "%.*s", (int)(dots - range), range);
+        snprintf(hi, sizeof hi, "%s", dots + 2);
+        char *comma = strchr(hi, ',');
+        if (comma) *comma = '\0';
+        char bounds[140];
+        snprintf(bounds, sizeof bounds, "%s..%s", lo, hi);
+        const char *edge[2] = {lo, hi};
+        for (int e = 0; e < 2; e++) {
+            fv_quality q = fv_quality_default();
+            snprintf(a, sizeof a, "%s=%s", k[i].name, edge[e]);
+            if (FV_FAILED(fv_quality_set(&q, a, err, sizeof err))) fail_msg("%s refused: %s", a, err);
+            assert_int_equal(fv_quality_validate(&q, err, sizeof err), FV_OK);
+            char back[64];
+            fv_knob_format(&k[i], &q, back, sizeof back);
+            assert_string_equal(back, edge[e]); /* the stored value is the bound, printed the same way */
+        }
+        char out[2][64];
+        if (k[i].type == FV_KNOB_FLOAT) {
+            float flo = (float)strtod(lo, NULL), fhi = (float)strtod(hi, NULL);
+            snprintf(out[0], sizeof out[0], "%.9g", (double)nextafterf(flo, -INFINITY));
+            snprintf(out[1], sizeof out[1], "%.9g", (double)nextafterf(fhi, INFINITY));
+        } else {
+            long long ilo = strtoll(lo, NULL, 10), ihi = strtoll(hi, NULL, 10);
+            snprintf(out[0], sizeof out[0], "%lld", k[i].pow2 ? ilo / 2 : ilo - 1);
+            snprintf(out[1], sizeof out[1], "%lld", k[i].pow2 ? ihi * 2 : ihi + 1);
+        }
+        for (int e = 0; e < 2; e++) {
+            fv_quality q = fv_quality_default();
+            snprintf(a, sizeof a, "%s=%s", k[i].name, out[e]);
+            fv_result r = fv_quality_set(&q, a, err, sizeof err);
+            if (r != FV_ERR_RANGE) fail_msg("%s: %s, not FV_ERR_RANGE (%s)", a, fv_result_str(r), err);
+            if (!strstr(err, bounds)) fail_msg("%s: message \"%s\" does not print the bounds %s", a, err, bounds);
+        }
+        checked++;
+    }
+    assert_true(checked > 10);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -447,6 +501,7 @@ int main(void)
         cmocka_unit_test(messages_fit_any_buffer),
         cmocka_unit_test(format_then_set_round_trips_exactly),
         cmocka_unit_test(ranges_read_as_the_table_says),
+        cmocka_unit_test(printed_bounds_are_accepted_and_just_outside_refused),
         cmocka_unit_test(validate_reports_each_broken_rule),
         cmocka_unit_test(equal_sees_every_knob_and_view_setting),
     };

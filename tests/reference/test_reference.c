@@ -473,16 +473,36 @@ static void extreme_scenes_give_finite_images(void **state)
     assert_int_equal(fv_scene_add_light(s, &l, NULL), FV_OK);
     s->ambient = fv_v3(NAN, 1, 1);
     fv_reference_stats st;
+    /* a NaN light position and one at 1e30 m: refused before any work, naming them (Embree aborted on rays from
+     * past 1.8e18 m) */
+    assert_int_equal(fv_reference_render(s, &in, &d, img, NULL, &st), FV_ERR_INVALID_ARG);
+    fv_assert_log_contains("position (m): nan is beyond the +-1e+06 m bound");
+    fv_assert_log_contains("position (m): 1e+30 is beyond the +-1e+06 m bound");
+    fv_assert_log_contains("not rendered: positions beyond the bound");
+    s->lights[s->light_count - 2].position_m = fv_v3(0, 0.5f, 0); /* its intensity stays infinite */
+    s->lights[s->light_count - 1].position_m = fv_v3(0, (float)FV_SCENE_MAX_COORD_M, 0); /* at the bound */
     assert_int_equal(fv_reference_render(s, &in, &d, img, NULL, &st), FV_OK);
     assert_true(st.skipped_triangles >= 3);
     render_every_mode_and_view_finite(s, &in);
     /* an emitter that really emits next to the NaN: path mode samples it */
     rt_add_square(s, "lamp", fv_v3(0, 0.8f, 0), 0.2, lamp);
     render_every_mode_and_view_finite(s, &in);
-    /* a NaN head: the views fall back to identity and the image stays finite */
-    s->head.position_m = fv_v3(NAN, 0, 0);
-    fv_frame_input bad = rt_views(&s->head, 12, 10);
-    render_every_mode_and_view_finite(s, &bad);
+    /* a NaN head, or one past the bound: refused (the scene's head and the eyes made from it) */
+    fv_head head = s->head;
+    float far[2] = {NAN, 1e20f};
+    for (int k = 0; k < 2; k++) {
+        s->head.position_m = fv_v3(0, 0, far[k]);
+        fv_frame_input bad = rt_views(&s->head, 12, 10);
+        assert_int_equal(fv_reference_render(s, &bad, &d, img, NULL, NULL), FV_ERR_INVALID_ARG);
+        fv_assert_log_contains("head: position (m)");
+        s->head = head;
+        if (k == 0) continue; /* the views of a NaN head fall back to identity */
+        /* the eyes alone (the scene's head sane) */
+        fv_test_log_capture_end();
+        fv_test_log_capture_begin();
+        assert_int_equal(fv_reference_render(s, &bad, &d, img, NULL, NULL), FV_ERR_INVALID_ARG);
+        fv_assert_log_contains("eye 0 at (-0.0315, 0, 1e+20) m is not finite or beyond the +-1e+06 m bound");
+    }
     free(img);
     fv_scene_destroy(&s);
     fv_test_log_capture_end();
@@ -519,6 +539,30 @@ static void broken_desc_and_null_arguments_are_rejected(void **state)
     fv_test_log_capture_end();
 }
 
+/* More lights than FV_SCENE_LIGHTS_WARN: the reference says what a frame costs before it starts (one line). */
+static void many_lights_are_announced_before_the_render(void **state)
+{
+    (void)state;
+    fv_scene *s = rt_plane_scene(fv_v3(1, 1, 1), 1.0);
+    fv_light l;
+    memset(&l, 0, sizeof l);
+    l.type = FV_LIGHT_POINT;
+    l.color = fv_v3(1, 1, 1);
+    l.intensity = 1e-3f;
+    l.position_m = fv_v3(0, 0.5f, 0);
+    while (s->light_count <= FV_SCENE_LIGHTS_WARN) assert_int_equal(fv_scene_add_light(s, &l, NULL), FV_OK);
+    fv_frame_input in = rt_views(&s->head, 4, 4);
+    float img[4 * 4 * 3];
+    fv_reference_desc d = {.eye_width = 4, .eye_height = 4, .threads = 1};
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_reference_render(s, &in, &d, img, NULL, NULL), FV_OK);
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 1);
+    fv_assert_log_contains("257 lights, and the reference's model mode (a shadow ray per light) sums every light at "
+                           "every pixel: about 8.2e+03 light evaluations a frame at 4x4 per eye");
+    fv_test_log_capture_end();
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -531,6 +575,7 @@ int main(void)
         cmocka_unit_test(same_seed_gives_identical_images_on_1_and_2_threads_and_another_seed_differs),
         cmocka_unit_test(extreme_scenes_give_finite_images),
         cmocka_unit_test(broken_desc_and_null_arguments_are_rejected),
+        cmocka_unit_test(many_lights_are_announced_before_the_render),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

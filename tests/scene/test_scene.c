@@ -192,7 +192,7 @@ static void validate_reports_each_broken_rule(void **state)
     s->head.ipd_mm = INFINITY;
     fv_test_log_capture_begin();
     assert_int_equal(fv_scene_validate(s), FV_ERR_PARSE);
-    fv_assert_log_contains("sigma_a_per_mm[1] = -0.5 must be finite and >= 0");
+    fv_assert_log_contains("sigma_a_per_mm[1] = -0.5 is negative; a coefficient is 0 or in 1e-06..1e+06 mm^-1");
     fv_assert_log_contains("eta nan must be > 0");
     fv_assert_log_contains("mesh 0 'tri': material 7 does not exist");
     fv_assert_log_contains("direction is zero");
@@ -390,6 +390,35 @@ static void head_look_at_handles_straight_down_and_degenerate_targets(void **sta
     assert_near(up.y, 1.0, 1e-5);
 }
 
+/* 65,536 lights (the documented limit) cost ~500 s a frame at the default size with no word: past
+ * FV_SCENE_LIGHTS_WARN lights the renderer that takes the scene says so in one line, with the estimate at its size
+ * and at the default, and what to change. Checked at a tiny size: the warning is about lights per pixel. */
+static void many_lights_are_announced_with_the_per_frame_estimate(void **state)
+{
+    (void)state;
+    fv_scene *s = NULL;
+    assert_int_equal(fv_scene_create("lamps", &s), FV_OK);
+    fv_light l;
+    memset(&l, 0, sizeof l);
+    l.type = FV_LIGHT_POINT;
+    l.color = fv_v3(1, 1, 1);
+    l.intensity = 1;
+    for (uint32_t i = 0; i < FV_SCENE_LIGHTS_WARN; i++) assert_int_equal(fv_scene_add_light(s, &l, NULL), FV_OK);
+    assert_int_equal(fv_scene_light_evaluations(s, 16, 16), 256u * 2u * 16u * 16u);
+    fv_test_log_capture_begin();
+    assert_false(fv_scene_warn_cost(s, 16, 16, "the shade pass")); /* at the threshold: quiet */
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 0);
+    assert_int_equal(fv_scene_add_light(s, &l, NULL), FV_OK);
+    assert_true(fv_scene_warn_cost(s, 16, 16, "the shade pass"));
+    assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_WARN), 1);
+    fv_assert_log_contains("lamps: 257 lights, and the shade pass sums every light at every pixel: about 1.3e+05 "
+                           "light evaluations a frame at 16x16 per eye (3e+08 at the default 720x800");
+    fv_assert_log_contains("keep to 256 lights or fewer");
+    fv_test_log_capture_end();
+    assert_int_equal(fv_scene_light_evaluations(s, UINT32_MAX, UINT32_MAX), UINT64_MAX); /* saturates */
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -402,6 +431,7 @@ int main(void)
         cmocka_unit_test(builtin_cornell_translucent_adds_a_marble_sphere),
         cmocka_unit_test(presets_equal_the_jensen2001_csv_row_by_row),
         cmocka_unit_test(head_look_at_handles_straight_down_and_degenerate_targets),
+        cmocka_unit_test(many_lights_are_announced_with_the_per_frame_estimate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

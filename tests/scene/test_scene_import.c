@@ -428,6 +428,30 @@ static int setup(void **state)
     return 0;
 }
 
+/* A model path longer than the scene's source field is refused before any work: its folder (where textures resolve)
+ * and the source would otherwise be cut. */
+static void model_path_longer_than_the_limit_is_refused(void **state)
+{
+    (void)state;
+    const char *tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const char *file = fv_test_write_file("long_path.obj", tri, strlen(tri));
+    const char *slash = strrchr(file, '/');
+    char path[FV_SCENE_PATH_MAX + 64];
+    size_t n = (size_t)(slash - file);
+    memcpy(path, file, n);
+    while (n < FV_SCENE_PATH_MAX) n += (size_t)snprintf(path + n, sizeof path - n, "/.");
+    snprintf(path + n, sizeof path - n, "%s", slash);
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_import(path, 0.0f, &s), FV_ERR_RANGE);
+    assert_null(s);
+    fv_assert_log_contains("the model path is");
+    fv_assert_log_contains("more than the 511-byte limit");
+    fv_test_log_capture_end();
+    assert_int_equal(fv_scene_import(file, 0.0f, &s), FV_OK); /* the same file by a short path loads */
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -446,6 +470,7 @@ int main(void)
         cmocka_unit_test(obj_with_nan_positions_is_rejected_naming_the_mesh),
         cmocka_unit_test(obj_with_only_points_or_no_faces_fails_cleanly),
         cmocka_unit_test(explicit_unit_scale_overrides_the_guess),
+        cmocka_unit_test(model_path_longer_than_the_limit_is_refused),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

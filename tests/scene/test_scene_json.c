@@ -172,6 +172,19 @@ static void negative_and_non_finite_coefficients_are_errors(void **state)
     expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
                  "{\"sigma_a_per_mm\":[0,0,0],\"sigma_s_prime_per_mm\":[0,0,0]}}}]}",
                  zero);
+    /* a denormal (of double: 1e-310, which a float would read as 0; of float: 1e-40) is a tiny positive number
+     * below the smallest coefficient, and said so with the range; above the largest likewise */
+    const char *tiny[] = {"sigma_a_per_mm[0]: 1e-310 is below the smallest positive coefficient, 1e-06 mm^-1 (a "
+                          "coefficient is 0 or in 1e-06..1e+06 mm^-1",
+                          "sigma_s_prime_per_mm[1]: 1e-40 is below the smallest positive coefficient",
+                          "sigma_s_prime_per_mm[2]: 2e+06 is more than the largest coefficient, 1e+06 mm^-1", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"sigma_a_per_mm\":[1e-310,0,0],\"sigma_s_prime_per_mm\":[1,1e-40,2e6]}}}]}",
+                 tiny);
+    const char *big[] = {"translucency.eta: 1e+300 is beyond the float range (+-3e+38)", NULL}; /* not "not finite" */
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
+                 "{\"preset\":\"marble\",\"eta\":1e300}}}]}",
+                 big);
     const char *eta[] = {"translucency.eta: 0 must be > 0", NULL};
     expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"material\":{\"translucency\":"
                  "{\"preset\":\"skin1\",\"eta\":0}}}]}",
@@ -373,17 +386,104 @@ static void nesting_values_and_nul_characters_are_refused_with_the_reason(void *
     fv_scene_destroy(&s);
 }
 
-static void long_names_are_cut_between_utf8_characters(void **state)
+static void long_names_are_cut_visibly_between_utf8_characters(void **state)
 {
     (void)state;
-    /* 62 ASCII bytes then a 3-byte character: the 64-byte name holds 63 bytes, so the character goes whole */
+    /* 59 ASCII bytes, a 3-byte character, 2 more: 64 bytes do not fit the 64-byte name (63 and a NUL). The cut is
+     * visible: 60 bytes then "...", and before the character that would not fit whole: 59 a's then "..." */
     char json[512], name[80];
-    memset(name, 'a', 62);
-    strcpy(name + 62, "\xe2\x82\xac");
+    memset(name, 'a', 59);
+    strcpy(name + 59, "\xe2\x82\xac" "bb");
     snprintf(json, sizeof json, "{\"name\":\"%s\",\"objects\":[{\"model\":\"builtin:cornell\"}]}", name);
     fv_scene *s = NULL;
     assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, NULL, &s), FV_OK);
     assert_int_equal(strlen(s->name), 62);
+    assert_string_equal(s->name + 59, "...");
+    fv_scene_destroy(&s);
+    /* 63 bytes fit whole */
+    memset(name, 'b', 63);
+    name[63] = '\0';
+    snprintf(json, sizeof json, "{\"name\":\"%s\",\"objects\":[{\"model\":\"builtin:cornell\"}]}", name);
+    assert_int_equal(fv_scene_load_json_buffer(json, strlen(json), NULL, NULL, &s), FV_OK);
+    assert_string_equal(s->name, name);
+    fv_scene_destroy(&s);
+}
+
+/* A model path that does not fit FV_SCENE_PATH_MAX was cut, and the cut named another file that exists: it loaded
+ * that file. Now the path is refused, naming the field, its length and the limit. An empty model says so. */
+static void long_model_paths_are_refused_not_cut_and_empty_ones_named(void **state)
+{
+    (void)state;
+    const char *tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const char *file = fv_test_write_file("cut_target.obj", tri, strlen(tri));
+    const char *slash = strrchr(file, '/');
+    char prefix[FV_SCENE_PATH_MAX + 1], model[FV_SCENE_PATH_MAX + 64], json[FV_SCENE_PATH_MAX + 256];
+    /* "<dir>/././.../cut_target.obj" of exactly FV_SCENE_PATH_MAX - 1 bytes: what the cut would leave */
+    size_t dir_len = (size_t)(slash - file), name_len = strlen(slash);
+    size_t pad = FV_SCENE_PATH_MAX - 1 - dir_len - name_len;
+    assert_true(pad >= 2);
+    memcpy(prefix, file, dir_len);
+    size_t n = dir_len;
+    if (pad % 2) prefix[n++] = '/';
+    for (size_t i = 0; i < pad / 2; i++, n += 2) memcpy(prefix + n, "/.", 2);
+    memcpy(prefix + n, slash, name_len + 1);
+    assert_int_equal(strlen(prefix), FV_SCENE_PATH_MAX - 1);
+    snprintf(model, sizeof model, "%s/../missing.obj", prefix);
+    snprintf(json, sizeof json, "{\"objects\":[{\"model\":\"%s\"}]}", model);
+    char want[160];
+    snprintf(want, sizeof want, "objects[0].model: the model path is %zu bytes, more than the %d-byte limit",
+             strlen(model), FV_SCENE_PATH_MAX - 1);
+    const char *cut[] = {want, NULL};
+    expect_error(json, cut);
+    /* the same for a relative path joined to the scene file's folder */
+    snprintf(json, sizeof json, "{\"objects\":[{\"model\":\"%s\"}]}", prefix + 1);
+    const char *joined[] = {"objects[0].model: the model path is", "once joined to the scene file's folder", NULL};
+    expect_error(json, joined);
+    const char *empty[] = {"objects[0].model: is empty (a model file or \"builtin:NAME\")", NULL};
+    expect_error("{\"objects\":[{\"model\":\"\"}]}", empty);
+}
+
+/* A head at 1e20 m loaded, and `fovea reference` then aborted inside Embree: every position and size that becomes
+ * geometry is checked against FV_SCENE_MAX_COORD_M, naming the field, the value and the bound. Within the bound per
+ * field but beyond it once composed (a model moved to the edge), the loader's check names the node. */
+static void positions_and_sizes_beyond_the_bound_are_refused(void **state)
+{
+    (void)state;
+    const char *head[] = {"head.position_m[2]: 1e+20 m is outside -1e+06..1e+06 m, the bound of a position", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\"}],\"head\":{\"position_m\":[0,0,1e20]}}", head);
+    const char *fields[] = {"objects[0].translate_m[0]: -2e+06 m is outside -1e+06..1e+06 m",
+                            "objects[0].scale: 1e+07 is more than 1e+06, the largest scale",
+                            "objects[1].unit_scale_m: 1e+09 is more than 1e+06",
+                            "objects[1].animate.bob.amplitude_m[1]: 1e+08 m is outside",
+                            "lights[0].position_m[1]: 3e+07 m is outside",
+                            "lights[0].look_at_m[0]: 1e+30 m is outside",
+                            "head.look_at_m[2]: -1e+07 m is outside", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"translate_m\":[-2e6,0,0],\"scale\":1e7},"
+                 "{\"model\":\"builtin:cornell\",\"unit_scale_m\":1e9,\"animate\":{\"bob\":{\"amplitude_m\":[0,1e8,0]}}}],"
+                 "\"lights\":[{\"type\":\"spot\",\"position_m\":[0,3e7,0],\"look_at_m\":[1e30,0,0]}],"
+                 "\"head\":{\"position_m\":[0,0,1],\"look_at_m\":[0,0,-1e7]}}",
+                 fields);
+    const char *composed[] = {"mesh '", "in world space (m): ", "is beyond the +-1e+06 m bound", NULL};
+    expect_error("{\"objects\":[{\"model\":\"builtin:cornell\",\"translate_m\":[999999,0,0],\"scale\":1000}],"
+                 "\"head\":{\"position_m\":[0,0,1]}}",
+                 composed);
+    /* the bounds themselves load */
+    const char *ok = "{\"objects\":[{\"model\":\"builtin:cornell\",\"translate_m\":[-999000,0,0]}],"
+                     "\"lights\":[{\"type\":\"point\",\"position_m\":[0,1e6,0]}],\"head\":{\"position_m\":[-1e6,0,1]}}";
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    fv_result r = fv_scene_load_json_buffer(ok, strlen(ok), NULL, "ok.scene.json", &s);
+    if (r != FV_OK) fail_msg("%s; log:\n%s", fv_result_str(r), fv_test_log_text());
+    fv_test_log_capture_end();
+    assert_int_equal(fv_scene_check_extent(s), FV_OK);
+    uint32_t last = s->light_count - 1; /* the file's light, after the built-in's own */
+    s->lights[last].position_m.y = 1.0001e6f; /* a scene changed in code: the same check */
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_check_extent(s), FV_ERR_RANGE);
+    char want[128];
+    snprintf(want, sizeof want, "light %u 'light0': position (m): 1.0001e+06 is beyond the +-1e+06 m bound", last);
+    fv_assert_log_contains(want);
+    fv_test_log_capture_end();
     fv_scene_destroy(&s);
 }
 
@@ -402,7 +502,9 @@ int main(void)
         cmocka_unit_test(buffer_without_terminator_and_embedded_nul_are_safe),
         cmocka_unit_test(a_flood_of_one_error_is_summarised_and_limits_come_before_the_work),
         cmocka_unit_test(nesting_values_and_nul_characters_are_refused_with_the_reason),
-        cmocka_unit_test(long_names_are_cut_between_utf8_characters),
+        cmocka_unit_test(long_names_are_cut_visibly_between_utf8_characters),
+        cmocka_unit_test(long_model_paths_are_refused_not_cut_and_empty_ones_named),
+        cmocka_unit_test(positions_and_sizes_beyond_the_bound_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -6,13 +6,29 @@
 #include <string.h>
 
 /* One value of a sweep, checked: a preset name, or NAME=VALUE through the knob table. */
-static fv_result check_value(const fv_bench_sweep *s, const char *value, char *err, size_t err_size)
+static fv_result check_value(const fv_bench_sweep *s, const char *value, fv_quality *q, char *err, size_t err_size)
 {
-    fv_quality q = fv_quality_default();
-    if (!s->knob) return fv_quality_preset(value, &q, err, err_size);
+    *q = fv_quality_default();
+    if (!s->knob) return fv_quality_preset(value, q, err, err_size);
     char assignment[1100];
     snprintf(assignment, sizeof assignment, "%s=%s", s->name, value);
-    return fv_quality_set(&q, assignment, err, err_size);
+    return fv_quality_set(q, assignment, err, err_size);
+}
+
+/* The index of an earlier value of s that parses to the same setting as `value` (its quality q): the knob's value
+ * as stored, or the same preset; -1 when there is none. */
+static int same_as(const fv_bench_sweep *s, const char *value, const fv_quality *q, const fv_knob_value *earlier)
+{
+    fv_knob_value a = s->knob ? fv_knob_get(s->knob, q) : (fv_knob_value){.i = 0};
+    for (size_t i = 0; i < s->value_count; i++) {
+        const fv_knob_value *b = &earlier[i];
+        bool same = !s->knob                              ? strcmp(s->values[i], value) == 0
+                    : s->knob->type == FV_KNOB_BOOL  ? a.b == b->b
+                    : s->knob->type == FV_KNOB_FLOAT ? a.f == b->f
+                                                     : a.i == b->i;
+        if (same) return (int)i;
+    }
+    return -1;
 }
 
 fv_result fv_bench_plan_add(fv_bench_plan *p, const char *arg, char *err, size_t err_size)
@@ -51,6 +67,7 @@ fv_result fv_bench_plan_add(fv_bench_plan *p, const char *arg, char *err, size_t
             return FV_ERR_RANGE;
         }
     strcpy(s->text, eq + 1);
+    fv_knob_value parsed[FV_BENCH_MAX_VALUES]; /* each kept value as the knob stores it */
     for (char *v = s->text;;) {
         char *comma = strchr(v, ',');
         if (comma) *comma = '\0';
@@ -58,9 +75,22 @@ fv_result fv_bench_plan_add(fv_bench_plan *p, const char *arg, char *err, size_t
             snprintf(err, err_size, "%s: more than %d values", s->name, FV_BENCH_MAX_VALUES);
             return FV_ERR_RANGE;
         }
-        fv_result res = check_value(s, v, err, err_size);
+        fv_quality q;
+        fv_result res = check_value(s, v, &q, err, err_size);
         if (FV_FAILED(res)) return res;
-        s->values[s->value_count++] = v;
+        int dup = same_as(s, v, &q, parsed);
+        if (dup >= 0) { /* benching the same setting twice only costs time: keep the first, say so once */
+            size_t at = strlen(s->dropped), room = sizeof s->dropped - at;
+            int n = snprintf(NULL, 0, "%s%s (as %s)", at ? ", " : "", v, s->values[dup]);
+            if (n >= 0 && (size_t)n + 5 < room) /* keeps room for ", ...": a long list ends visibly, not cut */
+                snprintf(s->dropped + at, room, "%s%s (as %s)", at ? ", " : "", v, s->values[dup]);
+            else if (at < 3 || strcmp(s->dropped + at - 3, "...") != 0)
+                snprintf(s->dropped + at, room, "%s...", at ? ", " : "");
+            s->dropped_count++;
+        } else {
+            parsed[s->value_count] = s->knob ? fv_knob_get(s->knob, &q) : (fv_knob_value){.i = 0};
+            s->values[s->value_count++] = v;
+        }
         if (!comma) break;
         v = comma + 1;
     }

@@ -22,6 +22,8 @@ typedef struct fv_bench_sweep {
     char text[1024];                         /* the values as given, each ended by '\0' */
     const char *values[FV_BENCH_MAX_VALUES]; /* into text */
     size_t value_count;
+    size_t dropped_count;                    /* values that repeat an earlier one once parsed ("16,16", "0.5,0.50") */
+    char dropped[256];                       /* "16 (as 16), 0.50 (as 0.5)": for the caller's one warning line */
 } fv_bench_sweep;
 
 /** Every --sweep, and --quality/--set as given (the base of every point). Zero-initialise. */
@@ -32,7 +34,8 @@ typedef struct fv_bench_plan {
 } fv_bench_plan;
 
 /** Add one --sweep "NAME=V1,V2,...". Each value is checked as fv_quality_set (or fv_quality_preset for `preset`)
- *  checks it. FV_OK, or an error with one line in err: FV_ERR_PARSE (not NAME=V1,...; a bad value),
+ *  checks it. A value that parses to the same setting as an earlier one is dropped (dropped_count, dropped say
+ *  which, for the caller to warn). FV_OK, or an error with one line in err: FV_ERR_PARSE (not NAME=V1,...; a bad value),
  *  FV_ERR_NOT_FOUND (unknown knob), FV_ERR_RANGE (a value out of range, too many values or sweeps, a knob swept
  *  twice). */
 FV_MUST_CHECK fv_result fv_bench_plan_add(fv_bench_plan *p, const char *arg, char *err, size_t err_size);

@@ -124,6 +124,11 @@ static int parse_args(int argc, char **argv, bench_opts *o)
             char err[512];
             if (FV_FAILED(fv_bench_plan_add(&o->plan, v, err, sizeof err)))
                 return fv_cli_usage_error("bench", USAGE, "--sweep: %s", err);
+            const fv_bench_sweep *sw = &o->plan.sweeps[o->plan.sweep_count - 1];
+            if (sw->dropped_count)
+                fprintf(stderr, "fovea bench: warning: --sweep %s: %zu value%s repeat%s an earlier one and %s benched "
+                        "once: %s\n", sw->name, sw->dropped_count, sw->dropped_count == 1 ? "" : "s",
+                        sw->dropped_count == 1 ? "s" : "", sw->dropped_count == 1 ? "is" : "are", sw->dropped);
             continue;
         }
         if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;

@@ -2,7 +2,9 @@
  * corrected profile of ../shared/papers/README.md section 4) per RGB channel, from a measured preset or given
  * coefficients: sigma_t', alpha', sigma_tr, zr, zv, Fdr, A, and the total diffuse reflectance in closed form and
  * integrated numerically from the profile the renderer uses (render/sss/fv_dipole.h). */
+#include <ctype.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cjson/cJSON.h>
@@ -21,18 +23,18 @@ static const char *const USAGE =
     "rd_total_numeric (Rd(r) 2 pi r integrated over the plane, the profile the renderer uses).\n"
     "  NAME        a measured material of Jensen et al. 2001 (case-insensitive): apple, chicken1, chicken2, cream,\n"
     "              ketchup, marble, potato, skimmilk, skin1, skin2, spectralon, wholemilk\n"
-    "  --sigma-a   absorption coefficient per channel, mm^-1 (0..1e6)\n"
-    "  --sigma-s   reduced scattering coefficient sigma_s' per channel, mm^-1 (0..1e6)\n"
+    "  --sigma-a   absorption coefficient per channel, mm^-1 (0 or 1e-6..1e6)\n"
+    "  --sigma-s   reduced scattering coefficient sigma_s' per channel, mm^-1 (0 or 1e-6..1e6)\n"
     "  --eta       relative index of refraction (0.01..100)\n"
     "  --json      one JSON object on stdout (lengths in mm, coefficients in mm^-1)\n";
 
-#define COEFF_MAX 1e6
-
-/* "R,G,B": three finite numbers in [lo, hi]. */
-static bool parse_rgb(const char *s, double lo, double hi, double out[3])
+/* "R,G,B": three coefficients, each 0 or in FV_SCENE_SIGMA_MIN_PER_MM..FV_SCENE_SIGMA_MAX_PER_MM (the scene file's
+ * range, fv_translucency_coefficient_problem). NULL when they are, else why not (in why, one phrase). A value below
+ * the double range (a denormal such as 1e-310) is read as the tiny number it is, not refused as "not a number". */
+static const char *parse_rgb(const char *s, double out[3], char *why, size_t why_size)
 {
     char buf[192];
-    if (!s || strlen(s) >= sizeof buf) return false;
+    if (!s || strlen(s) >= sizeof buf) return "need R,G,B, three numbers";
     memcpy(buf, s, strlen(s) + 1);
     char *parts[3];
     char *p = buf;
@@ -40,16 +42,26 @@ static bool parse_rgb(const char *s, double lo, double hi, double out[3])
         parts[k] = p;
         char *comma = strchr(p, ',');
         if (k < 2) {
-            if (!comma) return false;
+            if (!comma) return "need R,G,B, three numbers";
             *comma = '\0';
             p = comma + 1;
         } else if (comma) {
-            return false;
+            return "need R,G,B, three numbers";
         }
     }
-    for (int k = 0; k < 3; k++)
-        if (!fv_cli_parse_f64(parts[k], lo, hi, &out[k])) return false;
-    return true;
+    for (int k = 0; k < 3; k++) {
+        char *end = NULL;
+        double v = strtod(parts[k], &end);
+        if (!*parts[k] || isspace((unsigned char)parts[k][0]) || *end != '\0')
+            return "need R,G,B, three numbers";
+        const char *bad = fv_translucency_coefficient_problem(v);
+        if (bad) {
+            snprintf(why, why_size, "%s %s", parts[k], bad);
+            return why;
+        }
+        out[k] = v;
+    }
+    return NULL;
 }
 
 static cJSON *triple(const double v[3])
@@ -114,12 +126,11 @@ int fv_cmd_material(int argc, char **argv)
     } else {
         if (!sa_arg || !ss_arg || !eta_arg)
             return fv_cli_usage_error("material", USAGE, "give a material NAME, or all of --sigma-a, --sigma-s and --eta");
-        if (!parse_rgb(sa_arg, 0.0, COEFF_MAX, sa))
-            return fv_cli_usage_error("material", USAGE, "--sigma-a '%s': need R,G,B, three numbers in 0..1e6 (mm^-1)",
-                                      sa_arg);
-        if (!parse_rgb(ss_arg, 0.0, COEFF_MAX, ss))
-            return fv_cli_usage_error("material", USAGE, "--sigma-s '%s': need R,G,B, three numbers in 0..1e6 (mm^-1)",
-                                      ss_arg);
+        char why[400];
+        const char *bad = parse_rgb(sa_arg, sa, why, sizeof why);
+        if (bad) return fv_cli_usage_error("material", USAGE, "--sigma-a '%s': %s", sa_arg, bad);
+        if ((bad = parse_rgb(ss_arg, ss, why, sizeof why)))
+            return fv_cli_usage_error("material", USAGE, "--sigma-s '%s': %s", ss_arg, bad);
         if (!fv_cli_parse_f64(eta_arg, 0.01, 100.0, &eta))
             return fv_cli_usage_error("material", USAGE, "--eta '%s': need a number in 0.01..100", eta_arg);
     }
