@@ -65,10 +65,8 @@ static void run_app(run *r, const char *name, const char *arg, bool layer)
         else execl(g_app, g_app, "--frames", nf, (char *)NULL);
         _exit(127);
     }
-    int status = 0;
-    waitpid(pid, &status, 0);
+    r->rc = fv_test_wait(pid, fv_test_cmd_limit_s(), g_app); /* fails the case, naming the app, past the limit */
     r->log = fv_test_read_file(log_path, NULL);
-    r->rc = WIFSIGNALED(status) ? 128 + WTERMSIG(status) : WEXITSTATUS(status);
     r->layer = layer;
 }
 

@@ -110,7 +110,7 @@ static int run_hello(const char *graphics, const char *dir, char *log_path, size
     if (done != pid) {
         while (now_s() - t0 < RUN_TIMEOUT_S + 30 && (done = waitpid(pid, &status, WNOHANG)) == 0) usleep(50000);
         if (done == 0) {
-            kill(pid, SIGKILL);
+            kill(-pid, SIGKILL); /* its process group (xr_test_child_env) */
             waitpid(pid, &status, 0);
             fail_msg("hello_xr -g %s did not finish in %d s (log: %s)", graphics, RUN_TIMEOUT_S, log_path);
         }

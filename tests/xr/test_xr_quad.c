@@ -70,8 +70,7 @@ static int run_app(run *r, const char *name, const char *gaze, int frames, bool 
         else execl(g_app, g_app, "--frames", nf, (char *)NULL);
         _exit(127);
     }
-    int status = 0;
-    waitpid(pid, &status, 0);
+    int code = fv_test_wait(pid, fv_test_cmd_limit_s(), g_app); /* fails the case, naming the app, past the limit */
     r->log = fv_test_read_file(log_path, NULL);
     r->nrows = 0;
     for (const char *p = r->log; p && (p = strstr(p, "frame,")) != NULL; p++) {
@@ -89,8 +88,7 @@ static int run_app(run *r, const char *name, const char *gaze, int frames, bool 
             r->nrows++;
         }
     }
-    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-    return WEXITSTATUS(status);
+    return code;
 }
 
 /* No validation message: the core-validation layer, the app's Vulkan layer, fovea's compositor device. */

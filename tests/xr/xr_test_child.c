@@ -7,6 +7,7 @@
 
 void xr_test_child_env(const char *log_path, const char *manifest, bool layer, const char *scale, const char *stats)
 {
+    setpgid(0, 0); /* its own process group: the parent's time limit ends it and what it started (fv_test_wait) */
     int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0) _exit(126);
     dup2(fd, 1);
