@@ -63,7 +63,7 @@ static void unknown_command_and_bad_options_exit_2_with_one_line_error(void **st
         {"run --save sometimes", "--save: 'sometimes'"},
         {"run --layout tb", "--layout: 'tb'"},
         {"run --hz 0", "--hz: '0'"},
-        {"run --view depht", "--view: 'depht' is not one of color, direct, shadow, cascade, albedo, normal, depth, gaze"},
+        {"run --view depht", "--view: 'depht' is not one of color, normal, gaze, direct, shadow, cascade, albedo, depth, samples"},
         {"run --exposure 0", "--exposure: '0' is not a number in 1e-6..1e6"},
         {"run --exposure nan", "--exposure: 'nan'"},
     };

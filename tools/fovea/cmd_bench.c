@@ -14,6 +14,7 @@
 #include "bench_sweep.h"
 #include "cli.h"
 #include "cli_interrupt.h"
+#include "tool_image.h"
 #include "fv_clock.h"
 #include "fv_log.h"
 #include "fv_metrics.h"
@@ -299,13 +300,20 @@ static fv_result bench_point(bench_state *st, const fv_quality *q, fv_bench_poin
 }
 
 /* The CPU reference of frame 0's views, both eyes side by side, into img; *out_s: its wall time. */
-static fv_result render_reference(const bench_opts *o, const fv_scene *scene, const fv_frame_input *in,
-                                  fv_rgb_image *img, double *out_s, uint32_t *out_spp, uint32_t *out_bounces)
+static fv_result render_reference(const bench_opts *o, const fv_scene *scene, const fv_frame_input *views,
+                                  const fv_quality *exact, fv_rgb_image *img, double *out_s, uint32_t *out_spp,
+                                  uint32_t *out_bounces)
 {
     uint32_t w = o->eye_w, h = o->eye_h;
+    /* model: the same model as the points' exact counterpart (its GI and SSS settings, its lens mask), so that the
+     * error measures the knob and not a missing term; path: the ground truth, the model's own bias included */
+    fv_frame_input in_exact = *views;
+    in_exact.quality = *exact;
+    const fv_frame_input *in = &in_exact;
     fv_reference_desc d = {.mode = o->ref == REF_PATH ? FV_REFERENCE_PATH : FV_REFERENCE_MODEL,
                            .view = FV_REFERENCE_VIEW_COLOR, .spp = o->ref == REF_PATH ? (uint32_t)o->spp : 1,
-                           .bounces = (uint32_t)o->bounces, .seed = 1, .eye_width = w, .eye_height = h};
+                           .bounces = (uint32_t)o->bounces, .seed = 1, .eye_width = w, .eye_height = h,
+                           .gi = exact->gi.enabled};
     *out_spp = d.spp;
     *out_bounces = d.bounces;
     float *eyes = malloc((size_t)w * h * 3 * 2 * sizeof *eyes);
@@ -316,6 +324,8 @@ static fv_result render_reference(const bench_opts *o, const fv_scene *scene, co
     fv_result res = fv_reference_render(scene, in, &d, eyes, eyes + (size_t)w * h * 3, NULL);
     *out_s = (double)(fv_time_monotonic_ns() - t0) / 1e9;
     if (isatty(STDERR_FILENO)) fprintf(stderr, "\r%*s\r", 60, "");
+    for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++) /* the pixels the GPU's lens mask never shades */
+        fv_tool_image_mask_linear(in, eye, eyes + (size_t)eye * w * h * 3, w, h);
     for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++)
         for (uint32_t y = 0; y < h; y++)
             memcpy(&img->rgb[((size_t)y * 2 * w + (size_t)eye * w) * 3], &eyes[((size_t)eye * h + y) * w * 3],
@@ -551,7 +561,7 @@ int fv_cmd_bench(int argc, char **argv)
     }
     if (res.has_reference) {
         if (FV_FAILED(fv_rgb_image_init(&ref_img, 2 * w, h, FV_IMAGE_KIND_LINEAR))) goto done;
-        fv_result rr = render_reference(&o, scene, &st.views, &ref_img, &res.reference_s, &res.reference_spp,
+        fv_result rr = render_reference(&o, scene, &st.views, &exact, &ref_img, &res.reference_s, &res.reference_spp,
                                         &res.reference_bounces);
         if (rr == FV_ERR_CANCELLED) goto interrupted_early;
         if (FV_FAILED(rr)) {

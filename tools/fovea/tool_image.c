@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <cjson/cJSON.h>
 
@@ -81,9 +82,13 @@ int fv_tool_image_option(fv_tool_image *o, int argc, char **argv, int *i, const 
     if ((r = OPT("--exposure")) == -2) return FV_EXIT_USAGE;
     else if (r) {
         double x;
+        size_t vl = strlen(v);
+        bool stops = vl > 2 && (strcmp(v + vl - 2, "ev") == 0 || strcmp(v + vl - 2, "EV") == 0);
         if (!parse_exposure(v, &x))
-            return fv_cli_usage_error(cmd, usage, "--exposure: '%s' is not a number in 1e-6..1e6 (a linear scale) or "
-                                      "stops in -19.9..19.9 followed by EV, such as +1EV", v);
+            return stops ? fv_cli_usage_error(cmd, usage, "--exposure: '%s' is not a number of stops in -19.9..19.9 "
+                                              "followed by EV", v)
+                         : fv_cli_usage_error(cmd, usage, "--exposure: '%s' is not a number in 1e-6..1e6 (a linear "
+                                              "scale) or stops such as +1EV", v);
         o->exposure = (float)x;
         return 1;
     }
@@ -123,17 +128,24 @@ fv_tool_image_meta fv_tool_image_meta_of(const fv_tool_image *o, const char *pro
                                 .lens_applied_png = lens, .quality = fv_tool_quality_preset(&o->tq)};
 }
 
-int fv_tool_image_write_meta(const char *image_path, const fv_tool_image_meta *m)
+/* The settings file of an image: its path with the extension replaced by .json; false when it does not fit. */
+static bool meta_path(const char *image_path, char *path, size_t size)
 {
-    char path[4096];
     size_t n = strlen(image_path);
     const char *dot = strrchr(image_path, '.');
     if (dot && strchr(dot, '/') == NULL) n = (size_t)(dot - image_path);
-    if (n + 6 > sizeof path) {
+    if (n + 6 > size) return false;
+    snprintf(path, size, "%.*s.json", (int)n, image_path);
+    return true;
+}
+
+int fv_tool_image_write_meta(const char *image_path, const fv_tool_image_meta *m)
+{
+    char path[4096];
+    if (!meta_path(image_path, path, sizeof path)) {
         FV_WARN("image", "%s: path too long for its settings file", image_path);
         return -1;
     }
-    snprintf(path, sizeof path, "%.*s.json", (int)n, image_path);
     cJSON *j = cJSON_CreateObject();
     fv_cli_json_add_string(j, "producer", m->producer);
     fv_cli_json_add_string(j, "scene", m->scene);
@@ -274,4 +286,58 @@ void fv_tool_image_mask_linear(const fv_frame_input *in, int eye, float *rgb, ui
             }
     }
     free(xyz);
+}
+
+/* The settings beside an image, or NULL (no file, unreadable, not JSON). */
+static cJSON *read_meta(const char *image_path)
+{
+    char path[4096];
+    if (!meta_path(image_path, path, sizeof path)) return NULL;
+    char *text = fv_cli_read_file("compare", path, 1 << 16, NULL);
+    cJSON *j = text ? cJSON_Parse(text) : NULL;
+    free(text);
+    return j;
+}
+
+static bool is_png(const char *path)
+{
+    size_t n = strlen(path);
+    return n >= 4 && (strcmp(path + n - 4, ".png") == 0 || strcmp(path + n - 4, ".PNG") == 0);
+}
+
+int fv_tool_image_comparable(const char *a, const char *b, char *why, size_t why_size, char *note, size_t note_size)
+{
+    if (why_size) why[0] = '\0';
+    if (note_size) note[0] = '\0';
+    char pa[4096], pb[4096];
+    bool have_a = meta_path(a, pa, sizeof pa) && access(pa, F_OK) == 0;
+    bool have_b = meta_path(b, pb, sizeof pb) && access(pb, F_OK) == 0;
+    if (!have_a || !have_b) {
+        if (have_a != have_b)
+            snprintf(note, note_size, "%s has no settings file beside it: the two images' settings are not checked",
+                     have_a ? b : a);
+        return 1;
+    }
+    cJSON *ja = read_meta(a), *jb = read_meta(b);
+    int ok = 1;
+    if (!ja || !jb) {
+        snprintf(why, why_size, "the settings beside %s cannot be read", !ja ? a : b);
+        ok = 0;
+    }
+    static const char *const keys[] = {"eye_width", "eye_height", "layout", "view", "lens", "exposure", "png"};
+    for (size_t i = 0; ok && i < sizeof keys / sizeof keys[0]; i++) {
+        bool png_only = !strcmp(keys[i], "exposure") || !strcmp(keys[i], "png");
+        if (png_only && !is_png(a)) continue; /* the PFMs hold the linear image before exposure and lens */
+        const cJSON *x = cJSON_GetObjectItemCaseSensitive(ja, keys[i]), *y = cJSON_GetObjectItemCaseSensitive(jb, keys[i]);
+        if (x && y && cJSON_Compare(x, y, true)) continue;
+        char *sx = x ? fv_cli_json_text(x, false) : NULL, *sy = y ? fv_cli_json_text(y, false) : NULL;
+        snprintf(why, why_size, "the images were made with different %s (%s: %s, %s: %s)", keys[i], a,
+                 sx ? sx : "(none)", b, sy ? sy : "(none)");
+        free(sx);
+        free(sy);
+        ok = 0;
+    }
+    cJSON_Delete(ja);
+    cJSON_Delete(jb);
+    return ok;
 }

@@ -86,4 +86,10 @@ fv_tool_image_meta fv_tool_image_meta_of(const fv_tool_image *o, const char *pro
  *  warning (the image stands without it). */
 int fv_tool_image_write_meta(const char *image_path, const fv_tool_image_meta *m);
 
+/** Whether images a and b (paths of .png or .pfm files) were made with settings that can be compared: when both have
+ *  a settings side file, the eye size, layout, view and lens must agree (and the exposure for PNGs, which it
+ *  changes); the quality may differ (that is what a comparison measures). 1: comparable (or a side file is missing:
+ *  *note then says which, for a warning); 0: they disagree, *why says how (one line). */
+int fv_tool_image_comparable(const char *a, const char *b, char *why, size_t why_size, char *note, size_t note_size);
+
 #endif

@@ -1,0 +1,139 @@
+/* @brief One model on both sides (issue 24): for every built-in scene and every file in scenes/, `fovea run
+ * --quality exact` and `fovea reference` with the same options render the same image: PSNR >= 30 dB and SSIM >= 0.98
+ * on the PNGs (through the default HMD's lens, and with --hmd none) and on the PFMs (linear, undistorted); the gi and
+ * sss views alone against the reference's; and the settings that travel beside each image agree. */
+#include <cjson/cJSON.h>
+#include <dirent.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fovea_config.h"
+#include "fv_test.h"
+
+static const char *g_fovea;
+
+#define SIZE "64x72"
+
+static cJSON *compare(const char *a, const char *b)
+{
+    char args[3000];
+    snprintf(args, sizeof args, "compare '%s' '%s' --json", a, b);
+    static fv_test_cmd r;
+    fv_test_run_cmd(&r, NULL, g_fovea, args);
+    if (r.exit_code != 0) fail_msg("fovea %s exited %d:\n%s", args, r.exit_code, r.err);
+    cJSON *j = cJSON_Parse(r.out);
+    if (!j) fail_msg("fovea %s: not JSON:\n%s", args, r.out);
+    return j;
+}
+
+static double all_metric(const cJSON *j, const char *name)
+{
+    const cJSON *all = cJSON_GetObjectItemCaseSensitive(j, "all");
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(all, name);
+    if (cJSON_IsNull(v) && !strcmp(name, "psnr_db")) return INFINITY; /* identical */
+    if (!cJSON_IsNumber(v)) fail_msg("compare --json has no all.%s", name);
+    return v->valuedouble;
+}
+
+/* run and reference with `opts`; PNG and PFM both >= 30 dB and SSIM >= 0.98 */
+static void parity(const char *scene, const char *opts)
+{
+    char gdir[1024], rdir[1024], args[4096];
+    snprintf(gdir, sizeof gdir, "%s", fv_test_tmp("parity_gpu"));
+    snprintf(rdir, sizeof rdir, "%s", fv_test_tmp("parity_ref"));
+    static fv_test_cmd r;
+    snprintf(args, sizeof args, "run --scene '%s' --eye-size " SIZE " --quality exact %s --out '%s' --float", scene,
+             opts, gdir);
+    fv_test_run_cmd(&r, "FOVEA_VALIDATION=1", g_fovea, args);
+    if (r.exit_code != 0) fail_msg("fovea %s exited %d:\n%s", args, r.exit_code, r.err);
+    snprintf(args, sizeof args, "reference --scene '%s' --eye-size " SIZE " --quality exact %s --out '%s'", scene,
+             opts, rdir);
+    fv_test_run_cmd(&r, NULL, g_fovea, args);
+    if (r.exit_code != 0) fail_msg("fovea %s exited %d:\n%s", args, r.exit_code, r.err);
+    static const char *const ext[2] = {"png", "pfm"};
+    for (int k = 0; k < 2; k++) {
+        char a[1100], b[1100];
+        snprintf(a, sizeof a, "%s/frame_00000.%s", gdir, ext[k]);
+        snprintf(b, sizeof b, "%s/frame_00000.%s", rdir, ext[k]);
+        cJSON *j = compare(a, b);
+        double psnr = all_metric(j, "psnr_db"), ssim = all_metric(j, "ssim");
+        print_message("%-40s %-34s %s: %.2f dB, SSIM %.5f\n", scene, opts, ext[k], psnr, ssim);
+        if (!(psnr >= 30.0 && ssim >= 0.98))
+            fail_msg("%s %s, %s: run vs reference %.2f dB, SSIM %.5f (want >= 30 dB and >= 0.98)", scene, opts,
+                     ext[k], psnr, ssim);
+        cJSON_Delete(j);
+    }
+    /* the settings beside both images say the same image was asked for */
+    char a[1100], b[1100];
+    snprintf(a, sizeof a, "%s/frame_00000.json", gdir);
+    snprintf(b, sizeof b, "%s/frame_00000.json", rdir);
+    char *ta = fv_test_read_file(a, NULL), *tb = fv_test_read_file(b, NULL);
+    cJSON *ja = cJSON_Parse(ta), *jb = cJSON_Parse(tb);
+    assert_non_null(ja);
+    assert_non_null(jb);
+    static const char *const same[] = {"eye_width", "eye_height", "layout", "view", "exposure", "lens", "png", "quality"};
+    for (size_t i = 0; i < sizeof same / sizeof same[0]; i++) {
+        const cJSON *x = cJSON_GetObjectItemCaseSensitive(ja, same[i]), *y = cJSON_GetObjectItemCaseSensitive(jb, same[i]);
+        if (!x || !y || !cJSON_Compare(x, y, true)) fail_msg("%s: settings '%s' differ:\n%s\n%s", scene, same[i], ta, tb);
+    }
+    cJSON_Delete(ja);
+    cJSON_Delete(jb);
+    free(ta);
+    free(tb);
+}
+
+static void builtin_scenes_match_their_reference(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {"cornell", "cornell-translucent", "pillars"};
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
+        parity(scenes[i], "");
+        parity(scenes[i], "--hmd none");
+    }
+}
+
+static void scene_files_match_their_reference(void **state)
+{
+    (void)state;
+    DIR *d = opendir(FV_SOURCE_DIR "/scenes");
+    assert_non_null(d);
+    int n = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        size_t len = strlen(e->d_name);
+        if (len < 11 || strcmp(e->d_name + len - 11, ".scene.json") != 0) continue;
+        char path[1200];
+        snprintf(path, sizeof path, "%s/scenes/%s", FV_SOURCE_DIR, e->d_name);
+        parity(path, "");
+        parity(path, "--hmd none");
+        n++;
+    }
+    closedir(d);
+    assert_true(n >= 5);
+}
+
+/* The terms alone: the GPU's gi view (exact gather) against the reference's exact VPL sum of the same RSM; the sss
+ * view against the exact dipole sum. */
+static void gi_and_sss_views_match_their_reference(void **state)
+{
+    (void)state;
+    parity("cornell", "--view gi --set gi.rsm_size=64 --hmd none");
+    parity("cornell-translucent", "--view sss --hmd none");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s PATH_TO_FOVEA\n", argv[0]);
+        return 2;
+    }
+    g_fovea = argv[1];
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(builtin_scenes_match_their_reference),
+        cmocka_unit_test(gi_and_sss_views_match_their_reference),
+        cmocka_unit_test(scene_files_match_their_reference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
