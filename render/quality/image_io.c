@@ -26,8 +26,8 @@ static fv_result check_dims(const char *name, uint64_t w, uint64_t h)
         return FV_ERR_PARSE;
     }
     if (w > FV_IMAGE_MAX_SIDE_PX || h > FV_IMAGE_MAX_SIDE_PX || w * h > FV_IMAGE_MAX_PIXELS) {
-        FV_ERROR(MOD, "%s: too large: dimensions %llux%llu over the limit (%u per side, %u pixels)", name, (unsigned long long)w,
-                 (unsigned long long)h, FV_IMAGE_MAX_SIDE_PX, FV_IMAGE_MAX_PIXELS);
+        FV_ERROR(MOD, "%s: too large: dimensions %llux%llu over the limit (%u per side, %u pixels)", name,
+                 (unsigned long long)w, (unsigned long long)h, FV_IMAGE_MAX_SIDE_PX, FV_IMAGE_MAX_PIXELS);
         return FV_ERR_RANGE;
     }
     return FV_OK;
@@ -252,7 +252,8 @@ static fv_result png_info(const void *data, size_t size, const char *name, fv_im
         return FV_ERR_PARSE;
     }
     if (size < 33 || load_be32(d + 8) != 13 || memcmp(d + 12, "IHDR", 4) != 0) {
-        FV_ERROR(MOD, "%s: bad header: %s", name, size < 33 ? "truncated before the end of IHDR" : "no IHDR chunk first");
+        FV_ERROR(MOD, "%s: bad header: %s", name,
+                 size < 33 ? "truncated before the end of IHDR" : "no IHDR chunk first");
         return FV_ERR_PARSE;
     }
     FV_TRY(check_dims(name, load_be32(d + 16), load_be32(d + 20)));

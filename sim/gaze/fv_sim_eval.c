@@ -176,7 +176,8 @@ static bool reference_from_samples(const rec *recs, size_t n, size_t from, int64
     while (j + 1 < n && recs[j + 1].t_ns <= t) j++;
     if (j + 1 >= n || recs[j].t_ns > t) return false;
     const rec *a = &recs[j], *b = &recs[j + 1];
-    if (!a->raw_valid || !b->raw_valid || fv_i64_sub_sat(b->t_ns, a->t_ns) > REF_MAX_GAP_NS || b->t_ns <= a->t_ns) return false;
+    if (!a->raw_valid || !b->raw_valid || fv_i64_sub_sat(b->t_ns, a->t_ns) > REF_MAX_GAP_NS || b->t_ns <= a->t_ns)
+        return false;
     fv_vec3 da = smoothed ? a->smooth_dir : a->raw_dir, db = smoothed ? b->smooth_dir : b->raw_dir;
     float w = (float)((double)fv_i64_sub_sat(t, a->t_ns) / (double)fv_i64_sub_sat(b->t_ns, a->t_ns));
     *out = fv_v3_normalize_or(fv_v3_add(fv_v3_scale(da, 1.0f - w), fv_v3_scale(db, w)), da);
