@@ -54,8 +54,10 @@ const char *fv_image_kind_str(fv_image_kind kind);
  *  rows bottom to top). `name` names the input in messages. FV_ERR_PARSE (bad header, truncated, wrong size,
  *  non-finite or zero scale) or FV_ERR_RANGE (dimensions over the limits); *out is zeroed on failure. */
 FV_MUST_CHECK fv_result fv_image_io_read_pfm(const void *data, size_t size, const char *name, fv_rgb_image *out);
-/** Decode an 8-bit PNG from memory through stb_image (grey, grey+alpha, RGB, RGBA; alpha dropped). FV_ERR_PARSE,
- *  FV_ERR_UNSUPPORTED (16-bit) or FV_ERR_RANGE (dimensions over the limits, checked before decoding). */
+/** Decode an 8-bit PNG from memory through stb_image (grey, grey+alpha, RGB, RGBA; alpha dropped). FV_ERR_PARSE
+ *  (also: image data that inflates to more than the header's rows, counted before stb_image decodes, which would
+ *  hold all of it), FV_ERR_UNSUPPORTED (16-bit) or FV_ERR_RANGE (dimensions over the limits, from the IHDR chunk,
+ *  before decoding). */
 FV_MUST_CHECK fv_result fv_image_io_read_png(const void *data, size_t size, const char *name, fv_rgb_image *out);
 /** The header of a PNG or PFM in memory (told apart by content), every field checked as the decoders check them
  *  (a PFM's size too) but no pixel decoded and nothing allocated. FV_ERR_RANGE names a too-large image's

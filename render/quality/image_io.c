@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include <stb_image.h>
+#include <zlib.h>
 
 #include "fv_file.h"
 #include "fv_log.h"
@@ -241,6 +242,61 @@ static uint32_t load_be32(const uint8_t *p)
     return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | (uint32_t)p[3];
 }
 
+/* The bytes of filtered rows a PNG's image data inflates to, as stb_image sizes them: one filter byte a row, and for
+ * Adam7 the seven passes' rows. */
+static uint64_t png_raw_bytes(uint64_t w, uint64_t h, uint64_t bits_per_px, bool interlaced)
+{
+    if (!interlaced) return ((w * bits_per_px + 7) / 8 + 1) * h;
+    static const uint64_t x0[7] = {0, 4, 0, 2, 0, 1, 0}, y0[7] = {0, 0, 4, 0, 2, 0, 1};
+    static const uint64_t dx[7] = {8, 8, 4, 4, 2, 2, 1}, dy[7] = {8, 8, 8, 4, 4, 2, 2};
+    uint64_t n = 0;
+    for (int p = 0; p < 7; p++) {
+        uint64_t pw = w > x0[p] ? (w - x0[p] + dx[p] - 1) / dx[p] : 0;
+        uint64_t ph = h > y0[p] ? (h - y0[p] + dy[p] - 1) / dy[p] : 0;
+        if (pw && ph) n += ((pw * bits_per_px + 7) / 8 + 1) * ph;
+    }
+    return n;
+}
+
+/* The image data (the IDAT chunks) may not inflate to more than the header's rows: stb_image would grow its buffer
+ * for whatever comes (a 1 MB file can inflate to 1 GB). Inflated here into a small buffer, only counted. A stream
+ * zlib cannot read is left to stb_image to report. */
+static fv_result png_check_inflated(const uint8_t *d, size_t size, const char *name, uint64_t w, uint64_t h)
+{
+    static const uint8_t channels[7] = {1, 0, 3, 1, 2, 0, 4};
+    uint64_t depth = d[24], ct = d[25];
+    if (ct > 6 || channels[ct] == 0) return FV_OK; /* stb_image names a bad colour type */
+    uint64_t cap = png_raw_bytes(w, h, depth * channels[ct], d[28] == 1);
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    if (inflateInit(&z) != Z_OK) return FV_OK;
+    uint8_t out[16384];
+    uint64_t total = 0;
+    int zr = Z_OK;
+    for (size_t pos = 8; pos + 12 <= size && zr == Z_OK && total <= cap;) {
+        uint32_t len = load_be32(d + pos);
+        if (len > size - pos - 12) break;
+        if (memcmp(d + pos + 4, "IDAT", 4) == 0) {
+            z.next_in = (Bytef *)(uintptr_t)(d + pos + 8);
+            z.avail_in = len;
+            while (z.avail_in > 0 && zr == Z_OK && total <= cap) {
+                z.next_out = out;
+                z.avail_out = sizeof out;
+                zr = inflate(&z, Z_NO_FLUSH);
+                total += sizeof out - z.avail_out;
+                if (zr == Z_BUF_ERROR && z.avail_out != 0) break; /* no progress: wants more input */
+            }
+            if (zr == Z_BUF_ERROR) zr = Z_OK;
+        }
+        pos += (size_t)len + 12;
+    }
+    inflateEnd(&z);
+    if (total <= cap) return FV_OK;
+    FV_ERROR(MOD, "%s: bad image data: it inflates to more than the %llu bytes of a %llux%llu image's rows", name,
+             (unsigned long long)cap, (unsigned long long)w, (unsigned long long)h);
+    return FV_ERR_PARSE;
+}
+
 /* The PNG's size and channels from its IHDR chunk (bytes 8..32), read here so that an image over the limits is
  * called too large (stb_image refuses some itself and then only says "unknown image type"); then stb's own header
  * check. */
@@ -267,6 +323,7 @@ static fv_result png_info(const void *data, size_t size, const char *name, fv_im
         return FV_ERR_PARSE;
     }
     FV_TRY(check_dims(name, (uint64_t)w, (uint64_t)h));
+    FV_TRY(png_check_inflated(d, size, name, (uint64_t)w, (uint64_t)h));
     if (stbi_is_16_bit_from_memory(data, (int)size)) {
         FV_ERROR(MOD, "%s: a 16-bit PNG; only 8-bit PNGs are read", name);
         return FV_ERR_UNSUPPORTED;

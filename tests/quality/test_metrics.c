@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include <stb_image_write.h>
+#include <zlib.h>
 
 #include "fv_image_io.h"
 #include "fv_metrics.h"
@@ -193,6 +194,45 @@ static size_t png_header(uint8_t *b, uint32_t w, uint32_t h, uint8_t ct)
     memcpy(b + 24, (const uint8_t[]){8, ct, 0, 0, 0, 0, 0, 0, 0}, 9);
     memcpy(b + 33, "\0\0\0\0IEND\xae\x42\x60\x82", 12);
     return 45;
+}
+
+/* A 16x16 RGB PNG whose image data inflates to `raw` bytes of zero rows (784 is the exact size). */
+static size_t png_inflating_to(uint8_t **out, size_t raw)
+{
+    uint8_t *zeros = calloc(raw, 1);
+    uLongf zn = compressBound(raw);
+    uint8_t *b = malloc(45 + 12 + zn);
+    assert_true(zeros && b);
+    png_header(b, 16, 16, 2);
+    assert_int_equal(compress2(b + 33 + 8, &zn, zeros, raw, 9), Z_OK);
+    for (int i = 0; i < 4; i++) b[33 + i] = (uint8_t)(zn >> (24 - 8 * i));
+    memcpy(b + 37, "IDAT", 4);
+    memset(b + 41 + zn, 0, 4); /* CRC, unchecked */
+    memcpy(b + 45 + zn, "\0\0\0\0IEND\xae\x42\x60\x82", 12);
+    free(zeros);
+    *out = b;
+    return 57 + zn;
+}
+
+/* Image data that inflates past the header's rows is refused before stb_image decodes it (it grew its buffer for
+ * all of it: a 261 KB 16x16 PNG took 680 MB and compared). */
+static void png_data_inflating_past_its_rows_is_refused(void **state)
+{
+    (void)state;
+    uint8_t *b;
+    fv_rgb_image img;
+    size_t n = png_inflating_to(&b, 784);
+    assert_int_equal(fv_image_io_read_png(b, n, "ok.png", &img), FV_OK);
+    assert_int_equal(img.width, 16);
+    fv_rgb_image_fini(&img);
+    free(b);
+    n = png_inflating_to(&b, 16u << 20);
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_image_io_read_png(b, n, "bomb.png", &img), FV_ERR_PARSE);
+    fv_assert_log_contains("bomb.png: bad image data: it inflates to more than the 784 bytes of a 16x16 image's rows");
+    assert_null(img.rgb);
+    fv_test_log_capture_end();
+    free(b);
 }
 
 /* The header alone says size, kind and cost: too-large PNGs are called too large (stb_image refuses some of them
@@ -529,6 +569,7 @@ int main(void)
         cmocka_unit_test(pfm_errors_name_the_file_and_the_reason),
         cmocka_unit_test(image_files_that_cannot_be_read_are_named),
         cmocka_unit_test(headers_give_size_and_cost_before_decoding),
+        cmocka_unit_test(png_data_inflating_past_its_rows_is_refused),
         cmocka_unit_test(png_reads_as_srgb_values_with_alpha_dropped),
         cmocka_unit_test(identical_images_have_infinite_psnr_ssim_1_and_no_mismatch),
         cmocka_unit_test(constant_offsets_give_the_known_psnr),
