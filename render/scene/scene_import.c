@@ -68,9 +68,8 @@ static void gltf_check_json(const char *path, const cJSON *root)
     }
 }
 
-static void gltf_precheck(const char *path, uint64_t file_size)
+static void gltf_precheck(const char *path)
 {
-    (void)file_size;
     char *buf, why[FV_FILE_ERR_MAX];
     size_t n;
     if (fv_file_read(path, NULL, 64u * 1024u * 1024u, &buf, &n, why, sizeof why) != FV_OK) return; /* best effort */
@@ -685,7 +684,7 @@ static fv_result import_file(const char *path, float unit_scale_m, bool default_
     }
     FV_TRY(fv_scene_precheck_file(path, size));
     bool is_gltf = has_ext(path, ".gltf") || has_ext(path, ".glb");
-    if (is_gltf) gltf_precheck(path, size);
+    if (is_gltf) gltf_precheck(path);
 
     import_ctx c;
     memset(&c, 0, sizeof c);
