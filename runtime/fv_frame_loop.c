@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "fv_log.h"
+#include "fv_stats.h"
 
 #define COST_WINDOW 16                          /* frames the render-time estimate looks back over */
 #define MAX_GPU_AHEAD_NS (10 * FV_NS_PER_S)     /* a renderer claiming its GPU ends later than this is wrong */
@@ -243,7 +244,7 @@ fv_result fv_frame_loop_step(fv_frame_loop *l, fv_latency_record *out_record)
         rec.sample_seq = l->newest.seq;
         rec.t_sample_device_ns = l->newest.t_device_ns;
         rec.t_sample_received_ns = l->newest_received_ns;
-        rec.t_sample_capture_ns = l->newest_received_ns - l->desc.tracker_latency_ns;
+        rec.t_sample_capture_ns = fv_i64_sub_sat(l->newest_received_ns, l->desc.tracker_latency_ns);
     }
 
     /* 3. predict to the photon time of the target refresh */

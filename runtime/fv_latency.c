@@ -25,13 +25,13 @@ const char *fv_latency_stage_str(fv_latency_stage s)
 int64_t fv_latency_stage_ns(const fv_latency_record *r, fv_latency_stage s)
 {
     switch (s) {
-    case FV_LATENCY_TRACKER: return r->t_sample_received_ns - r->t_sample_capture_ns;
-    case FV_LATENCY_SAMPLE_AGE: return r->t_latch_ns - r->t_sample_received_ns;
-    case FV_LATENCY_LATCH: return r->t_cpu_begin_ns - r->t_latch_ns;
-    case FV_LATENCY_CPU: return r->t_submit_ns - r->t_cpu_begin_ns;
-    case FV_LATENCY_GPU: return r->t_gpu_end_ns - r->t_submit_ns;
-    case FV_LATENCY_PRESENT: return r->t_vsync_ns - r->t_gpu_end_ns;
-    case FV_LATENCY_DISPLAY: return r->t_photon_ns - r->t_vsync_ns;
+    case FV_LATENCY_TRACKER: return fv_i64_sub_sat(r->t_sample_received_ns, r->t_sample_capture_ns);
+    case FV_LATENCY_SAMPLE_AGE: return fv_i64_sub_sat(r->t_latch_ns, r->t_sample_received_ns);
+    case FV_LATENCY_LATCH: return fv_i64_sub_sat(r->t_cpu_begin_ns, r->t_latch_ns);
+    case FV_LATENCY_CPU: return fv_i64_sub_sat(r->t_submit_ns, r->t_cpu_begin_ns);
+    case FV_LATENCY_GPU: return fv_i64_sub_sat(r->t_gpu_end_ns, r->t_submit_ns);
+    case FV_LATENCY_PRESENT: return fv_i64_sub_sat(r->t_vsync_ns, r->t_gpu_end_ns);
+    case FV_LATENCY_DISPLAY: return fv_i64_sub_sat(r->t_photon_ns, r->t_vsync_ns);
     case FV_LATENCY_STAGE_COUNT: break;
     }
     return 0;
@@ -68,7 +68,7 @@ fv_result fv_latency_summarize(const fv_latency_record *records, size_t n, fv_la
     out->missed = out->late_frames + out->repeated_vsyncs;
     out->frames_with_gaze = m;
     if (n >= 2) {
-        double span = (double)(records[n - 1].t_vsync_ns - records[0].t_vsync_ns);
+        double span = (double)fv_i64_sub_sat(records[n - 1].t_vsync_ns, records[0].t_vsync_ns);
         out->frame_interval_mean_ms = ms(span / (double)(n - 1));
     }
     if (m) {

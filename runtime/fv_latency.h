@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "fv_result.h"
+#include "fv_stats.h"
 
 typedef struct fv_latency_record {
     uint64_t frame_id;
@@ -36,10 +37,11 @@ typedef struct fv_latency_record {
     int64_t t_photon_ns;          /* photons due (the display's photon time for that refresh) */
 } fv_latency_record;
 
-/** Gaze-to-photon of one record (photon − capture); only meaningful when has_gaze. */
+/** Gaze-to-photon of one record (photon − capture), saturated (records read from files may hold any times); only
+ *  meaningful when has_gaze. */
 static inline int64_t fv_latency_gaze_to_photon_ns(const fv_latency_record *r)
 {
-    return r->t_photon_ns - r->t_sample_capture_ns;
+    return fv_i64_sub_sat(r->t_photon_ns, r->t_sample_capture_ns);
 }
 
 /** Consecutive stages; their durations add up to gaze-to-photon exactly. */
@@ -56,7 +58,7 @@ typedef enum fv_latency_stage {
 
 /** Short stable name ("tracker", "sample_age", ...), used as JSON keys. */
 const char *fv_latency_stage_str(fv_latency_stage s);
-/** Duration of one stage of a record, ns. */
+/** Duration of one stage of a record, ns, saturated as gaze-to-photon is. */
 int64_t fv_latency_stage_ns(const fv_latency_record *r, fv_latency_stage s);
 
 typedef struct fv_latency_summary {

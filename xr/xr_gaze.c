@@ -15,6 +15,7 @@
 #include "fv_pupil_driver.h"
 #include "fv_registry.h"
 #include "fv_sim_driver.h"
+#include "fv_stats.h"
 #include "fv_trace_driver.h"
 #include "fv_usb_driver.h"
 #include "xr_internal.h"
@@ -107,7 +108,7 @@ static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float ou
     fv_gaze_pipeline_predict(g->pipeline, t_ns, &p);
     bool tracked = p.combined_valid && !g->lost && p.event != FV_GAZE_EVENT_BLINK && p.event != FV_GAZE_EVENT_LOST &&
                    p.event != FV_GAZE_EVENT_NONE;
-    double horizon_ms = (double)(t_ns - p.t_sample_ns) * 1e-6;
+    double horizon_ms = (double)fv_i64_sub_sat(t_ns, p.t_sample_ns) * 1e-6; /* t_ns: any XrTime an app passes */
     if (tracked && record) {
         g->stats.count++;
         g->stats.sum_ms += horizon_ms;

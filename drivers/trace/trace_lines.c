@@ -2,17 +2,20 @@
  * transparently) or a memory buffer (plain, or gzip inflated in chunks). Memory is bounded: one chunk plus one line
  * of at most TRACE_MAX_LINE bytes, whatever the input length; so is the work of one call (an over-long line is
  * handed back as soon as it passes the limit, and its rest is dropped at most TRACE_MAX_LINE bytes a call), so an
- * endless input without newlines cannot stall the caller. Only regular files and FIFOs are opened. */
+ * endless input without newlines cannot stall the caller. Only regular files and FIFOs are opened (fv_file: the
+ * open never waits for a FIFO's writer; the first bytes are waited for TRACE_FIFO_WAIT_MS at most). */
 #include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
+#include "fv_file.h"
 #include "fv_log.h"
 #include "trace_internal.h"
+
+/* How long a FIFO may stay silent after it is opened: its writer has that long to come and say something. */
+#define TRACE_FIFO_WAIT_MS 10000
 
 static void set_name(trace_lines *l, const char *name)
 {
@@ -33,19 +36,19 @@ fv_result trace_lines_open_file(trace_lines *l, const char *path, const char *na
 {
     memset(l, 0, sizeof *l);
     set_name(l, name ? name : path);
-    /* open, then look at what was opened (no race with a rename): a device such as /dev/zero, a directory or a
-     * socket is refused with the scene loader's wording, before a byte is read */
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        int e = errno;
-        FV_ERROR(TRACE_MOD, "%s: cannot open: %s", l->name, strerror(e));
-        return e == ENOENT ? FV_ERR_NOT_FOUND : FV_ERR_IO;
-    }
-    struct stat st;
-    if (fstat(fd, &st) != 0 || !(S_ISREG(st.st_mode) || S_ISFIFO(st.st_mode))) {
-        FV_ERROR(TRACE_MOD, "%s: not a regular file or a FIFO", l->name);
-        close(fd);
-        return FV_ERR_IO;
+    /* open without waiting for a FIFO's writer, then look at what was opened (no race with a rename): a device such
+     * as /dev/zero, a directory or a socket is refused before a byte is read; a FIFO (a live trace) gets
+     * TRACE_FIFO_WAIT_MS for its writer's first bytes */
+    int fd;
+    bool fifo;
+    char err[FV_FILE_ERR_MAX];
+    fv_result opened = fv_file_open_stream(path, NULL, UINT64_MAX, TRACE_FIFO_WAIT_MS, &fd, &fifo, err, sizeof err);
+    if (opened != FV_OK) {
+        /* the message names the path; the trace's name (when given) is what the other messages use */
+        size_t pl = strlen(path);
+        if (strncmp(err, path, pl) == 0) FV_ERROR(TRACE_MOD, "%s%s", l->name, err + pl);
+        else FV_ERROR(TRACE_MOD, "%s: %s", l->name, err);
+        return opened;
     }
     errno = 0;
     l->gz = gzdopen(fd, "rb");

@@ -93,8 +93,12 @@ typedef struct fv_metrics_report {
 /** Compare A with B (B is the reference of the relative error). A and B must have the same size and kind, and
  *  every value must be finite: a NaN or Inf is refused (FV_ERR_RANGE) and the log names the image, pixel (x, y
  *  from the top left) and channel. Images smaller than the SSIM window are refused (FV_ERR_RANGE), as skimage does.
- *  PSNR and SSIM use the sRGB values (fv_metrics_srgb_values). Scratch: up to about 130 bytes per pixel. */
+ *  PSNR and SSIM use the sRGB values (fv_metrics_srgb_values). Scratch: fv_metrics_compare_bytes. */
 FV_MUST_CHECK fv_result fv_metrics_compare(const fv_rgb_image *a, const fv_rgb_image *b, const fv_metrics_desc *desc,
                                            fv_metrics_report *out);
+/** The most scratch memory fv_metrics_compare holds at once for two w x h images (linear: PFM; bands: with an
+ *  eccentricity map): 80 bytes a pixel, 104 for linear images, 128 for linear images with bands. Weigh it before
+ *  decoding the images. */
+uint64_t fv_metrics_compare_bytes(uint32_t w, uint32_t h, bool linear, bool bands);
 
 #endif

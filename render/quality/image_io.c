@@ -11,7 +11,9 @@
 #include <string.h>
 
 #include <stb_image.h>
+#include <zlib.h>
 
+#include "fv_file.h"
 #include "fv_log.h"
 
 #define MOD "quality"
@@ -25,8 +27,8 @@ static fv_result check_dims(const char *name, uint64_t w, uint64_t h)
         return FV_ERR_PARSE;
     }
     if (w > FV_IMAGE_MAX_SIDE_PX || h > FV_IMAGE_MAX_SIDE_PX || w * h > FV_IMAGE_MAX_PIXELS) {
-        FV_ERROR(MOD, "%s: dimensions %llux%llu over the limit (%u per side, %u pixels)", name, (unsigned long long)w,
-                 (unsigned long long)h, FV_IMAGE_MAX_SIDE_PX, FV_IMAGE_MAX_PIXELS);
+        FV_ERROR(MOD, "%s: too large: dimensions %llux%llu over the limit (%u per side, %u pixels)", name,
+                 (unsigned long long)w, (unsigned long long)h, FV_IMAGE_MAX_SIDE_PX, FV_IMAGE_MAX_PIXELS);
         return FV_ERR_RANGE;
     }
     return FV_OK;
@@ -112,11 +114,11 @@ static void store_f32_le(uint8_t *p, float f)
     p[0] = (uint8_t)u, p[1] = (uint8_t)(u >> 8), p[2] = (uint8_t)(u >> 16), p[3] = (uint8_t)(u >> 24);
 }
 
-fv_result fv_image_io_read_pfm(const void *data, size_t size, const char *name, fv_rgb_image *out)
+/* A PFM's header and size: everything but the pixels is checked. *out_pos: where the pixels start; *out_little:
+ * their byte order (both may be NULL). */
+static fv_result pfm_header(const uint8_t *d, size_t size, const char *name, fv_image_info *out, size_t *out_pos,
+                            bool *out_little)
 {
-    const uint8_t *d = data;
-    memset(out, 0, sizeof *out);
-    if (!name) name = "PFM";
     if (!d || size < 2 || d[0] != 'P' || (d[1] != 'F' && d[1] != 'f')) {
         FV_ERROR(MOD, "%s: bad header: a PFM starts with \"PF\" or \"Pf\"", name);
         return FV_ERR_PARSE;
@@ -162,10 +164,26 @@ fv_result fv_image_io_read_pfm(const void *data, size_t size, const char *name, 
                  (unsigned long long)w, (unsigned long long)h);
         return FV_ERR_PARSE;
     }
-    FV_TRY(fv_rgb_image_init(out, (uint32_t)w, (uint32_t)h, FV_IMAGE_KIND_LINEAR));
+    *out = (fv_image_info){.width = (uint32_t)w, .height = (uint32_t)h, .file_channels = ch,
+                           .kind = FV_IMAGE_KIND_LINEAR};
+    if (out_pos) *out_pos = pos;
+    if (out_little) *out_little = scale < 0.0;
+    return FV_OK;
+}
+
+fv_result fv_image_io_read_pfm(const void *data, size_t size, const char *name, fv_rgb_image *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!name) name = "PFM";
+    fv_image_info info;
+    size_t pos;
+    bool little;
+    FV_TRY(pfm_header(data, size, name, &info, &pos, &little));
+    uint64_t w = info.width, h = info.height;
+    uint32_t ch = info.file_channels;
+    FV_TRY(fv_rgb_image_init(out, info.width, info.height, FV_IMAGE_KIND_LINEAR));
     out->file_channels = ch;
-    bool little = scale < 0.0;
-    const uint8_t *px = d + pos;
+    const uint8_t *px = (const uint8_t *)data + pos;
     for (uint64_t fy = 0; fy < h; fy++) { /* file rows run bottom to top */
         float *row = out->rgb + (size_t)(h - 1 - fy) * (size_t)w * 3;
         for (uint64_t x = 0; x < w; x++) {
@@ -219,14 +237,82 @@ fv_result fv_image_io_write_pfm(const char *path, const fv_rgb_image *img)
 
 /* ---- PNG ---- */
 
-fv_result fv_image_io_read_png(const void *data, size_t size, const char *name, fv_rgb_image *out)
+static uint32_t load_be32(const uint8_t *p)
 {
-    memset(out, 0, sizeof *out);
-    if (!name) name = "PNG";
+    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | (uint32_t)p[3];
+}
+
+/* The bytes of filtered rows a PNG's image data inflates to, as stb_image sizes them: one filter byte a row, and for
+ * Adam7 the seven passes' rows. */
+static uint64_t png_raw_bytes(uint64_t w, uint64_t h, uint64_t bits_per_px, bool interlaced)
+{
+    if (!interlaced) return ((w * bits_per_px + 7) / 8 + 1) * h;
+    static const uint64_t x0[7] = {0, 4, 0, 2, 0, 1, 0}, y0[7] = {0, 0, 4, 0, 2, 0, 1};
+    static const uint64_t dx[7] = {8, 8, 4, 4, 2, 2, 1}, dy[7] = {8, 8, 8, 4, 4, 2, 2};
+    uint64_t n = 0;
+    for (int p = 0; p < 7; p++) {
+        uint64_t pw = w > x0[p] ? (w - x0[p] + dx[p] - 1) / dx[p] : 0;
+        uint64_t ph = h > y0[p] ? (h - y0[p] + dy[p] - 1) / dy[p] : 0;
+        if (pw && ph) n += ((pw * bits_per_px + 7) / 8 + 1) * ph;
+    }
+    return n;
+}
+
+/* The image data (the IDAT chunks) may not inflate to more than the header's rows: stb_image would grow its buffer
+ * for whatever comes (a 1 MB file can inflate to 1 GB). Inflated here into a small buffer, only counted. A stream
+ * zlib cannot read is left to stb_image to report. */
+static fv_result png_check_inflated(const uint8_t *d, size_t size, const char *name, uint64_t w, uint64_t h)
+{
+    static const uint8_t channels[7] = {1, 0, 3, 1, 2, 0, 4};
+    uint64_t depth = d[24], ct = d[25];
+    if (ct > 6 || channels[ct] == 0) return FV_OK; /* stb_image names a bad colour type */
+    uint64_t cap = png_raw_bytes(w, h, depth * channels[ct], d[28] == 1);
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    if (inflateInit(&z) != Z_OK) return FV_OK;
+    uint8_t out[16384];
+    uint64_t total = 0;
+    int zr = Z_OK;
+    for (size_t pos = 8; pos + 12 <= size && zr == Z_OK && total <= cap;) {
+        uint32_t len = load_be32(d + pos);
+        if (len > size - pos - 12) break;
+        if (memcmp(d + pos + 4, "IDAT", 4) == 0) {
+            z.next_in = (Bytef *)(uintptr_t)(d + pos + 8);
+            z.avail_in = len;
+            while (z.avail_in > 0 && zr == Z_OK && total <= cap) {
+                z.next_out = out;
+                z.avail_out = sizeof out;
+                zr = inflate(&z, Z_NO_FLUSH);
+                total += sizeof out - z.avail_out;
+                if (zr == Z_BUF_ERROR && z.avail_out != 0) break; /* no progress: wants more input */
+            }
+            if (zr == Z_BUF_ERROR) zr = Z_OK;
+        }
+        pos += (size_t)len + 12;
+    }
+    inflateEnd(&z);
+    if (total <= cap) return FV_OK;
+    FV_ERROR(MOD, "%s: bad image data: it inflates to more than the %llu bytes of a %llux%llu image's rows", name,
+             (unsigned long long)cap, (unsigned long long)w, (unsigned long long)h);
+    return FV_ERR_PARSE;
+}
+
+/* The PNG's size and channels from its IHDR chunk (bytes 8..32), read here so that an image over the limits is
+ * called too large (stb_image refuses some itself and then only says "unknown image type"); then stb's own header
+ * check. */
+static fv_result png_info(const void *data, size_t size, const char *name, fv_image_info *out)
+{
+    const uint8_t *d = data;
     if (!data || size < sizeof k_png_magic || memcmp(data, k_png_magic, sizeof k_png_magic) != 0) {
         FV_ERROR(MOD, "%s: bad header: no PNG signature", name);
         return FV_ERR_PARSE;
     }
+    if (size < 33 || load_be32(d + 8) != 13 || memcmp(d + 12, "IHDR", 4) != 0) {
+        FV_ERROR(MOD, "%s: bad header: %s", name,
+                 size < 33 ? "truncated before the end of IHDR" : "no IHDR chunk first");
+        return FV_ERR_PARSE;
+    }
+    FV_TRY(check_dims(name, load_be32(d + 16), load_be32(d + 20)));
     if (size > INT_MAX) {
         FV_ERROR(MOD, "%s: %zu bytes is more than the PNG decoder reads", name, size);
         return FV_ERR_RANGE;
@@ -237,10 +323,22 @@ fv_result fv_image_io_read_png(const void *data, size_t size, const char *name, 
         return FV_ERR_PARSE;
     }
     FV_TRY(check_dims(name, (uint64_t)w, (uint64_t)h));
+    FV_TRY(png_check_inflated(d, size, name, (uint64_t)w, (uint64_t)h));
     if (stbi_is_16_bit_from_memory(data, (int)size)) {
         FV_ERROR(MOD, "%s: a 16-bit PNG; only 8-bit PNGs are read", name);
         return FV_ERR_UNSUPPORTED;
     }
+    *out = (fv_image_info){.width = (uint32_t)w, .height = (uint32_t)h, .file_channels = (uint32_t)comp,
+                           .kind = FV_IMAGE_KIND_SRGB8};
+    return FV_OK;
+}
+
+fv_result fv_image_io_read_png(const void *data, size_t size, const char *name, fv_rgb_image *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!name) name = "PNG";
+    fv_image_info info;
+    FV_TRY(png_info(data, size, name, &info));
     int dw, dh, dc;
     stbi_uc *px = stbi_load_from_memory(data, (int)size, &dw, &dh, &dc, 3);
     if (!px) {
@@ -256,72 +354,91 @@ fv_result fv_image_io_read_png(const void *data, size_t size, const char *name, 
     return r;
 }
 
+/* ---- header only, and the memory a decode takes ---- */
+
+static bool is_png(const uint8_t *d, size_t size)
+{
+    return size >= sizeof k_png_magic && memcmp(d, k_png_magic, sizeof k_png_magic) == 0;
+}
+
+static bool is_pfm(const uint8_t *d, size_t size) { return size >= 2 && d[0] == 'P' && (d[1] == 'F' || d[1] == 'f'); }
+
+fv_result fv_image_io_info(const void *data, size_t size, const char *name, fv_image_info *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!name) name = "image";
+    const uint8_t *d = data ? data : (const uint8_t *)"";
+    if (!data) size = 0;
+    if (is_png(d, size)) return png_info(d, size, name, out);
+    if (is_pfm(d, size)) return pfm_header(d, size, name, out, NULL, NULL);
+    FV_ERROR(MOD, "%s: %s", name, size == 0 ? "empty file" : "neither a PNG nor a PFM file");
+    return FV_ERR_PARSE;
+}
+
+uint64_t fv_image_io_decode_bytes(const fv_image_info *info)
+{
+    uint64_t px = (uint64_t)info->width * info->height;
+    uint64_t image = px * 3 * sizeof(float);
+    if (info->kind == FV_IMAGE_KIND_LINEAR) return image; /* straight from the file's bytes into the image */
+    /* stb_image: the inflated rows (up to 4 bytes a pixel, one filter byte a row), its 8-bit pixels of up to 4
+     * channels, then the 3-channel copy it hands back while the float image is filled */
+    return image + px * FV_IMAGE_PNG_DECODER_BYTES_PER_PX + info->height;
+}
+
 /* ---- files ---- */
 
-static fv_result read_whole_file(const char *path, uint8_t **out_data, size_t *out_size)
+void fv_image_file_fini(fv_image_file *f)
 {
-    *out_data = NULL;
-    *out_size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        int err = errno;
-        FV_ERROR(MOD, "%s: cannot open: %s", path, strerror(err));
-        return err == ENOENT ? FV_ERR_NOT_FOUND : FV_ERR_IO;
-    }
-    size_t cap = 1 << 16, n = 0;
-    uint8_t *buf = malloc(cap);
-    fv_result r = buf ? FV_OK : FV_ERR_NO_MEMORY;
-    while (r == FV_OK) {
-        if (n == cap) {
-            if (cap >= FV_IMAGE_MAX_FILE_BYTES) {
-                FV_ERROR(MOD, "%s: larger than %zu bytes", path, FV_IMAGE_MAX_FILE_BYTES);
-                r = FV_ERR_RANGE;
-                break;
-            }
-            uint8_t *nb = realloc(buf, cap * 2);
-            if (!nb) {
-                r = FV_ERR_NO_MEMORY;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) {
-            if (ferror(f)) {
-                FV_ERROR(MOD, "%s: cannot read: %s", path, strerror(errno));
-                r = FV_ERR_IO;
-            }
-            break;
-        }
-    }
-    fclose(f);
-    if (r == FV_ERR_NO_MEMORY) FV_ERROR(MOD, "%s: out of memory reading it", path);
+    if (!f) return;
+    free(f->data);
+    memset(f, 0, sizeof *f);
+}
+
+fv_result fv_image_io_load(const char *path, uint64_t max_file_bytes, fv_image_file *out)
+{
+    memset(out, 0, sizeof *out);
+    char err[FV_FILE_ERR_MAX];
+    size_t limit = max_file_bytes < FV_IMAGE_MAX_FILE_BYTES ? (size_t)max_file_bytes : FV_IMAGE_MAX_FILE_BYTES;
+    fv_result r = fv_file_read(path, NULL, limit, &out->data, &out->size, err, sizeof err);
     if (r != FV_OK) {
-        free(buf);
+        FV_ERROR(MOD, "%s", err);
         return r;
     }
-    *out_data = buf;
-    *out_size = n;
-    return FV_OK;
+    out->path = path;
+    r = fv_image_io_info(out->data, out->size, path, &out->info);
+    if (r != FV_OK) fv_image_file_fini(out);
+    return r;
+}
+
+fv_result fv_image_io_decode(fv_image_file *f, fv_rgb_image *out)
+{
+    fv_result r = f->info.kind == FV_IMAGE_KIND_LINEAR ? fv_image_io_read_pfm(f->data, f->size, f->path, out)
+                                                       : fv_image_io_read_png(f->data, f->size, f->path, out);
+    free(f->data); /* the pixels are in out now: the file's bytes are not needed any more */
+    f->data = NULL;
+    f->size = 0;
+    return r;
+}
+
+fv_result fv_image_io_check_budget(const char *what, uint64_t need, uint64_t budget, const char *hint)
+{
+    if (need <= budget) return FV_OK;
+    FV_ERROR(MOD, "%s: too large to work on: it needs about %llu MiB, over the budget of %llu MiB%s%s", what,
+             (unsigned long long)((need + (1u << 20) - 1) >> 20), (unsigned long long)(budget >> 20),
+             hint ? " " : "", hint ? hint : "");
+    return FV_ERR_RANGE;
 }
 
 fv_result fv_image_io_read(const char *path, fv_rgb_image *out)
 {
     memset(out, 0, sizeof *out);
-    uint8_t *data;
-    size_t size;
-    FV_TRY(read_whole_file(path, &data, &size));
-    fv_result r;
-    if (size >= sizeof k_png_magic && memcmp(data, k_png_magic, sizeof k_png_magic) == 0) {
-        r = fv_image_io_read_png(data, size, path, out);
-    } else if (size >= 2 && data[0] == 'P' && (data[1] == 'F' || data[1] == 'f')) {
-        r = fv_image_io_read_pfm(data, size, path, out);
-    } else {
-        FV_ERROR(MOD, "%s: %s", path, size == 0 ? "empty file" : "neither a PNG nor a PFM file");
-        r = FV_ERR_PARSE;
-    }
-    free(data);
+    fv_image_file f;
+    FV_TRY(fv_image_io_load(path, FV_IMAGE_DECODE_BUDGET_BYTES, &f));
+    char what[FV_FILE_ERR_MAX];
+    snprintf(what, sizeof what, "%s (%ux%u %s)", path, f.info.width, f.info.height, fv_image_kind_str(f.info.kind));
+    fv_result r = fv_image_io_check_budget(what, f.size + fv_image_io_decode_bytes(&f.info),
+                                           FV_IMAGE_DECODE_BUDGET_BYTES, NULL);
+    if (r == FV_OK) r = fv_image_io_decode(&f, out);
+    fv_image_file_fini(&f);
     return r;
 }

@@ -362,6 +362,15 @@ static void bands_rel_p99(const double *rel, const float *ecc, size_t n, double 
     }
 }
 
+uint64_t fv_metrics_compare_bytes(uint32_t w, uint32_t h, bool linear, bool bands)
+{
+    uint64_t n = (uint64_t)w * h, d = sizeof(double);
+    uint64_t bytes = n * 3 * d;                                      /* luma of A and B, the SSIM map */
+    bytes += n * 7 * d + ((uint64_t)w + (uint64_t)h + 4 * FV_METRICS_SSIM_RADIUS) * sizeof(size_t); /* SSIM */
+    if (linear) bytes += n * 3 * d * (bands ? 2 : 1); /* relative errors, and their per-band copies */
+    return bytes;
+}
+
 fv_result fv_metrics_compare(const fv_rgb_image *a, const fv_rgb_image *b, const fv_metrics_desc *desc,
                              fv_metrics_report *out)
 {

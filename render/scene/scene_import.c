@@ -17,7 +17,9 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include "fv_file.h"
 #include "fv_log.h"
 #include "fv_scene.h"
 #include "scene_internal.h"
@@ -66,16 +68,11 @@ static void gltf_check_json(const char *path, const cJSON *root)
     }
 }
 
-static void gltf_precheck(const char *path, uint64_t file_size)
+static void gltf_precheck(const char *path)
 {
-    if (file_size > 64u * 1024u * 1024u) return;
-    FILE *f = fopen(path, "rb");
-    if (!f) return;
-    char *buf = malloc((size_t)file_size + 1);
-    size_t n = buf ? fread(buf, 1, (size_t)file_size, f) : 0;
-    fclose(f);
-    if (!buf) return;
-    buf[n] = '\0';
+    char *buf, why[FV_FILE_ERR_MAX];
+    size_t n;
+    if (fv_file_read(path, NULL, 64u * 1024u * 1024u, &buf, &n, why, sizeof why) != FV_OK) return; /* best effort */
     const char *json = buf;
     size_t json_len = n;
     if (n >= 20 && !memcmp(buf, "glTF", 4)) { /* GLB: 12-byte header, then the JSON chunk (length, "JSON") */
@@ -110,6 +107,9 @@ static int32_t find_texture(const fv_scene *s, const char *source)
         if (!strcmp(s->textures[i].source, source)) return (int32_t)i;
     return -1;
 }
+
+/* The largest texture file read (a 16384 x 16384 RGBA PNG stored uncompressed is 1 GiB; no texture is). */
+#define TEXTURE_MAX_FILE_BYTES ((size_t)256 << 20)
 
 /* Load the base colour texture of an assimp material; -1 (after a warning) when it cannot be had. */
 static int32_t load_texture(import_ctx *c, const char *ref, const char *mat_name)
@@ -158,19 +158,32 @@ static int32_t load_texture(import_ctx *c, const char *ref, const char *mat_name
         }
         int32_t have = find_texture(c->s, source);
         if (have >= 0) return have;
-        struct stat st;
-        if (stat(source, &st) == 0 && !S_ISREG(st.st_mode)) { /* a FIFO or device would block or never end */
-            FV_WARN("scene", "%s: material '%s': texture '%s' is not a regular file; using the base colour", c->path,
-                    mat_name, source);
+        /* read through fv_file: a FIFO or device would block or never end; a huge file is refused from its size */
+        char why[FV_FILE_ERR_MAX], *bytes;
+        size_t nbytes;
+        fv_result rr = fv_file_read(source, NULL, TEXTURE_MAX_FILE_BYTES, &bytes, &nbytes, why, sizeof why);
+        if (rr != FV_OK) {
+            const char *kind = strstr(why, ": not a regular file: ");
+            if (kind)
+                FV_WARN("scene", "%s: material '%s': texture '%s' is not a regular file; using the base colour (%s)",
+                        c->path, mat_name, source, kind + strlen(": not a regular file: "));
+            else /* fv_file's reason, after the path it starts with */
+                FV_WARN("scene", "%s: material '%s': texture '%s' cannot be read (%s); using the base colour", c->path,
+                        mat_name, source, strncmp(why, source, strlen(source)) == 0 ? why + strlen(source) + 2 : why);
             return -1;
         }
-        if (!stbi_info(source, &w, &h, &comp)) {
+        if (nbytes > INT_MAX || !stbi_info_from_memory((const stbi_uc *)bytes, (int)nbytes, &w, &h, &comp)) {
             FV_WARN("scene", "%s: material '%s': texture '%s' cannot be read (%s); using the base colour", c->path,
                     mat_name, source, stbi_failure_reason() ? stbi_failure_reason() : "unknown");
+            free(bytes);
             return -1;
         }
-        if ((uint32_t)w > FV_SCENE_MAX_TEXTURE_DIM || (uint32_t)h > FV_SCENE_MAX_TEXTURE_DIM) goto too_big;
-        px = stbi_load(source, &w, &h, &comp, 4);
+        if ((uint32_t)w > FV_SCENE_MAX_TEXTURE_DIM || (uint32_t)h > FV_SCENE_MAX_TEXTURE_DIM) {
+            free(bytes);
+            goto too_big;
+        }
+        px = stbi_load_from_memory((const stbi_uc *)bytes, (int)nbytes, &w, &h, &comp, 4);
+        free(bytes);
         if (!px) {
             FV_WARN("scene", "%s: material '%s': texture '%s' cannot be decoded (%s); using the base colour", c->path,
                     mat_name, source, stbi_failure_reason() ? stbi_failure_reason() : "unknown");
@@ -666,22 +679,23 @@ static fv_result import_file(const char *path, float unit_scale_m, bool default_
                  FV_SCENE_PATH_MAX - 1);
         return FV_ERR_RANGE;
     }
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        FV_ERROR("scene", "%s: cannot open model file: %s", path, strerror(errno));
-        return FV_ERR_NOT_FOUND;
+    /* the file as fv_file opens it: a FIFO, device or directory is refused without waiting or reading */
+    int fd;
+    uint64_t size;
+    char why[FV_FILE_ERR_MAX];
+    fv_result opened = fv_file_open(path, "model file", UINT64_MAX, &fd, &size, why, sizeof why);
+    if (opened != FV_OK) {
+        FV_ERROR("scene", "%s", why);
+        return opened;
     }
-    if (!S_ISREG(st.st_mode)) {
-        FV_ERROR("scene", "%s: not a regular file", path);
-        return FV_ERR_IO;
-    }
+    close(fd);
     if (!(isfinite(unit_scale_m) && unit_scale_m >= 0)) {
         FV_ERROR("scene", "%s: unit scale %g must be >= 0", path, (double)unit_scale_m);
         return FV_ERR_RANGE;
     }
-    FV_TRY(fv_scene_precheck_file(path, (uint64_t)st.st_size));
+    FV_TRY(fv_scene_precheck_file(path, size));
     bool is_gltf = has_ext(path, ".gltf") || has_ext(path, ".glb");
-    if (is_gltf) gltf_precheck(path, (uint64_t)st.st_size);
+    if (is_gltf) gltf_precheck(path);
 
     import_ctx c;
     memset(&c, 0, sizeof c);

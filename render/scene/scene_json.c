@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "fv_file.h"
 #include "fv_json_scan.h"
 #include "fv_log.h"
 #include "fv_scene.h"
@@ -731,41 +732,14 @@ fv_result fv_scene_load_json_file(const char *path, fv_scene **out_scene)
     if (!out_scene) return FV_ERR_INVALID_ARG;
     *out_scene = NULL;
     if (!path) return FV_ERR_INVALID_ARG;
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        FV_ERROR("scene", "%s: cannot open scene file: %s", path, strerror(errno));
-        return FV_ERR_NOT_FOUND;
+    char *buf;
+    size_t n;
+    char why[FV_FILE_ERR_MAX];
+    fv_result rr = fv_file_read(path, "scene file", MAX_SCENE_FILE_BYTES, &buf, &n, why, sizeof why);
+    if (rr != FV_OK) {
+        FV_ERROR("scene", "%s%s", why, rr == FV_ERR_RANGE ? " for a scene file" : "");
+        return rr;
     }
-    if (!S_ISREG(st.st_mode)) {
-        FV_ERROR("scene", "%s: not a regular file", path);
-        return FV_ERR_IO;
-    }
-    if ((uint64_t)st.st_size > MAX_SCENE_FILE_BYTES) {
-        FV_ERROR("scene", "%s: %lld bytes is more than the %u-byte limit for a scene file", path,
-                 (long long)st.st_size, MAX_SCENE_FILE_BYTES);
-        return FV_ERR_RANGE;
-    }
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        FV_ERROR("scene", "%s: cannot open scene file: %s", path, strerror(errno));
-        return FV_ERR_IO;
-    }
-    size_t size = (size_t)st.st_size;
-    char *buf = malloc(size + 1);
-    if (!buf) {
-        fclose(f);
-        FV_ERROR("scene", "%s: out of memory reading the scene file", path);
-        return FV_ERR_NO_MEMORY;
-    }
-    size_t n = fread(buf, 1, size, f);
-    bool read_err = ferror(f);
-    fclose(f);
-    if (read_err) {
-        free(buf);
-        FV_ERROR("scene", "%s: read error", path);
-        return FV_ERR_IO;
-    }
-    buf[n] = '\0';
     char dir[FV_SCENE_PATH_MAX] = ".";
     const char *slash = strrchr(path, '/');
     if (slash) {

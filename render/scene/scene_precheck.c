@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "fv_file.h"
 #include "fv_log.h"
 #include "fv_scene.h"
 #include "scene_internal.h"
@@ -572,10 +573,18 @@ fv_result fv_scene_precheck_file(const char *path, uint64_t size)
 {
     if (size == 0) return FV_OK; /* assimp reports an empty file */
     if (size > SIZE_MAX) return FV_ERR_RANGE;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        FV_ERROR("scene", "%s: cannot open model file: %s", path, strerror(errno));
-        return FV_ERR_IO;
+    /* through fv_file: what is opened is looked at (a FIFO or device swapped in is refused, never waited on) and
+     * may not have grown past the size the caller weighed */
+    int fd;
+    char why[FV_FILE_ERR_MAX];
+    fv_result opened = fv_file_open(path, "model file", size, &fd, &size, why, sizeof why);
+    if (opened != FV_OK) {
+        FV_ERROR("scene", "%s", why);
+        return opened;
+    }
+    if (size == 0) {
+        close(fd);
+        return FV_OK;
     }
     void *map = mmap(NULL, (size_t)size, PROT_READ, MAP_PRIVATE, fd, 0);
     close(fd);

@@ -8,8 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "fv_file.h"
 #include "fv_hmd.h"
 #include "fv_json_scan.h"
 #include "hmd_builtin.h"
@@ -270,48 +270,25 @@ fv_result fv_hmd_profile_load(const char *name_or_path, fv_hmd_profile *out, cha
             const char *json = (const char *)fv_hmd_builtin_text[i];
             return fv_hmd_profile_parse(json, strlen(json), origin, out, err, err_size);
         }
-    struct stat st;
-    if (stat(name_or_path, &st) != 0) {
+    char *buf;
+    size_t n;
+    char why[FV_FILE_ERR_MAX];
+    fv_result res = fv_file_read(name_or_path, NULL, MAX_FILE_BYTES, &buf, &n, why, sizeof why);
+    if (res == FV_ERR_NOT_FOUND) {
         char names[256] = "";
         for (size_t i = 0; fv_hmd_builtin_name_list[i]; i++)
             snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "",
                      fv_hmd_builtin_name_list[i]);
+        const char *cause = strstr(why, "cannot open: "); /* the system's reason, after fv_file's words */
         say(err, err_size, "%s: no such HMD profile (built-in: %s) or file (%s)", name_or_path, names,
-            strerror(errno));
-        return FV_ERR_NOT_FOUND;
+            cause ? cause + strlen("cannot open: ") : strerror(ENOENT));
+        return res;
     }
-    if (!S_ISREG(st.st_mode)) {
-        say(err, err_size, "%s: not a regular file", name_or_path);
-        return FV_ERR_IO;
+    if (res != FV_OK) {
+        say(err, err_size, "%s%s", why, res == FV_ERR_RANGE ? ": not an HMD profile" : "");
+        return res;
     }
-    if (st.st_size > (off_t)MAX_FILE_BYTES) {
-        say(err, err_size, "%s: %lld bytes is not an HMD profile (at most %u)", name_or_path, (long long)st.st_size,
-            MAX_FILE_BYTES);
-        return FV_ERR_RANGE;
-    }
-    FILE *f = fopen(name_or_path, "rb");
-    if (!f) {
-        say(err, err_size, "%s: cannot open: %s", name_or_path, strerror(errno));
-        return FV_ERR_IO;
-    }
-    char *buf = malloc(MAX_FILE_BYTES + 1);
-    if (!buf) {
-        fclose(f);
-        return FV_ERR_NO_MEMORY;
-    }
-    size_t n = fread(buf, 1, MAX_FILE_BYTES + 1, f);
-    bool bad = ferror(f) != 0;
-    fclose(f);
-    fv_result res;
-    if (bad) {
-        say(err, err_size, "%s: read error", name_or_path);
-        res = FV_ERR_IO;
-    } else if (n > MAX_FILE_BYTES) {
-        say(err, err_size, "%s: longer than %u bytes: not an HMD profile", name_or_path, MAX_FILE_BYTES);
-        res = FV_ERR_RANGE;
-    } else {
-        res = fv_hmd_profile_parse(buf, n, name_or_path, out, err, err_size);
-    }
+    res = fv_hmd_profile_parse(buf, n, name_or_path, out, err, err_size);
     free(buf);
     return res;
 }

@@ -176,9 +176,10 @@ static bool reference_from_samples(const rec *recs, size_t n, size_t from, int64
     while (j + 1 < n && recs[j + 1].t_ns <= t) j++;
     if (j + 1 >= n || recs[j].t_ns > t) return false;
     const rec *a = &recs[j], *b = &recs[j + 1];
-    if (!a->raw_valid || !b->raw_valid || b->t_ns - a->t_ns > REF_MAX_GAP_NS || b->t_ns <= a->t_ns) return false;
+    if (!a->raw_valid || !b->raw_valid || fv_i64_sub_sat(b->t_ns, a->t_ns) > REF_MAX_GAP_NS || b->t_ns <= a->t_ns)
+        return false;
     fv_vec3 da = smoothed ? a->smooth_dir : a->raw_dir, db = smoothed ? b->smooth_dir : b->raw_dir;
-    float w = (float)((double)(t - a->t_ns) / (double)(b->t_ns - a->t_ns));
+    float w = (float)((double)fv_i64_sub_sat(t, a->t_ns) / (double)fv_i64_sub_sat(b->t_ns, a->t_ns));
     *out = fv_v3_normalize_or(fv_v3_add(fv_v3_scale(da, 1.0f - w), fv_v3_scale(db, w)), da);
     return true;
 }
@@ -189,7 +190,7 @@ static int64_t median_interval_ns(const rec *recs, size_t n)
     if (n < 2) return 0;
     double *dt = malloc((n - 1) * sizeof *dt);
     if (!dt) return 0;
-    for (size_t i = 1; i < n; i++) dt[i - 1] = (double)(recs[i].t_ns - recs[i - 1].t_ns);
+    for (size_t i = 1; i < n; i++) dt[i - 1] = (double)fv_i64_sub_sat(recs[i].t_ns, recs[i - 1].t_ns);
     double m = fv_percentile_f64(dt, n - 1, 50.0);
     free(dt);
     return m > 0.0 && isfinite(m) ? (int64_t)m : 0;
@@ -209,7 +210,7 @@ static void smooth_recording(rec *recs, size_t n, int64_t half_ns)
     int64_t id = 0, last_valid_t = INT64_MIN;
     for (size_t i = 0; i < n; i++) {
         if (!recs[i].raw_valid) continue;
-        if (last_valid_t == INT64_MIN || recs[i].t_ns - last_valid_t > REF_MAX_GAP_NS) id++;
+        if (last_valid_t == INT64_MIN || fv_i64_sub_sat(recs[i].t_ns, last_valid_t) > REF_MAX_GAP_NS) id++;
         run[i] = id;
         last_valid_t = recs[i].t_ns;
     }
@@ -223,12 +224,12 @@ static void smooth_recording(rec *recs, size_t n, int64_t half_ns)
         /* normal equations in u = (t_j - t_i) / half: sums of u^k (k = 0..4) and of u^k * angle (k = 0..2) */
         double su[5] = {0}, sy[2][3] = {{0}};
         size_t lo = i, hi = i;
-        while (lo > 0 && ri->t_ns - recs[lo - 1].t_ns <= half_ns) lo--;
-        while (hi + 1 < n && recs[hi + 1].t_ns - ri->t_ns <= half_ns) hi++;
+        while (lo > 0 && fv_i64_sub_sat(ri->t_ns, recs[lo - 1].t_ns) <= half_ns) lo--;
+        while (hi + 1 < n && fv_i64_sub_sat(recs[hi + 1].t_ns, ri->t_ns) <= half_ns) hi++;
         for (size_t j = lo; j <= hi; j++) {
             double aj[2];
             if (!recs[j].raw_valid || run[j] != run[i] || !fv_gaze_dir_to_angles(recs[j].raw_dir, 90.0, aj)) continue;
-            double u = (double)(recs[j].t_ns - ri->t_ns) * 1e-9 / hs, uk = 1.0;
+            double u = (double)fv_i64_sub_sat(recs[j].t_ns, ri->t_ns) * 1e-9 / hs, uk = 1.0;
             for (int k = 0; k < 5; k++, uk *= u) su[k] += uk;
             for (int c = 0; c < 2; c++) {
                 double d = aj[c] - a0[c];
@@ -502,7 +503,7 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
             }
         }
         if (tl) {
-            int64_t target = rc->t_ns + (int64_t)tl_h * FV_NS_PER_MS;
+            int64_t target = fv_i64_add_sat(rc->t_ns, (int64_t)tl_h * FV_NS_PER_MS);
             fv_gaze_prediction pa;
             fv_gaze_pipeline_predict(pp, target, &pa);
             fv_vec3 ref = fv_v3(0, 0, -1);
@@ -514,7 +515,7 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
             } else {
                 ok = reference_from_samples(recs, n, i, target, true, &ref);
             }
-            fprintf(tl, "%.6f", (double)(rc->t_ns - recs[0].t_ns) * 1e-9);
+            fprintf(tl, "%.6f", (double)fv_i64_sub_sat(rc->t_ns, recs[0].t_ns) * 1e-9);
             csv_angles(tl, rc->raw_valid, rc->raw_dir);
             csv_angles(tl, pa.combined_valid, pa.combined_dir_head);
             csv_angles(tl, ok, ref);

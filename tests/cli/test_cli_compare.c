@@ -1,12 +1,16 @@
 /* @brief `fovea compare A B` as a user runs it: known PSNR on PNG pairs, identical images (PSNR null in JSON), PFM
  * relative error, eccentricity bands of a side-by-side stereo image, and one-line errors: usage (exit 2), unreadable
- * or truncated files, mismatched sizes, PNG against PFM, NaN pixels, images smaller than the SSIM window (exit 1). */
+ * or truncated files, mismatched sizes, PNG against PFM, NaN pixels, images smaller than the SSIM window (exit 1);
+ * FIFOs, devices and directories refused without waiting or reading; images over the memory budget or the size
+ * limits refused from their headers. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <stb_image_write.h>
 
@@ -270,6 +274,91 @@ static void unreadable_or_incomparable_files_exit_1_with_one_line(void **state)
     }
 }
 
+/* A PNG of only a signature, an IHDR of w x h RGB and IEND: its header says the size, no pixel follows. */
+static const char *png_header_only(const char *name, uint32_t w, uint32_t h)
+{
+    uint8_t b[57] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+    for (int i = 0; i < 4; i++) b[16 + i] = (uint8_t)(w >> (24 - 8 * i)), b[20 + i] = (uint8_t)(h >> (24 - 8 * i));
+    b[24] = 8; /* bit depth */
+    b[25] = 2; /* RGB; compression, filter, interlace 0; CRC (unchecked) 0 */
+    memcpy(b + 33, "\0\0\0\0IEND\xae\x42\x60\x82", 12);
+    return fv_test_write_file(name, b, 45);
+}
+
+/* What is not a regular file is refused by name before a byte is read: a FIFO without a writer (run under timeout:
+ * exit 124 would be the hang), a character device (/dev/zero was read to 1 GiB), a directory (was "empty file"). */
+static void files_that_are_no_images_are_refused_without_waiting_or_reading(void **state)
+{
+    (void)state;
+    char fifo[1024], dir[1024], p16[1024], prog[1200], args[4400];
+    snprintf(prog, sizeof prog, "timeout -k 5 20 '%s'", g_fovea);
+    snprintf(fifo, sizeof fifo, "%s", fv_test_tmp("nowriter.png"));
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp("adir.png"));
+    mkdir(dir, 0700);
+    snprintf(p16, sizeof p16, "%s", png("r16.png", 16, 16, 0));
+    struct {
+        const char *a, *b, *why;
+    } cases[] = {
+        {fifo, p16, "nowriter.png: not a regular file: it is a FIFO"},
+        {p16, fifo, "nowriter.png: not a regular file: it is a FIFO"},
+        {"/dev/zero", p16, "/dev/zero: not a regular file: it is a character device"},
+        {dir, p16, "adir.png: not a regular file: it is a directory"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        static fv_test_cmd r;
+        snprintf(args, sizeof args, "compare '%s' '%s'", cases[i].a, cases[i].b);
+        fv_test_run_cmd(&r, NULL, prog, args);
+        if (r.exit_code != 1) fail_msg("case %zu exited %d, not 1:\n%s", i, r.exit_code, r.err);
+        fv_assert_contains(r.err, cases[i].why);
+        assert_true(strncmp(r.err, "fovea compare: ", 15) == 0);
+        if (count_lines(r.err) != 1) fail_msg("case %zu: more than one line:\n%s", i, r.err);
+    }
+}
+
+/* Images inside the size limits but over the memory budget are refused from their headers, before any pixel is
+ * decoded, with the estimate and the budget (a 49 KB 4096x4096 PNG made compare take 1.7 GB); an image over the
+ * size limits is called too large, not "unknown image type"; the budget is an option, documented in --help. */
+static void images_over_the_memory_budget_are_refused_from_their_headers(void **state)
+{
+    (void)state;
+    char big[1024], huge[1024], a[1024], b[1024], args[4400];
+    snprintf(big, sizeof big, "%s", png_header_only("h4096.png", 4096, 4096));
+    snprintf(huge, sizeof huge, "%s", png_header_only("h20000.png", 20000, 20000));
+    snprintf(a, sizeof a, "%s", png("m512a.png", 512, 512, 0));
+    snprintf(b, sizeof b, "%s", png("m512b.png", 512, 512, 3));
+    struct {
+        const char *a, *b, *extra, *why;
+    } cases[] = {
+        {big, big, "", "against"},
+        {big, big, "", "(4096x4096 PNG): too large to work on: it needs about 2017 MiB, over the budget of 1024 MiB "
+                       "(--max-memory-mib)"},
+        {huge, a, "", "h20000.png: too large: dimensions 20000x20000 over the limit (16384 per side, 67108864 "
+                      "pixels)"},
+        {a, b, " --max-memory-mib 16", "m512a.png (512x512 PNG) against"},
+        {a, b, " --max-memory-mib 16", "too large to work on: it needs about 32 MiB, over the budget of 16 MiB"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(args, sizeof args, "compare '%s' '%s'%s", cases[i].a, cases[i].b, cases[i].extra);
+        fv_test_cmd *r = run(args);
+        if (r->exit_code != 1) fail_msg("case %zu exited %d, not 1:\n%s", i, r->exit_code, r->err);
+        fv_assert_contains(r->err, cases[i].why);
+        assert_true(strncmp(r->err, "fovea compare: ", 15) == 0);
+        if (count_lines(r->err) != 1) fail_msg("case %zu: more than one line:\n%s", i, r->err);
+    }
+    /* within a budget that holds them, the same pair compares */
+    snprintf(args, sizeof args, "compare '%s' '%s' --max-memory-mib 40", a, b);
+    fv_test_cmd *r = run(args);
+    if (r->exit_code != 0) fail_msg("exit %d:\n%s", r->exit_code, r->err);
+    fv_assert_contains(r->out, "512x512 PNG");
+    r = run("compare --help");
+    fv_assert_contains(r->out, "--max-memory-mib M");
+    fv_assert_contains(r->out, "default 1024");
+    r = run("compare a.png b.png --max-memory-mib 0");
+    assert_int_equal(r->exit_code, 2);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -285,6 +374,8 @@ int main(int argc, char **argv)
         cmocka_unit_test(pfm_pairs_get_the_relative_error),
         cmocka_unit_test(usage_errors_exit_2_with_one_line),
         cmocka_unit_test(unreadable_or_incomparable_files_exit_1_with_one_line),
+        cmocka_unit_test(files_that_are_no_images_are_refused_without_waiting_or_reading),
+        cmocka_unit_test(images_over_the_memory_budget_are_refused_from_their_headers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,8 +5,11 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
 
 #include <stb_image_write.h>
+#include <zlib.h>
 
 #include "fv_image_io.h"
 #include "fv_metrics.h"
@@ -172,7 +175,108 @@ static void image_files_that_cannot_be_read_are_named(void **state)
     p = fv_test_write_file("cut.png", png_head, sizeof png_head);
     assert_int_equal(fv_image_io_read(p, &img), FV_ERR_PARSE);
     fv_assert_log_contains("cut.png: bad header");
+    /* what is not a regular file is named, not read (a directory was "empty file", /dev/zero read to 1 GiB) */
+    const char *dir = fv_test_tmp("images.d");
+    mkdir(dir, 0700);
+    assert_int_equal(fv_image_io_read(dir, &img), FV_ERR_IO);
+    fv_assert_log_contains("images.d: not a regular file: it is a directory");
+    assert_int_equal(fv_image_io_read("/dev/zero", &img), FV_ERR_IO);
+    fv_assert_log_contains("/dev/zero: not a regular file: it is a character device");
     fv_test_log_capture_end();
+}
+
+/* A PNG's header (signature, IHDR of w x h, colour type ct) and IEND: no pixels. */
+static size_t png_header(uint8_t *b, uint32_t w, uint32_t h, uint8_t ct)
+{
+    static const uint8_t head[16] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+    memcpy(b, head, 16);
+    for (int i = 0; i < 4; i++) b[16 + i] = (uint8_t)(w >> (24 - 8 * i)), b[20 + i] = (uint8_t)(h >> (24 - 8 * i));
+    memcpy(b + 24, (const uint8_t[]){8, ct, 0, 0, 0, 0, 0, 0, 0}, 9);
+    memcpy(b + 33, "\0\0\0\0IEND\xae\x42\x60\x82", 12);
+    return 45;
+}
+
+/* A 16x16 RGB PNG whose image data inflates to `raw` bytes of zero rows (784 is the exact size). */
+static size_t png_inflating_to(uint8_t **out, size_t raw)
+{
+    uint8_t *zeros = calloc(raw, 1);
+    uLongf zn = compressBound(raw);
+    uint8_t *b = malloc(45 + 12 + zn);
+    assert_true(zeros && b);
+    png_header(b, 16, 16, 2);
+    assert_int_equal(compress2(b + 33 + 8, &zn, zeros, raw, 9), Z_OK);
+    for (int i = 0; i < 4; i++) b[33 + i] = (uint8_t)(zn >> (24 - 8 * i));
+    memcpy(b + 37, "IDAT", 4);
+    memset(b + 41 + zn, 0, 4); /* CRC, unchecked */
+    memcpy(b + 45 + zn, "\0\0\0\0IEND\xae\x42\x60\x82", 12);
+    free(zeros);
+    *out = b;
+    return 57 + zn;
+}
+
+/* Image data that inflates past the header's rows is refused before stb_image decodes it (it grew its buffer for
+ * all of it: a 261 KB 16x16 PNG took 680 MB and compared). */
+static void png_data_inflating_past_its_rows_is_refused(void **state)
+{
+    (void)state;
+    uint8_t *b;
+    fv_rgb_image img;
+    size_t n = png_inflating_to(&b, 784);
+    assert_int_equal(fv_image_io_read_png(b, n, "ok.png", &img), FV_OK);
+    assert_int_equal(img.width, 16);
+    fv_rgb_image_fini(&img);
+    free(b);
+    n = png_inflating_to(&b, 16u << 20);
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_image_io_read_png(b, n, "bomb.png", &img), FV_ERR_PARSE);
+    fv_assert_log_contains("bomb.png: bad image data: it inflates to more than the 784 bytes of a 16x16 image's rows");
+    assert_null(img.rgb);
+    fv_test_log_capture_end();
+    free(b);
+}
+
+/* The header alone says size, kind and cost: too-large PNGs are called too large (stb_image refuses some of them
+ * itself and said "unknown image type"), and the memory of a decode is known before decoding. */
+static void headers_give_size_and_cost_before_decoding(void **state)
+{
+    (void)state;
+    uint8_t b[64];
+    fv_image_info info;
+    size_t n = png_header(b, 4096, 4096, 2);
+    assert_int_equal(fv_image_io_info(b, n, "h.png", &info), FV_OK);
+    assert_int_equal(info.width, 4096);
+    assert_int_equal(info.height, 4096);
+    assert_int_equal(info.kind, FV_IMAGE_KIND_SRGB8);
+    assert_int_equal(info.file_channels, 3);
+    uint64_t px = 4096u * 4096u;
+    assert_true(fv_image_io_decode_bytes(&info) == px * (12 + FV_IMAGE_PNG_DECODER_BYTES_PER_PX) + 4096);
+    fv_test_log_capture_begin();
+    n = png_header(b, 20000, 20000, 2);
+    assert_int_equal(fv_image_io_info(b, n, "huge.png", &info), FV_ERR_RANGE);
+    fv_assert_log_contains("huge.png: too large: dimensions 20000x20000 over the limit (16384 per side, 67108864 "
+                           "pixels)");
+    fv_rgb_image img;
+    assert_int_equal(fv_image_io_read_png(b, n, "huge.png", &img), FV_ERR_RANGE);
+    assert_null(strstr(fv_test_log_text(), "unknown image type"));
+    n = png_header(b, 16384, 4096, 6); /* at the limits (side and pixels): stb_image's own check passes too */
+    assert_int_equal(fv_image_io_info(b, n, "edge.png", &info), FV_OK);
+    assert_int_equal(info.file_channels, 4);
+    assert_int_equal(fv_image_io_check_budget("x", 100, 99, "(hint)"), FV_ERR_RANGE);
+    fv_assert_log_contains("x: too large to work on: it needs about 1 MiB, over the budget of 0 MiB (hint)");
+    assert_int_equal(fv_image_io_check_budget("x", 99, 99, NULL), FV_OK);
+    fv_test_log_capture_end();
+    /* a PFM's header, its size checked against the pixels it declares */
+    static const char pfm_text[] = "PF\n2 1\n-1\n";
+    uint8_t pfm[sizeof pfm_text - 1 + 24] = {0};
+    memcpy(pfm, pfm_text, sizeof pfm_text - 1);
+    assert_int_equal(fv_image_io_info(pfm, sizeof pfm, "p.pfm", &info), FV_OK);
+    assert_int_equal(info.kind, FV_IMAGE_KIND_LINEAR);
+    assert_true(fv_image_io_decode_bytes(&info) == 2 * 12);
+    /* the metrics' scratch: 80 bytes a pixel for PNG, 128 for PFM with bands, plus the SSIM taps */
+    uint64_t taps = (100 + 100 + 4 * FV_METRICS_SSIM_RADIUS) * sizeof(size_t);
+    assert_true(fv_metrics_compare_bytes(100, 100, false, true) == 10000u * 80 + taps);
+    assert_true(fv_metrics_compare_bytes(100, 100, true, true) == 10000u * 128 + taps);
+    assert_true(fv_metrics_compare_bytes(100, 100, true, false) == 10000u * 104 + taps);
 }
 
 static void png_reads_as_srgb_values_with_alpha_dropped(void **state)
@@ -464,6 +568,8 @@ int main(void)
         cmocka_unit_test(pfm_write_then_read_round_trips_every_bit),
         cmocka_unit_test(pfm_errors_name_the_file_and_the_reason),
         cmocka_unit_test(image_files_that_cannot_be_read_are_named),
+        cmocka_unit_test(headers_give_size_and_cost_before_decoding),
+        cmocka_unit_test(png_data_inflating_past_its_rows_is_refused),
         cmocka_unit_test(png_reads_as_srgb_values_with_alpha_dropped),
         cmocka_unit_test(identical_images_have_infinite_psnr_ssim_1_and_no_mismatch),
         cmocka_unit_test(constant_offsets_give_the_known_psnr),

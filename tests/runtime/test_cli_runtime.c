@@ -2,13 +2,16 @@
  * the text, the latency budget on the simulated eye, missed frames when the render is over budget, deterministic
  * output, replay of a real recording, a source that outruns the display (latency bounded, stale samples dropped and
  * counted), a sim counter too narrow for its rate refused, and exit codes 2 (bad command line) and 1 (device cannot
- * open). */
+ * open); frame logs that are no frame logs (a FIFO, a directory, a device, an over-long header, out-of-range or
+ * overflowing values) refused with file:line and the reason. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "fv_test.h"
 
@@ -215,6 +218,56 @@ static void latency_command_line_errors_exit_2_and_device_errors_exit_1(void **s
     assert_contains(r.err, "/nonexistent/rec.csv");
 }
 
+/* `fovea latency --frame-log F` with what is no frame log: each refused with exit 1 and one clear reason naming the
+ * file (and line, column, limit where they apply), never a hang on a FIFO without a writer (run under timeout:
+ * exit 124 would be the hang), never a negative or overflowed gaze-to-photon percentile. */
+static void latency_frame_log_refuses_bad_files_with_file_line_and_reason(void **state)
+{
+    (void)state;
+    static run_result r;
+    char prog[1200], args[1400], fifo[1024], dir[1024];
+    snprintf(prog, sizeof prog, "timeout -k 5 20 '%s'", g_fovea);
+    snprintf(fifo, sizeof fifo, "%s", fv_test_tmp("nowriter.csv"));
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp("logdir.csv"));
+    mkdir(dir, 0700);
+    static const char head[] = "frame_id,has_gaze,fresh_gaze,late,device_lost,t_sample_capture_ns,t_photon_ns,"
+                               "t_vsync_ns,repeated_vsyncs\n";
+    char text[8192];
+    snprintf(text, sizeof text, "%s0,1,1,0,0,100,200,150,0\n1,1,1,0,0,100,200,150,4294967296\n", head);
+    char rep[1024], ovf[1024], neg[1024], longh[1024]; /* fv_test_tmp's buffers are reused: copies */
+    snprintf(rep, sizeof rep, "%s", fv_test_write_file("rep.csv", text, strlen(text)));
+    snprintf(text, sizeof text, "%s0,1,1,0,0,-9223372036854775000,9223372036854775000,5,0\n", head);
+    snprintf(ovf, sizeof ovf, "%s", fv_test_write_file("ovf.csv", text, strlen(text)));
+    snprintf(text, sizeof text, "%s0,1,1,0,0,300,200,150,0\n", head);
+    snprintf(neg, sizeof neg, "%s", fv_test_write_file("neg.csv", text, strlen(text)));
+    memset(text, 'x', 5000);
+    memcpy(text, "frame_id,", 9);
+    text[5000] = '\n';
+    snprintf(longh, sizeof longh, "%s", fv_test_write_file("longhead.csv", text, 5001));
+    struct {
+        const char *path, *why;
+    } cases[] = {
+        {fifo, "nowriter.csv: not a regular file: it is a FIFO"},
+        {dir, "logdir.csv: not a regular file: it is a directory"},
+        {"/dev/zero", "/dev/zero: not a regular file: it is a character device"},
+        {longh, "longhead.csv:1: the header line is 5000 bytes, longer than the limit of 4094"},
+        {rep, "rep.csv:3:9: column 'repeated_vsyncs' is 4294967296, outside 0..4294967295"},
+        {ovf, "ovf.csv:2: a gaze-to-photon latency past the 64-bit ns range (t_photon_ns 9223372036854775000, "
+              "t_sample_capture_ns -9223372036854775000)"},
+        {neg, "neg.csv:2: photons before the sample was captured: a negative gaze-to-photon latency"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(args, sizeof args, "latency --frame-log '%s' --json", cases[i].path);
+        fv_test_run_cmd(&r, NULL, prog, args);
+        if (r.exit_code != 1) fail_msg("case %zu exited %d, not 1:\n%s", i, r.exit_code, r.err);
+        assert_contains(r.err, cases[i].why);
+        assert_null(strstr(r.err, "runtime error"));
+        assert_int_equal(r.out[0], '\0');
+    }
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -231,6 +284,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(latency_stays_bounded_when_the_source_outruns_the_display),
         cmocka_unit_test(latency_refuses_a_sim_counter_that_wraps_faster_than_twice_the_sample_interval),
         cmocka_unit_test(latency_command_line_errors_exit_2_and_device_errors_exit_1),
+        cmocka_unit_test(latency_frame_log_refuses_bad_files_with_file_line_and_reason),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,7 @@
 /* @brief Shared command-line helpers for the fovea subcommands. */
 #include "cli.h"
 
+#include "fv_file.h"
 #include "fv_log.h"
 
 #include <cjson/cJSON.h>
@@ -230,44 +231,11 @@ int fv_cli_json_print(const cJSON *root, bool pretty)
 
 char *fv_cli_read_file(const char *cmd, const char *path, size_t max_bytes, size_t *out_len)
 {
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        fprintf(stderr, "fovea %s: %s: cannot open: %s\n", cmd, path, strerror(errno));
+    char *buf, why[FV_FILE_ERR_MAX];
+    if (fv_file_read(path, NULL, max_bytes, &buf, out_len, why, sizeof why) != FV_OK) {
+        fprintf(stderr, "fovea %s: %s\n", cmd, why);
         return NULL;
     }
-    if (S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "fovea %s: %s: is a directory, not a file\n", cmd, path);
-        return NULL;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        fprintf(stderr, "fovea %s: %s: not a regular file (a device, pipe or socket)\n", cmd, path);
-        return NULL;
-    }
-    if ((uint64_t)st.st_size > max_bytes) {
-        fprintf(stderr, "fovea %s: %s: %lld bytes, larger than the %zu-byte limit\n", cmd, path,
-                (long long)st.st_size, max_bytes);
-        return NULL;
-    }
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "fovea %s: %s: cannot open: %s\n", cmd, path, strerror(errno));
-        return NULL;
-    }
-    char *buf = malloc(max_bytes + 1);
-    size_t n = buf ? fread(buf, 1, max_bytes + 1, f) : 0;
-    bool err = ferror(f);
-    fclose(f);
-    if (!buf) {
-        fprintf(stderr, "fovea %s: %s: out of memory\n", cmd, path);
-        return NULL;
-    }
-    if (err || n > max_bytes) {
-        fprintf(stderr, "fovea %s: %s: %s\n", cmd, path, err ? "read error" : "grew past the size limit while read");
-        free(buf);
-        return NULL;
-    }
-    buf[n] = '\0';
-    *out_len = n;
     return buf;
 }
 

@@ -9,12 +9,14 @@
 
 #include "cli.h"
 #include "fovea/fv_frame_input.h"
+#include "fv_file.h"
 #include "fv_image_io.h"
 #include "fv_log.h"
 #include "fv_metrics.h"
 
 static const char g_usage[] =
-    "usage: fovea compare A B [--gaze X,Y | --gaze-deg YAW,PITCH] [--threshold T] [--layout sbs|mono] [--json]\n"
+    "usage: fovea compare A B [--gaze X,Y | --gaze-deg YAW,PITCH] [--threshold T] [--layout sbs|mono]\n"
+    "                         [--max-memory-mib M] [--json]\n"
     "  Compares image A with the reference B: both PNG (8-bit, read as sRGB in [0,1]; alpha ignored) or both PFM\n"
     "  (linear float), of the same size.\n"
     "  psnr      dB over the three sRGB channels, data range 1 (scikit-image's peak_signal_noise_ratio);\n"
@@ -37,7 +39,14 @@ static const char g_usage[] =
     "  --gaze-deg YAW,PITCH  the gaze direction in the head frame, degrees: yaw positive right, pitch positive up\n"
     "              (default: straight ahead, 0,0)\n"
     "  --threshold T  mismatch threshold, >= 0 (default 0: any difference)\n"
+    "  --max-memory-mib M  the memory budget of the comparison, MiB (default 1024): both files' bytes, both\n"
+    "              decoded images (12 bytes a pixel each; a PNG's decoder 9 more), the eccentricity map (4) and\n"
+    "              the metrics' scratch (80 bytes a pixel; PFM 128). Weighed from the files' headers before any\n"
+    "              pixel is decoded: about 126 bytes a pixel for PNGs (1024 MiB: 8.5 Mpx, e.g. 2 x 2048x2048),\n"
+    "              180 for PFMs. Larger images are refused, naming the estimate and the budget\n"
     "  --json      print one JSON object on stdout\n"
+    "  Only regular files are read (a FIFO, device or directory is refused, never waited on), each of at most\n"
+    "  1 GiB and the budget; images of at most 16384 pixels a side and 64 Mpx.\n"
     "  Exit status: 0 compared, 1 a file unreadable or the two not comparable, 2 bad command line.\n";
 
 typedef enum gaze_from { GAZE_DEFAULT, GAZE_PIXEL, GAZE_DEG } gaze_from;
@@ -50,7 +59,11 @@ typedef struct compare_opts {
     double threshold;
     layout layout;
     bool json;
+    uint64_t budget_bytes;
 } compare_opts;
+
+#define DEFAULT_BUDGET_MIB 1024
+#define MAX_BUDGET_MIB (1024 * 1024)
 
 /* Errors from the library, each one line: "fovea compare: <reason>". */
 static void error_sink(void *user, fv_log_level level, const char *module, const char *file, int line, const char *msg)
@@ -61,7 +74,7 @@ static void error_sink(void *user, fv_log_level level, const char *module, const
 
 static int parse_args(int argc, char **argv, compare_opts *o, bool *out_help)
 {
-    *o = (compare_opts){.threshold = 0.0};
+    *o = (compare_opts){.threshold = 0.0, .budget_bytes = (uint64_t)DEFAULT_BUDGET_MIB << 20};
     *out_help = false;
     int npos = 0;
     for (int i = 1; i < argc; i++) {
@@ -88,6 +101,12 @@ static int parse_args(int argc, char **argv, compare_opts *o, bool *out_help)
         } else if ((m = fv_cli_option(argc, argv, &i, "--threshold", &v)) != 0) {
             if (m < 0 || !fv_cli_parse_f64(v, 0.0, 3.4e38, &o->threshold))
                 return fv_cli_usage_error("compare", g_usage, "--threshold: '%s' is not a number >= 0", m < 0 ? "" : v);
+        } else if ((m = fv_cli_option(argc, argv, &i, "--max-memory-mib", &v)) != 0) {
+            int64_t mib;
+            if (m < 0 || !fv_cli_parse_i64(v, 1, MAX_BUDGET_MIB, &mib))
+                return fv_cli_usage_error("compare", g_usage, "--max-memory-mib: '%s' is not a whole number in 1..%d",
+                                          m < 0 ? "" : v, MAX_BUDGET_MIB);
+            o->budget_bytes = (uint64_t)mib << 20;
         } else if ((m = fv_cli_option(argc, argv, &i, "--layout", &v)) != 0) {
             if (m < 0 || (strcmp(v, "sbs") != 0 && strcmp(v, "mono") != 0))
                 return fv_cli_usage_error("compare", g_usage, "--layout: '%s' is not one of sbs, mono", m < 0 ? "" : v);
@@ -238,6 +257,32 @@ static void print_text(const compare_opts *o, const fv_rgb_image *a, const geome
     if (linear) printf("  relative error: |A - B| / max(|B|, %g) over every channel value\n", rep->rel_eps);
 }
 
+/* Read both files and weigh everything the comparison will hold against the budget, from their headers, before a
+ * pixel is decoded; then decode them. */
+static int read_images(const compare_opts *o, fv_rgb_image img[2])
+{
+    fv_image_file f[2] = {{0}};
+    int rc = FV_EXIT_FAIL;
+    if (fv_image_io_load(o->path[0], o->budget_bytes, &f[0]) != FV_OK ||
+        fv_image_io_load(o->path[1], o->budget_bytes - f[0].size, &f[1]) != FV_OK)
+        goto done;
+    const fv_image_info *a = &f[0].info, *b = &f[1].info;
+    uint64_t need = f[0].size + f[1].size + fv_image_io_decode_bytes(a) + fv_image_io_decode_bytes(b);
+    if (a->width == b->width && a->height == b->height && a->kind == b->kind) /* else refused before the metrics */
+        need += (uint64_t)a->width * a->height * sizeof(float) + /* the eccentricity map */
+                fv_metrics_compare_bytes(a->width, a->height, a->kind == FV_IMAGE_KIND_LINEAR, true);
+    char what[2 * FV_FILE_ERR_MAX];
+    snprintf(what, sizeof what, "%s (%ux%u %s) against %s (%ux%u %s)", o->path[0], a->width, a->height,
+             fv_image_kind_str(a->kind), o->path[1], b->width, b->height, fv_image_kind_str(b->kind));
+    if (fv_image_io_check_budget(what, need, o->budget_bytes, "(--max-memory-mib)") != FV_OK) goto done;
+    if (fv_image_io_decode(&f[0], &img[0]) != FV_OK || fv_image_io_decode(&f[1], &img[1]) != FV_OK) goto done;
+    rc = FV_EXIT_OK;
+done:
+    fv_image_file_fini(&f[0]);
+    fv_image_file_fini(&f[1]);
+    return rc;
+}
+
 int fv_cmd_compare(int argc, char **argv)
 {
     compare_opts o;
@@ -252,7 +297,7 @@ int fv_cmd_compare(int argc, char **argv)
     fv_rgb_image img[2] = {{0}};
     geometry g = {0};
     rc = FV_EXIT_FAIL;
-    if (fv_image_io_read(o.path[0], &img[0]) != FV_OK || fv_image_io_read(o.path[1], &img[1]) != FV_OK) goto done;
+    if (read_images(&o, img) != FV_EXIT_OK) goto done;
     fv_metrics_desc d = {.name_a = o.path[0], .name_b = o.path[1], .mismatch_threshold = o.threshold};
     bool same_size = img[0].width == img[1].width && img[0].height == img[1].height;
     if (same_size) { /* otherwise fv_metrics_compare says why they cannot be compared */

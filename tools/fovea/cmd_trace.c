@@ -4,10 +4,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "cli_interrupt.h"
 #include "fv_clock.h"
+#include "fv_file.h"
 #include "fv_log.h"
 #include "fv_trace.h"
 #include "tool_devices.h"
@@ -145,9 +147,13 @@ static int cmd_info(int argc, char **argv)
         fv_log_set_level("trace", FV_LOG_LEVEL_WARN);
         double secs = (double)(t1 - t0) / 1e9;
         if (secs > 0) rows_per_s = (double)rows / secs;
-        FILE *f = fopen(file, "rb");
-        if (f && fseek(f, 0, SEEK_END) == 0 && secs > 0) mb_per_s = (double)ftell(f) * (double)bench_passes / secs / 1e6;
-        if (f) fclose(f);
+        int fd; /* the size through fv_file: a FIFO is not opened again (that open would wait for a new writer) */
+        uint64_t size;
+        char why[FV_FILE_ERR_MAX];
+        if (secs > 0 && fv_file_open(file, NULL, UINT64_MAX, &fd, &size, why, sizeof why) == FV_OK) {
+            close(fd);
+            mb_per_s = (double)size * (double)bench_passes / secs / 1e6;
+        }
     }
 
     double dur_s = ((double)s.t_last_ns - (double)s.t_first_ns) / 1e9; /* no int64 overflow on hostile files */

@@ -7,13 +7,17 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "fv_file.h"
 #include "fv_gaze_pipeline.h"
 #include "fv_log.h"
 
 #define MOD "frame-log"
 #define MAX_ROWS 10000000u
-#define LINE_MAX_BYTES 4096
+#define LINE_MAX_BYTES 4096 /* a line of at most 4094 bytes, its newline (\r\n) and the NUL */
+/* The largest frame log read: MAX_ROWS rows of about 400 bytes; refused from its size before a byte is read. */
+#define FRAME_LOG_MAX_BYTES ((uint64_t)4 << 30)
 
 enum {
     C_FRAME, C_HAS_GAZE, C_FRESH, C_LATE, C_LOST, C_EVENT, C_SEQ,
@@ -127,6 +131,21 @@ static int split(char *line, char **f, int cap)
     }
 }
 
+/* A line fgets left unfinished (the buffer full, no newline, the file goes on) is read on to its end without being
+ * kept: its length, without the newline (the file's size bounds the work). 0 for a line that fits. */
+static uint64_t over_long(const char *line, size_t cap, FILE *fp)
+{
+    size_t len = strlen(line);
+    if (len < cap - 1 || line[len - 1] == '\n') return 0;
+    int c = fgetc(fp);
+    if (c == EOF) return 0; /* the last line, exactly as long as the buffer allows, without a newline */
+    uint64_t n = len;
+    int prev = (unsigned char)line[len - 1];
+    for (; c != EOF && c != '\n'; c = fgetc(fp)) n++, prev = c;
+    if (c == '\n' && prev == '\r') n--; /* the CR of a CRLF is not counted */
+    return n > cap - 2 ? n : 0;
+}
+
 typedef struct rd {
     const char *path;
     uint64_t line;
@@ -179,10 +198,19 @@ void run_frame_log_fini(run_frame_log *log)
 fv_result run_frame_log_read(const char *path, run_frame_log *out)
 {
     memset(out, 0, sizeof *out);
-    FILE *fp = fopen(path, "r");
+    int fd;
+    uint64_t size;
+    char err[FV_FILE_ERR_MAX];
+    fv_result opened = fv_file_open(path, "the frame log", FRAME_LOG_MAX_BYTES, &fd, &size, err, sizeof err);
+    if (opened != FV_OK) {
+        FV_ERROR(MOD, "%s", err);
+        return opened;
+    }
+    FILE *fp = fdopen(fd, "r");
     if (!fp) {
         FV_ERROR(MOD, "%s: cannot open the frame log: %s", path, strerror(errno));
-        return errno == ENOENT ? FV_ERR_NOT_FOUND : FV_ERR_IO;
+        close(fd);
+        return FV_ERR_IO;
     }
     static char line[LINE_MAX_BYTES];
     char *f[C_COUNT + 16];
@@ -192,6 +220,12 @@ fv_result run_frame_log_read(const char *path, run_frame_log *out)
     size_t cap = 0;
     if (!fgets(line, sizeof line, fp)) {
         FV_ERROR(MOD, "%s: empty file: not a frame log (write one with fovea run --frame-log FILE.csv)", path);
+        goto fail;
+    }
+    uint64_t long_line = over_long(line, sizeof line, fp);
+    if (long_line) {
+        FV_ERROR(MOD, "%s:1: the header line is %llu bytes, longer than the limit of %d: not a frame log of fovea "
+                 "run --frame-log", path, (unsigned long long)long_line, LINE_MAX_BYTES - 2);
         goto fail;
     }
     int nh = split(line, f, C_COUNT + 16);
@@ -209,9 +243,9 @@ fv_result run_frame_log_read(const char *path, run_frame_log *out)
         }
     while (fgets(line, sizeof line, fp)) {
         r.line++;
-        size_t len = strlen(line);
-        if (len == sizeof line - 1 && line[len - 1] != '\n') {
-            FV_ERROR(MOD, "%s:%llu: line longer than %d bytes", path, (unsigned long long)r.line, LINE_MAX_BYTES);
+        if ((long_line = over_long(line, sizeof line, fp)) != 0) {
+            FV_ERROR(MOD, "%s:%llu: the line is %llu bytes, longer than the limit of %d", path,
+                     (unsigned long long)r.line, (unsigned long long)long_line, LINE_MAX_BYTES - 2);
             goto fail;
         }
         if (line[0] == '\n' || line[0] == '\0') continue;
@@ -270,11 +304,20 @@ fv_result run_frame_log_read(const char *path, run_frame_log *out)
             l->target_vsync = (uint64_t)v;
             if (!get_i64(&r, f, col, C_SHOWN_VSYNC, false, &v)) goto fail;
             l->shown_vsync = (uint64_t)v;
-            if (!get_i64(&r, f, col, C_REPEATED, false, &v) || v < 0 || v > UINT32_MAX) goto fail;
+            if (!get_i64(&r, f, col, C_REPEATED, false, &v)) goto fail;
+            if (v < 0 || v > UINT32_MAX) {
+                FV_ERROR(MOD, "%s:%llu:%d: column '%s' is %lld, outside 0..%u", path, (unsigned long long)r.line,
+                         col[C_REPEATED] + 1, g_cols[C_REPEATED], (long long)v, UINT32_MAX);
+                goto fail;
+            }
             l->repeated_vsyncs = (uint32_t)v;
-            if (l->has_gaze && l->t_photon_ns < l->t_sample_capture_ns) {
-                FV_ERROR(MOD, "%s:%llu: photons (t_photon_ns) before the sample was captured (t_sample_capture_ns)",
-                         path, (unsigned long long)r.line);
+            int64_t g2p = fv_latency_gaze_to_photon_ns(l); /* saturated */
+            if (l->has_gaze && (g2p < 0 || g2p == INT64_MAX)) {
+                FV_ERROR(MOD, "%s:%llu: %s (t_photon_ns %lld, t_sample_capture_ns %lld)", path,
+                         (unsigned long long)r.line,
+                         g2p < 0 ? "photons before the sample was captured: a negative gaze-to-photon latency"
+                                 : "a gaze-to-photon latency past the 64-bit ns range",
+                         (long long)l->t_photon_ns, (long long)l->t_sample_capture_ns);
                 goto fail;
             }
         }
