@@ -232,10 +232,12 @@ int fv_cli_json_print(const cJSON *root, bool pretty)
 char *fv_cli_read_file(const char *cmd, const char *path, size_t max_bytes, size_t *out_len)
 {
     char *buf, why[FV_FILE_ERR_MAX];
-    if (fv_file_read(path, NULL, max_bytes, &buf, out_len, why, sizeof why) != FV_OK) {
+    size_t len = 0; /* out_len may be NULL */
+    if (fv_file_read(path, NULL, max_bytes, &buf, &len, why, sizeof why) != FV_OK) {
         fprintf(stderr, "fovea %s: %s\n", cmd, why);
         return NULL;
     }
+    if (out_len) *out_len = len;
     return buf;
 }
 

@@ -8,6 +8,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli.h"
+#include "tool_image.h"
 #include "fovea/fv_frame_input.h"
 #include "fv_file.h"
 #include "fv_image_io.h"
@@ -18,7 +19,9 @@ static const char g_usage[] =
     "usage: fovea compare A B [--gaze X,Y | --gaze-deg YAW,PITCH] [--threshold T] [--layout sbs|mono]\n"
     "                         [--max-memory-mib M] [--json]\n"
     "  Compares image A with the reference B: both PNG (8-bit, read as sRGB in [0,1]; alpha ignored) or both PFM\n"
-    "  (linear float), of the same size.\n"
+    "  (linear float), of the same size. Images `fovea run` and `fovea reference` wrote carry their settings in a\n"
+    "  .json beside them: when both do and their eye size, layout, view or lens differ (or the exposure, for\n"
+    "  PNGs), the comparison is refused (exit 2); one without it is compared with a warning.\n"
     "  psnr      dB over the three sRGB channels, data range 1 (scikit-image's peak_signal_noise_ratio);\n"
     "            identical sRGB values: 'inf' in text, null in JSON (\"psnr_infinite\": true)\n"
     "  ssim      on luma Y' = 0.299 R' + 0.587 G' + 0.114 B', Gaussian window sigma 1.5 (11x11), K1 0.01, K2 0.03,\n"
@@ -292,6 +295,14 @@ int fv_cmd_compare(int argc, char **argv)
     if (help) {
         fputs(g_usage, stdout);
         return FV_EXIT_OK;
+    }
+    { /* the settings beside the images (fovea run / reference write them): refuse a comparison of different things */
+        char why[1024], note[1024];
+        if (!fv_tool_image_comparable(o.path[0], o.path[1], why, sizeof why, note, sizeof note)) {
+            fprintf(stderr, "fovea compare: %s\n", why);
+            return FV_EXIT_USAGE;
+        }
+        if (note[0]) fprintf(stderr, "fovea compare: warning: %s\n", note);
     }
     fv_log_set_sink(error_sink, NULL);
     fv_rgb_image img[2] = {{0}};
