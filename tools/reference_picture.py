@@ -39,7 +39,7 @@ def main():
         for ext in ("png", "pfm"):
             j = json.loads(run([a.fovea, "compare", f"{gpu}/frame_00000.{ext}", f"{ref}/frame_00000.{ext}",
                                 "--json"]))
-            print(f"{ext}: PSNR {j['all']['psnr_db']:.2f} dB, SSIM {j['all']['ssim']:.5f}")
+            print(f"{ext}: PSNR {j['psnr_db']:.2f} dB, SSIM {j['ssim']:.5f}")
         g = io.imread(f"{gpu}/frame_00000.png")[..., :3].astype(np.float64)
         r = io.imread(f"{ref}/frame_00000.png")[..., :3].astype(np.float64)
     w = g.shape[1] // 2
