@@ -9,6 +9,9 @@
 
 #include "fv_gi_interface.glsl"
 
+// The gather a pipeline has compiled in (fv_gpu.h FV_SPEC_ID_GI_MODE): every mode by default, none or one.
+layout(constant_id = FV_SPEC_ID_GI_MODE) const int FV_SPEC_GI_MODE = FV_SPEC_GI_ANY;
+
 layout(std430, set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_HEADER) readonly buffer FvGiHeader {
     fv_gi_header gi;
     fv_gi_cluster gi_cut[];
@@ -33,7 +36,7 @@ uint fv_gi_noted_pixels = 0u;
 void fv_gi_stats_note(uint used)
 {
 #ifdef FV_GI_STATS
-    if (gi.counts.x == 0u) return; // GI off: no gather ran
+    if (FV_SPEC_GI_MODE == FV_SPEC_GI_OFF || gi.counts.x == 0u) return; // GI off: no gather ran
     fv_gi_noted_clusters += used;
     fv_gi_noted_pixels++;
 #endif
@@ -43,8 +46,8 @@ void fv_gi_stats_flush()
 {
 #ifdef FV_GI_STATS
     // With GI off the stats binding is the slot's dummy: never written. counts.x is the same for every invocation,
-    // so this returns for the whole subgroup or for none of it.
-    if (gi.counts.x == 0u) return;
+    // so this returns for the whole subgroup or for none of it (a pipeline without GI has no counting at all).
+    if (FV_SPEC_GI_MODE == FV_SPEC_GI_OFF || gi.counts.x == 0u) return;
 #if FV_GI_STATS == FV_GI_STATS_SUBGROUP
     uint pixels = subgroupAdd(fv_gi_noted_pixels);
     uint sum = subgroupAdd(fv_gi_noted_clusters); // < 2^32: at most 2^21 per pixel (every VPL of two 1024^2 RSMs)
@@ -189,8 +192,9 @@ uint fv_gi_cut_refined(uint count, float tau2, vec3 x, vec3 n, inout vec3 e)
 vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
 {
     used = 0u;
-    if (gi.counts.x == 0u) return vec3(0.0);
-    uint mode = gi.counts.y;
+    if (FV_SPEC_GI_MODE == FV_SPEC_GI_OFF || gi.counts.x == 0u) return vec3(0.0);
+    // a pipeline specialised for one mode keeps only that mode's loop (the header says the same mode)
+    uint mode = FV_SPEC_GI_MODE >= 0 ? uint(FV_SPEC_GI_MODE) : gi.counts.y;
     uint lights = min(gi.counts.z, uint(FV_GI_MAX_LIGHTS));
     uint N = max(gi.tree.x, 1u);
     uint levels = min(gi.tree.y, uint(FV_GI_MAX_LEVELS));

@@ -49,6 +49,16 @@ struct fv_gpu_frame {
 
 /** Debug views (fv_gpu_frame.photon.z; fv_quality.debug_view). */
 #define FV_GPU_DEBUG_VIEW_NONE 0
+/* Specialization constant ids of the shared shading function (fv_shade_hooks.glsl, fv_gi_gather.glsl,
+ * fv_sss_gather.glsl): a pipeline that knows a technique is off this frame compiles without its code (issue 25).
+ * Id 0 stays the including shader's own (a debug view, a stage). Unset, each keeps its default: every technique in,
+ * chosen at run time from the headers, as before. */
+#define FV_SPEC_ID_GI_MODE 1 /* int: -2 any (run time), -1 GI off, else the one gi.mode compiled in */
+#define FV_SPEC_ID_SSS 2     /* bool: the subsurface term compiled in */
+#define FV_SPEC_ID_SHADOWS 3 /* bool: shadow-map lookups compiled in */
+#define FV_SPEC_GI_ANY (-2)
+#define FV_SPEC_GI_OFF (-1)
+
 #define FV_GPU_DEBUG_VIEW_NORMAL 1  /* world normal * 0.5 + 0.5 */
 #define FV_GPU_DEBUG_VIEW_GAZE 2    /* r: closeness to the predicted gaze ray, g: pupil mm / 10, b: gaze valid */
 #define FV_GPU_DEBUG_VIEW_DIRECT 3  /* direct light only (visibility x irradiance x BRDF): no emission, no ambient */

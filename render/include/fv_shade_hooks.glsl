@@ -10,9 +10,12 @@
 // pixel's view depth, a depth compare over (2r+1)^2 texels (r = 0: one tap). 1 where the light has no map or the
 // point lies outside it. Requires the shading inputs set (FV_SHADE_INPUTS_DECLARE, fv_shade_inputs_interface.h).
 // The shadow map of light `light` that holds the surface (its split for cascades), or -1 when the light has none.
+layout(constant_id = FV_SPEC_ID_SHADOWS) const bool FV_SPEC_SHADOWS = true;
+
 int fv_shadow_map_of(uint light, fv_surface s, out uint split)
 {
     split = 0u;
+    if (!FV_SPEC_SHADOWS) return -1; // specialised without shadows: every light is unoccluded, as with no maps
     if (light >= min(shadow.counts.x, uint(FV_SHADOW_MAX_LIGHTS))) return -1;
     fv_gpu_shadow_light L = shadow.light[light];
     if (L.info.x == FV_SHADOW_KIND_NONE) return -1;

@@ -144,8 +144,11 @@ vec3 fv_sss_kernel(fv_sss_dipole d, float dist, float area, bool soft)
 }
 
 // Whether the surface's light is carried by the dipole (a translucent material with a map this frame).
+layout(constant_id = FV_SPEC_ID_SSS) const bool FV_SPEC_SSS = true;
+
 bool fv_sss_active(fv_surface s)
 {
+    if (!FV_SPEC_SSS) return false; // specialised without SSS: the dipole's code is not compiled in
     uint maps = min(sss_header.counts.x, uint(FV_SSS_GPU_MAX_LAYERS));
     if (maps == 0u || !s.hit || (materials[s.material].info.y & 1u) == 0u) return false;
     for (uint l = 0u; l < maps; l++)

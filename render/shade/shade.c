@@ -17,10 +17,22 @@ _Static_assert(FV_SHADE_BINDING_NORMAL == FV_SHADE_BINDING_DEPTH + 1 && FV_SHADE
                    FV_SHADE_BINDING_MATERIAL == FV_SHADE_BINDING_DEPTH + 3,
                "fv_images_bind_gbuffer writes depth, normal, albedo, material in a row");
 
+/* Pipelines specialised per feature set (fv_gpu.h FV_SPEC_ID_*): GI mode or off, SSS, shadows. */
+#define SHADE_GI_KEYS (FV_GI_EXACT + 3) /* any, off, and each mode */
+#define SHADE_VARIANTS (SHADE_GI_KEYS * 2 * 2)
+
 typedef struct shade {
     fv_vk *vk;
     uint32_t width, height, slots;
-    fv_vk_compute cs;
+    fv_vk_compute cs;                 /* layout and sets; its pipelines are the variants below, made on first use */
+    const uint32_t *code;
+    size_t code_size;
+    VkPipeline variant[SHADE_VARIANTS];
+    bool variant_failed[SHADE_VARIANTS];
+    uint32_t variants_made;
+    int32_t last_spec[3]; /* what the last recorded frame's pipeline has compiled in: GI mode, SSS, shadows */
+    bool have_last;
+    bool translucent; /* the scene has a translucent material that a drawn mesh uses: the dipole may be needed */
     VkSampler nearest;
     fv_vk_buffer empty_list;                    /* a list with count 0, bound while no list is given */
     VkBuffer bound_list[FV_MAX_FRAMES_IN_FLIGHT]; /* what each slot's set points at */
@@ -53,6 +65,9 @@ static void shade_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         n += snprintf(what + n, sizeof what - (size_t)n, " + %u emissive material%s", emissive, plural(emissive));
     if (ambient && n > 0 && (size_t)n < sizeof what) snprintf(what + n, sizeof what - (size_t)n, " + ambient");
     out->enabled = true;
+    /* variant 1: a drawn mesh is translucent, so the pipelines keep the dipole's code (with sss.enabled); a scene
+     * that changes this starts the pass again */
+    out->variant = fv_scene_has_translucency(s) ? 1u : 0u;
     snprintf(out->reason, sizeof out->reason, "%s%s", what,
              (!lights && !emissive && !ambient) ? " — nothing emits light: black" : "");
 }
@@ -61,6 +76,8 @@ static void shade_fini(void *state)
 {
     shade *sh = state;
     if (!sh) return;
+    for (uint32_t v = 0; v < SHADE_VARIANTS; v++)
+        if (sh->variant[v]) vkDestroyPipeline(sh->vk->device, sh->variant[v], NULL);
     fv_vk_compute_fini(sh->vk, &sh->cs);
     if (sh->nearest) vkDestroySampler(sh->vk->device, sh->nearest, NULL);
     fv_vk_buffer_destroy(sh->vk, &sh->empty_list);
@@ -88,6 +105,7 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
     sh->width = env->width;
     sh->height = env->height;
     sh->slots = env->slots;
+    sh->translucent = env->plan && env->plan->variant == 1u; /* shade_plan */
     fv_vk *vk = env->vk;
     const fv_vk_image *color;
     fv_result res = fv_images_get_gbuffer(env->images);
@@ -130,7 +148,9 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
                              .code_size = subgroups ? sizeof fv_spv_shade_comp : sizeof fv_spv_shade_atomic_comp,
                              .shared_sets = shared, .shared_set_count = 2, .bindings = b,
                              .binding_count = FV_SHADE_BINDING_COUNT, .set_count = env->slots,
-                             .push_bytes = sizeof(struct fv_shade_push)};
+                             .push_bytes = sizeof(struct fv_shade_push), .lazy = true};
+    sh->code = cd.code;
+    sh->code_size = cd.code_size;
     if (res == FV_OK) res = fv_vk_compute_init(vk, &cd, &sh->cs);
     for (uint32_t i = 0; res == FV_OK && i < env->slots; i++) {
         VkDescriptorSet set = sh->cs.sets[i];
@@ -146,6 +166,67 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
     }
     *out_state = sh;
     return FV_OK;
+}
+
+/* The feature set a frame's quality leaves on, as the specialisation constants' values (constant id i = spec[i]; id 0
+ * unused here) and an index into the variants. Off is decided from the knobs only: a technique that is on but finds
+ * nothing to do (GI without a spot light) keeps its code and returns early from its header, as before. */
+static uint32_t variant_of(const fv_quality *q, bool translucent, uint32_t spec[4])
+{
+    int32_t gi = !q->gi.enabled ? FV_SPEC_GI_OFF : (uint32_t)q->gi.mode <= FV_GI_EXACT ? (int32_t)q->gi.mode
+                                                                                           : FV_SPEC_GI_ANY;
+    bool sss = q->sss.enabled && translucent, shadows = q->shadow.enabled;
+    spec[0] = 0;
+    spec[FV_SPEC_ID_GI_MODE] = (uint32_t)gi;
+    spec[FV_SPEC_ID_SSS] = sss;
+    spec[FV_SPEC_ID_SHADOWS] = shadows;
+    return ((uint32_t)(gi - FV_SPEC_GI_ANY) * 2u + (sss ? 1u : 0u)) * 2u + (shadows ? 1u : 0u);
+}
+
+const char *fv_shade_variant_name(const fv_quality *q, bool translucent, char *buf, size_t size)
+{
+    uint32_t spec[4];
+    (void)variant_of(q, translucent, spec);
+    int32_t gi = (int32_t)spec[FV_SPEC_ID_GI_MODE];
+    snprintf(buf, size, "gi=%s sss=%s shadows=%s",
+             gi == FV_SPEC_GI_OFF ? "off" : gi == FV_SPEC_GI_ANY ? "any" : (const char *[]){"cut", "traverse", "bound", "rsm_sampling", "exact"}[gi],
+             spec[FV_SPEC_ID_SSS] ? "on" : "off", spec[FV_SPEC_ID_SHADOWS] ? "on" : "off");
+    return buf;
+}
+
+/* The pipeline of the frame's feature set, made on first use; VK_NULL_HANDLE after a failure (logged once). */
+static VkPipeline pipeline_for(shade *sh, const fv_quality *q)
+{
+    uint32_t spec[4];
+    uint32_t v = variant_of(q, sh->translucent, spec);
+    if (v >= SHADE_VARIANTS) return VK_NULL_HANDLE;
+    if (!sh->variant[v] && !sh->variant_failed[v]) {
+        char name[96], what[64];
+        snprintf(name, sizeof name, "shade (%s)", fv_shade_variant_name(q, sh->translucent, what, sizeof what));
+        if (FV_FAILED(fv_vk_compute_pipeline(sh->vk, sh->code, sh->code_size, sh->cs.layout, spec, 4, name,
+                                             &sh->variant[v]))) {
+            FV_ERROR(MOD, "%s: the pipeline could not be made; those frames stay unshaded", name);
+            sh->variant_failed[v] = true;
+            sh->variant[v] = VK_NULL_HANDLE;
+        }
+        sh->variants_made++;
+    }
+    sh->last_spec[0] = (int32_t)spec[FV_SPEC_ID_GI_MODE];
+    sh->last_spec[1] = (int32_t)spec[FV_SPEC_ID_SSS];
+    sh->last_spec[2] = (int32_t)spec[FV_SPEC_ID_SHADOWS];
+    sh->have_last = true;
+    return sh->variant[v];
+}
+
+static uint32_t shade_details(void *state, fv_pass_detail *out, uint32_t cap)
+{
+    shade *sh = state;
+    uint32_t n = 0;
+    /* what the running pipeline has compiled in (-1 GI off, -2 every mode chosen at run time, else the mode) */
+    if (sh->have_last)
+        n = fv_pass_detail_add(out, n, cap, "compiled_gi_mode_sss_shadows", 3, sh->last_spec[0], sh->last_spec[1],
+                               sh->last_spec[2]);
+    return fv_pass_detail_add(out, n, cap, "pipelines_made", 1, sh->variants_made, 0, 0);
 }
 
 static void shade_record(void *state, const fv_pass_frame *f)
@@ -175,7 +256,13 @@ static void shade_record(void *state, const fv_pass_frame *f)
     pc.groups_x = total < max_x ? total : max_x;
     pc.mode = list ? FV_SHADE_MODE_LIST : FV_SHADE_MODE_ALL;
     VkDescriptorSet shared[2] = {f->scene_set, fv_shade_inputs_set(f->shade_inputs, f->slot)};
-    fv_vk_compute_bind(&sh->cs, cmd, 0, shared, 2, f->slot, &pc);
+    fv_quality q = f->input ? f->input->quality : fv_quality_default();
+    VkPipeline pipe = pipeline_for(sh, &q);
+    if (!pipe) {
+        fv_vk_label_end(sh->vk, cmd);
+        return;
+    }
+    fv_vk_compute_bind_pipeline(&sh->cs, cmd, pipe, shared, 2, f->slot, &pc);
     if (list) {
         if (list->indirect) vkCmdDispatchIndirect(cmd, list->indirect, list->indirect_offset);
         if (list->count_on_gpu) f->counters->gpu_lists++; /* the renderer adds the list's size after the frame */
@@ -195,4 +282,5 @@ const fv_pass fv_shade_pass = {
     .init = shade_init,
     .record = shade_record,
     .fini = shade_fini,
+    .details = shade_details,
 };

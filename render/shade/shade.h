@@ -7,6 +7,11 @@
 
 #include "fv_pass.h"
 
+/** The feature set the shade pass's pipeline is specialised for under quality q in a scene with (translucent) or
+ *  without a translucent material (the techniques compiled in: GI mode or off, SSS, shadows), e.g.
+ *  "gi=off sss=off shadows=off", into buf. */
+const char *fv_shade_variant_name(const fv_quality *q, bool translucent, char *buf, size_t size);
+
 /** The pass's entry in the renderer's table. */
 extern const fv_pass fv_shade_pass;
 

@@ -311,6 +311,9 @@ typedef struct fv_vk_compute_desc {
     const uint32_t *spec;                     /* variant_count x spec_count uint32 values (constant ids 0..) */
     uint32_t spec_count;
     uint32_t variant_count;                   /* pipelines to build (0 = 1) */
+    bool lazy;                                /* build no pipeline: the pass makes its variants on first use
+                                               * (fv_vk_compute_pipeline with c->layout) and binds them with
+                                               * fv_vk_compute_bind_pipeline */
 } fv_vk_compute_desc;
 
 #define FV_VK_COMPUTE_MAX_VARIANTS 4
@@ -335,6 +338,10 @@ void fv_vk_compute_fini(fv_vk *vk, fv_vk_compute *c);
  *  `push` (push_bytes of it; NULL = none). */
 void fv_vk_compute_bind(const fv_vk_compute *c, VkCommandBuffer cmd, uint32_t variant, const VkDescriptorSet *shared,
                         uint32_t shared_count, uint32_t set_index, const void *push);
+/** The same with a pipeline the pass made itself (a lazy variant, compatible with c->layout). */
+void fv_vk_compute_bind_pipeline(const fv_vk_compute *c, VkCommandBuffer cmd, VkPipeline pipeline,
+                                 const VkDescriptorSet *shared, uint32_t shared_count, uint32_t set_index,
+                                 const void *push);
 
 /* ---- per-pass GPU timestamps --------------------------------------------------------------------------------- */
 

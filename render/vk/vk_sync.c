@@ -49,7 +49,7 @@ fv_result fv_vk_compute_init(fv_vk *vk, const fv_vk_compute_desc *d, fv_vk_compu
     if (res == FV_OK)
         res = fv_vk_pipeline_layout(vk, layouts, d->shared_set_count + 1, d->push_bytes, VK_SHADER_STAGE_COMPUTE_BIT,
                                     label, &c->layout);
-    for (uint32_t v = 0; res == FV_OK && v < variants; v++) {
+    for (uint32_t v = 0; res == FV_OK && !d->lazy && v < variants; v++) {
         snprintf(label, sizeof label, variants > 1 ? "%s (variant %u)" : "%s", name, v);
         res = fv_vk_compute_pipeline(vk, d->code, d->code_size, c->layout, d->spec ? d->spec + v * d->spec_count : NULL,
                                      d->spec_count, label, &c->pipelines[v]);
@@ -99,7 +99,14 @@ void fv_vk_compute_bind(const fv_vk_compute *c, VkCommandBuffer cmd, uint32_t va
                         uint32_t shared_count, uint32_t set_index, const void *push)
 {
     if (variant >= c->variant_count) variant = 0;
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipelines[variant]);
+    fv_vk_compute_bind_pipeline(c, cmd, c->pipelines[variant], shared, shared_count, set_index, push);
+}
+
+void fv_vk_compute_bind_pipeline(const fv_vk_compute *c, VkCommandBuffer cmd, VkPipeline pipeline,
+                                 const VkDescriptorSet *shared, uint32_t shared_count, uint32_t set_index,
+                                 const void *push)
+{
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     VkDescriptorSet sets[4];
     uint32_t n = 0;
     for (uint32_t i = 0; i < shared_count && i < c->own_set; i++) sets[n++] = shared[i];

@@ -1,7 +1,8 @@
 /* @brief One model on both sides (issue 24): for every built-in scene and every file in scenes/, `fovea run
  * --quality exact` and `fovea reference` with the same options render the same image: PSNR >= 30 dB and SSIM >= 0.98
  * on the PNGs (through the default HMD's lens, and with --hmd none) and on the PFMs (linear, undistorted); the gi and
- * sss views alone against the reference's; and the settings that travel beside each image agree. */
+ * sss views alone against the reference's; and the settings that travel beside each image agree. And the shade pass's
+ * pipeline compiles only the techniques that are on (issue 25), checked by the variant it reports. */
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <math.h>
@@ -159,6 +160,47 @@ static void images_of_different_settings_are_refused(void **state)
     assert_int_equal(r.exit_code, 0);
 }
 
+/* The shade pass compiles only what is on (issue 25): the feature set of its running pipeline, from --explain's
+ * details (GI mode or -1 off, SSS, shadows), follows the knobs and the scene; a technique that is off is not in it. */
+static void the_shade_pipeline_holds_only_what_is_on(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *args;
+        int gi, sss, shadows;
+    } cases[] = {
+        {"--scene cornell", 0, 0, 1}, /* no translucent material: no dipole code even with sss.enabled */
+        {"--scene cornell-translucent", 0, 1, 1},
+        {"--scene cornell-translucent --set sss.enabled=off", 0, 0, 1},
+        {"--set gi.enabled=off --set shadow.enabled=off", -1, 0, 0},
+        {"--quality exact", 4, 0, 1},
+        {"--set gi.mode=rsm_sampling", 3, 0, 1},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char args[1024];
+        snprintf(args, sizeof args, "run --eye-size 16x16 --json --explain %s", cases[k].args);
+        static fv_test_cmd r;
+        fv_test_run_cmd(&r, NULL, g_fovea, args);
+        if (r.exit_code != 0) fail_msg("fovea %s exited %d:\n%s", args, r.exit_code, r.err);
+        cJSON *j = cJSON_Parse(r.out);
+        assert_non_null(j);
+        const cJSON *e, *found = NULL;
+        cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(j, "plan")) {
+            const cJSON *pass = cJSON_GetObjectItemCaseSensitive(e, "pass");
+            if (cJSON_IsString(pass) && !strcmp(pass->valuestring, "shade")) found = e;
+        }
+        const cJSON *d = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(found, "details"),
+                                                          "compiled_gi_mode_sss_shadows");
+        if (cJSON_GetArraySize(d) != 3) fail_msg("%s: no compiled_gi_mode_sss_shadows in the shade pass's details", args);
+        int got[3];
+        for (int i = 0; i < 3; i++) got[i] = (int)cJSON_GetArrayItem(d, i)->valuedouble;
+        if (got[0] != cases[k].gi || got[1] != cases[k].sss || got[2] != cases[k].shadows)
+            fail_msg("%s: the shade pipeline has gi %d, sss %d, shadows %d compiled in; want %d, %d, %d", args, got[0],
+                     got[1], got[2], cases[k].gi, cases[k].sss, cases[k].shadows);
+        cJSON_Delete(j);
+    }
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -167,6 +209,7 @@ int main(int argc, char **argv)
     }
     g_fovea = argv[1];
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(the_shade_pipeline_holds_only_what_is_on),
         cmocka_unit_test(images_of_different_settings_are_refused),
         cmocka_unit_test(builtin_scenes_match_their_reference),
         cmocka_unit_test(gi_and_sss_views_match_their_reference),
