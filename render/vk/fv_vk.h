@@ -131,7 +131,17 @@ typedef struct fv_vk {
     PFN_vkCmdEndDebugUtilsLabelEXT cmd_label_end;
     const char *optional_enabled[FV_VK_MAX_EXTENSIONS]; /* the optional device extensions this device enabled */
     uint32_t optional_enabled_count;
+    VkPipelineCache pipeline_cache; /* every pipeline is made through it; loaded from and saved to the file below */
+    char pipeline_cache_path[1024]; /* "" = no file (FOVEA_PIPELINE_CACHE=off, or no cache directory) */
+    size_t pipeline_cache_loaded_bytes;
+    uint32_t pipelines_created;     /* this run: the file is written back only when it may have grown */
 } fv_vk;
+
+/** The pipeline cache: $FOVEA_PIPELINE_CACHE (a file; off or 0: none), else $XDG_CACHE_HOME/fovea/ or
+ *  ~/.cache/fovea/pipelines-VENDOR-DEVICE-DRIVER.bin. A file whose header is not this device's and driver's, or that
+ *  cannot be read, is ignored with one warning. Called by fv_vk_create; save by fv_vk_destroy. */
+void fv_vk_pipeline_cache_open(fv_vk *vk);
+void fv_vk_pipeline_cache_save(fv_vk *vk);
 
 /** Create instance, messenger, device, queue and pool. Logs why when no device qualifies. */
 FV_MUST_CHECK fv_result fv_vk_create(const fv_vk_desc *desc, fv_vk **out_vk);

@@ -564,6 +564,7 @@ fv_result fv_vk_create(const fv_vk_desc *desc_in, fv_vk **out_vk)
     FV_VK_CHECK_GOTO(vkCreateFence(vk->device, &fci, NULL, &vk->oneshot_fence), res, fail);
     FV_VK_NAME(vk, VK_OBJECT_TYPE_FENCE, vk->oneshot_fence, "vk one-shot fence");
 
+    fv_vk_pipeline_cache_open(vk);
     vk->memory_budget_bytes = desc.memory_budget_bytes;
     if (!vk->memory_budget_bytes) {
         uint64_t heap = vk->info.device_local_bytes ? vk->info.device_local_bytes : (uint64_t)1 << 30;
@@ -589,6 +590,7 @@ void fv_vk_destroy(fv_vk **pvk)
         if (vk->allocation_count)
             FV_WARN(MOD, "%u device allocations (%llu bytes) still live at device destruction", vk->allocation_count,
                     (unsigned long long)vk->memory_bytes);
+        fv_vk_pipeline_cache_save(vk);
         if (vk->oneshot_fence) vkDestroyFence(vk->device, vk->oneshot_fence, NULL);
         if (vk->pool) vkDestroyCommandPool(vk->device, vk->pool, NULL);
         vkDestroyDevice(vk->device, NULL);

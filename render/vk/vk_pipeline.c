@@ -66,7 +66,8 @@ fv_result fv_vk_compute_pipeline(fv_vk *vk, const uint32_t *code, size_t size_by
                   .pSpecializationInfo = spec_count ? &si : NULL},
         .layout = layout,
     };
-    VkResult r = vkCreateComputePipelines(vk->device, VK_NULL_HANDLE, 1, &ci, NULL, out);
+    VkResult r = vkCreateComputePipelines(vk->device, vk->pipeline_cache, 1, &ci, NULL, out);
+    vk->pipelines_created++;
     vkDestroyShaderModule(vk->device, mod, NULL);
     if (r < 0) return fv_vk_fail(r, "vkCreateComputePipelines", __FILE__, __LINE__);
     FV_VK_NAME(vk, VK_OBJECT_TYPE_PIPELINE, *out, "%s", name);
@@ -146,7 +147,8 @@ fv_result fv_vk_graphics_pipeline(fv_vk *vk, const fv_vk_graphics_desc *d, VkPip
         .renderPass = d->render_pass,
         .subpass = 0,
     };
-    VkResult r = vkCreateGraphicsPipelines(vk->device, VK_NULL_HANDLE, 1, &ci, NULL, out);
+    VkResult r = vkCreateGraphicsPipelines(vk->device, vk->pipeline_cache, 1, &ci, NULL, out);
+    vk->pipelines_created++;
     vkDestroyShaderModule(vk->device, vs, NULL);
     vkDestroyShaderModule(vk->device, fs, NULL);
     if (r < 0) return fv_vk_fail(r, "vkCreateGraphicsPipelines", __FILE__, __LINE__);

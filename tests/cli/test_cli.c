@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <stb_image.h>
 
@@ -397,6 +398,48 @@ static void hid_parse_and_decode_the_reference_tracker(void **state)
     assert_contains(r->err, "byte");
 }
 
+/* The pipeline cache on disk (issue 25): written after a run with a header that names this device; a corrupt or
+ * foreign file is ignored with one warning and replaced; off writes none. */
+static void pipeline_cache_is_kept_and_a_bad_one_ignored(void **state)
+{
+    (void)state;
+    char path[1024], env[1200];
+    snprintf(path, sizeof path, "%s", fv_test_tmp("pipelines.bin"));
+    unlink(path);
+    snprintf(env, sizeof env, "FOVEA_PIPELINE_CACHE='%s'", path);
+    run_result *r = run(env, "run --eye-size 16x16");
+    assert_int_equal(r->exit_code, 0);
+    size_t len = 0;
+    char *data = fv_test_read_file(path, &len);
+    assert_true(len >= 32);
+    uint32_t h[4];
+    memcpy(h, data, sizeof h);
+    assert_int_equal(h[0], 32);
+    assert_int_equal(h[1], 1); /* VK_PIPELINE_CACHE_HEADER_VERSION_ONE */
+    free(data);
+    static const char *const bad[] = {"not a cache at all", ""};
+    for (int k = 0; k < 2; k++) {
+        if (k == 0) fv_test_write_file("pipelines.bin", bad[0], strlen(bad[0]));
+        else { /* a foreign device: the vendor id changed */
+            data = fv_test_read_file(path, &len);
+            data[8] ^= 0x5a;
+            fv_test_write_file("pipelines.bin", data, len);
+            free(data);
+        }
+        r = run(env, "run --eye-size 16x16");
+        assert_int_equal(r->exit_code, 0);
+        assert_contains(r->err, "pipelines.bin: ignored (");
+        assert_int_equal(count_lines(r->err), 1);
+        data = fv_test_read_file(path, &len); /* replaced by a good one */
+        memcpy(h, data, sizeof h);
+        assert_int_equal(h[0], 32);
+        free(data);
+    }
+    unlink(path);
+    r = run("FOVEA_PIPELINE_CACHE=off", "run --eye-size 16x16");
+    assert_int_equal(r->exit_code, 0);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -420,6 +463,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(unknown_gaze_scheme_fails_naming_known_ones),
         cmocka_unit_test(gaze_eval_meets_f1_and_prediction_targets),
         cmocka_unit_test(hid_parse_and_decode_the_reference_tracker),
+        cmocka_unit_test(pipeline_cache_is_kept_and_a_bad_one_ignored),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
