@@ -27,9 +27,10 @@ debug: deps build/debug/CMakeCache.txt
 asan: deps build/asan/CMakeCache.txt
 	cmake --build build/asan -j $(JOBS)
 
-# Renders the built-in Cornell box headless (stereo, side by side) into out/ and prints the summary.
+# Renders the built-in Cornell box headless (stereo, side by side) into out/ and prints the summary: 8 frames, the last
+# saved (out/frame_00007.png), so that the picture has the temporal history a viewer's frame has.
 run: release
-	build/release/tools/fovea/fovea run --out out $(ARGS)
+	build/release/tools/fovea/fovea run --out out --frames 8 $(ARGS)
 
 # Pure, sim and fuzz tests under ASan+UBSan; GPU and command-line tests on the release build (lavapipe + validation).
 test: release asan
