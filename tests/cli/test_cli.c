@@ -11,6 +11,7 @@
 #include <stb_image.h>
 
 #include "fovea_config.h"
+#include "fovea/fv_frame_input.h"
 #include "fv_test.h"
 
 static const char *g_fovea;
@@ -398,6 +399,24 @@ static void hid_parse_and_decode_the_reference_tracker(void **state)
     assert_contains(r->err, "byte");
 }
 
+/* `fovea run --help` names every view of the one table (fv_debug_view_name), and the error for a wrong one too. */
+static void help_lists_every_view_from_the_table(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "run --help");
+    assert_int_equal(r->exit_code, 0);
+    char *help = strdup(r->out);
+    r = run(NULL, "run --view nosuch");
+    assert_int_equal(r->exit_code, 2);
+    for (int k = 0; k < FV_DEBUG_VIEW_COUNT; k++) {
+        char word[64];
+        snprintf(word, sizeof word, "%s%s", k ? ", " : ": ", fv_debug_view_name((fv_debug_view)k));
+        assert_contains(help, word);
+        assert_contains(r->err, fv_debug_view_name((fv_debug_view)k));
+    }
+    free(help);
+}
+
 /* The pipeline cache on disk (issue 25): written after a run with a header that names this device; a corrupt or
  * foreign file is ignored with one warning and replaced; off writes none. */
 static void pipeline_cache_is_kept_and_a_bad_one_ignored(void **state)
@@ -464,6 +483,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(gaze_eval_meets_f1_and_prediction_targets),
         cmocka_unit_test(hid_parse_and_decode_the_reference_tracker),
         cmocka_unit_test(pipeline_cache_is_kept_and_a_bad_one_ignored),
+        cmocka_unit_test(help_lists_every_view_from_the_table),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -57,9 +57,11 @@ static const char *USAGE_FMT =
     "  --quality   the speed/accuracy preset: %s (default balanced; exact: every shortcut off)\n"
     "  --set       set one knob after the preset, e.g. shadow.splits=3 (repeatable, applied in order);\n"
     "              `fovea knobs` lists the knobs, their ranges and their presets\n"
-    "  --view      what the image shows (default color): direct (direct light only), shadow (light 0's\n"
-    "              visibility), cascade (which of light 0's shadow maps), albedo, normal, depth (the G-buffer's),\n"
-    "              gaze (each eye's predicted gaze as the GPU receives it)\n"
+    "  --view      what the image shows (default color): %s\n"
+    "              (direct: direct light only; shadow: light 0's visibility; cascade: which of light 0's shadow\n"
+    "              maps; albedo, normal, depth: the G-buffer's; gaze: each eye's predicted gaze as the GPU\n"
+    "              receives it; samples, prob, voronoi: foveation's mask, probability, reconstruction; gi,\n"
+    "              clusters: indirect light, the GI cut; sss: the subsurface term; interp: interpolation levels)\n"
     "  --exposure  linear scale of the colour before tonemapping (default 1; 1e-6..1e6), or the same in stops:\n"
     "              -1EV = 0.5, +2EV = 4; the tone curve (Reinhard extended, white point 4) keeps surfaces up to\n"
     "              4x display white graded; mid-grey 0.18 shows as sRGB 109\n"
@@ -93,7 +95,11 @@ static const char *usage_text(void)
 {
     static char text[16384];
     if (!text[0]) {
-        snprintf(text, sizeof text, USAGE_FMT, fv_quality_preset_names());
+        char views[256] = ""; /* every view, from the one table (fv_debug_view_name) */
+        for (int k = 0; k < FV_DEBUG_VIEW_COUNT; k++)
+            snprintf(views + strlen(views), sizeof views - strlen(views), "%s%s", k ? ", " : "",
+                     fv_debug_view_name((fv_debug_view)k));
+        snprintf(text, sizeof text, USAGE_FMT, fv_quality_preset_names(), views);
         snprintf(text + strlen(text), sizeof text - strlen(text), "%s", RUN_HMD_USAGE);
         snprintf(text + strlen(text), sizeof text - strlen(text), "%s", USAGE_HEAD_LOG);
     }
