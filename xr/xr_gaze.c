@@ -10,6 +10,7 @@
 #include "fv_fixed_driver.h"
 #include "fv_gaze_pipeline.h"
 #include "fv_gaze_source.h"
+#include "fv_head_follow.h"
 #include "fv_hid_driver.h"
 #include "fv_mouse_driver.h"
 #include "fv_pupil_driver.h"
@@ -33,6 +34,10 @@ struct fv_xr_gaze {
     fv_gaze_pipeline *pipeline;
     bool lost;
     fv_xr_gaze_stats stats;
+    fv_head_follow head;     /* the tracker's recorded head pose, relative to its first (fv_head_follow.h) */
+    bool have_head;
+    fv_quat head_dq;         /* the newest head sample's pose relative to the first */
+    fv_vec3 head_dp_m;
 };
 
 fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out)
@@ -75,6 +80,7 @@ static void drain(fv_xr_gaze *g)
     while (fv_gaze_source_pop(g->source, &s) == FV_OK) {
         fv_result r = fv_gaze_pipeline_push(g->pipeline, &s);
         (void)r; /* duplicates and out-of-order samples are the pipeline's to drop (FV_NO_NEW_DATA) */
+        if (fv_head_follow_delta(&g->head, &s, &g->head_dq, &g->head_dp_m)) g->have_head = true;
     }
     fv_gaze_source_status st;
     fv_gaze_source_get_status(g->source, &st);
@@ -83,6 +89,19 @@ static void drain(fv_xr_gaze *g)
         fv_gaze_pipeline_set_device_lost(g->pipeline, lost, fv_xr_now_ns());
         g->lost = lost;
     }
+}
+
+bool fv_xr_gaze_head(fv_xr_gaze *g, float out_q[4], float out_p_m[3])
+{
+    pthread_mutex_lock(&g->lock);
+    drain(g);
+    bool have = g->have_head;
+    if (have) {
+        out_q[0] = g->head_dq.x, out_q[1] = g->head_dq.y, out_q[2] = g->head_dq.z, out_q[3] = g->head_dq.w;
+        out_p_m[0] = g->head_dp_m.x, out_p_m[1] = g->head_dp_m.y, out_p_m[2] = g->head_dp_m.z;
+    }
+    pthread_mutex_unlock(&g->lock);
+    return have;
 }
 
 void fv_xr_gaze_update(fv_xr_gaze *g)

@@ -346,6 +346,9 @@ fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out);
 void fv_xr_gaze_destroy(fv_xr_gaze **g);
 /** Feed the pipeline with what the source has now (any thread; locks itself). */
 void fv_xr_gaze_update(fv_xr_gaze *g);
+/** The head pose the gaze source's tracker recorded (samples with a head), relative to its first: orientation
+ *  (x, y, z, w) and position (m) in LOCAL; false while none came (the head then stays where it started). */
+bool fv_xr_gaze_head(fv_xr_gaze *g, float out_q[4], float out_p_m[3]);
 /** The predicted combined gaze at t (ns, host clock), in the head frame: origin (m) and unit direction; false when
  *  not tracked (blink, lost, no samples yet). */
 bool fv_xr_gaze_predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3]);

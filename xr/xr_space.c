@@ -45,9 +45,15 @@ static const XrPosef POSE_IDENTITY = {{0, 0, 0, 1}, {0, 0, 0}};
 
 void fv_xr_head_pose(struct XrInstance_T *inst, XrTime t, XrPosef *out)
 {
-    (void)inst;
     (void)t;
-    *out = POSE_IDENTITY; /* LOCAL is where the head started; no head tracker moves it */
+    *out = POSE_IDENTITY; /* LOCAL is where the head started */
+    float q[4], p[3];
+    /* a tracker that records the head (FOVEA_XR_GAZE=trace:... of SRanipal, Pico or fovea's format) moves it, as
+     * `fovea run --head trace` does: the eyes' views and the gaze ray ride on it, the gaze never turns against them */
+    if (inst && inst->gaze && fv_xr_gaze_head(inst->gaze, q, p)) {
+        out->orientation = (XrQuaternionf){q[0], q[1], q[2], q[3]};
+        out->position = (XrVector3f){p[0], p[1], p[2]};
+    }
 }
 
 static bool ref_type_supported(struct XrSession_T *s, XrReferenceSpaceType t)

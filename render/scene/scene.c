@@ -625,42 +625,11 @@ bool fv_scene_warn_cost(const fv_scene *s, uint32_t eye_w, uint32_t eye_h, const
 /* ---- head ------------------------------------------------------------------------------------------------- */
 static bool node_draws(const fv_scene *s, const fv_node *n);
 
-fv_quat fv_scene_quat_from_basis(fv_vec3 right, fv_vec3 up, fv_vec3 back)
-{
-    /* Rotation matrix with columns right, up, back (local +x, +y, +z in world) to a quaternion (Shoemake). */
-    float m00 = right.x, m10 = right.y, m20 = right.z;
-    float m01 = up.x, m11 = up.y, m21 = up.z;
-    float m02 = back.x, m12 = back.y, m22 = back.z;
-    float tr = m00 + m11 + m22;
-    fv_quat q;
-    if (tr > 0.0f) {
-        float k = sqrtf(tr + 1.0f) * 2.0f;
-        q = (fv_quat){(m21 - m12) / k, (m02 - m20) / k, (m10 - m01) / k, 0.25f * k};
-    } else if (m00 > m11 && m00 > m22) {
-        float k = sqrtf(fmaxf(1.0f + m00 - m11 - m22, 1e-12f)) * 2.0f;
-        q = (fv_quat){0.25f * k, (m01 + m10) / k, (m02 + m20) / k, (m21 - m12) / k};
-    } else if (m11 > m22) {
-        float k = sqrtf(fmaxf(1.0f + m11 - m00 - m22, 1e-12f)) * 2.0f;
-        q = (fv_quat){(m01 + m10) / k, 0.25f * k, (m12 + m21) / k, (m02 - m20) / k};
-    } else {
-        float k = sqrtf(fmaxf(1.0f + m22 - m00 - m11, 1e-12f)) * 2.0f;
-        q = (fv_quat){(m02 + m20) / k, (m12 + m21) / k, 0.25f * k, (m10 - m01) / k};
-    }
-    q = fv_quat_normalize(q);
-    if (!finite_quat(q)) q = fv_quat_identity();
-    return q;
-}
-
 void fv_scene_head_look_at(fv_head *head, fv_vec3 position_m, fv_vec3 target_m)
 {
     if (!head) return;
-    fv_vec3 f = fv_v3_normalize_or(fv_v3_sub(target_m, position_m), fv_v3(0, 0, -1));
-    fv_vec3 r = fv_v3_cross(f, fv_v3(0, 1, 0));
-    if (!(fv_v3_len(r) > 1e-6f)) r = fv_v3_cross(f, fv_v3(0, 0, -1)); /* looking straight up or down */
-    r = fv_v3_normalize_or(r, fv_v3(1, 0, 0));
-    fv_vec3 u = fv_v3_normalize_or(fv_v3_cross(r, f), fv_v3(0, 1, 0));
     head->position_m = position_m;
-    head->orientation = fv_scene_quat_from_basis(r, u, fv_v3_scale(f, -1.0f));
+    head->orientation = fv_quat_look_along(fv_v3_normalize_or(fv_v3_sub(target_m, position_m), fv_v3(0, 0, -1)));
 }
 
 void fv_scene_frame_head(fv_scene *s)

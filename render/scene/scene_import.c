@@ -542,7 +542,7 @@ static void convert_camera(import_ctx *c)
     memset(&cam, 0, sizeof cam);
     fv_scene_copy_name(cam.name, sizeof cam.name, ac->mName.data);
     cam.position_m = pos;
-    cam.orientation = fv_scene_quat_from_basis(right, up, fv_v3_scale(look, -1.0f));
+    cam.orientation = fv_quat_from_basis(right, up, fv_v3_scale(look, -1.0f));
     /* assimp 5.2's glTF importer stores yfov * aspect in mHorizontalFOV; other importers store the horizontal
      * half-angle. */
     float aspect = (isfinite(ac->mAspect) && ac->mAspect > 0) ? ac->mAspect : 1.0f;

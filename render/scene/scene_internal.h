@@ -12,7 +12,6 @@
  *  that does not fit whole, then "..." (paths are never cut: their loaders refuse what does not fit). */
 void fv_scene_copy_name(char *dst, size_t cap, const char *src);
 /** Quaternion of the rotation whose columns are the local +x, +y, +z axes in world space (orthonormal). */
-fv_quat fv_scene_quat_from_basis(fv_vec3 right, fv_vec3 up, fv_vec3 back);
 
 /** What scene_merge does to every item it copies from src into dst. */
 typedef struct fv_scene_merge_desc {

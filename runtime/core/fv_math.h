@@ -61,6 +61,11 @@ fv_quat fv_quat_normalize(fv_quat q);
 fv_vec3 fv_quat_rotate(fv_quat q, fv_vec3 v);
 /** Spherical interpolation along the shorter arc; t in [0,1]. */
 fv_quat fv_quat_slerp(fv_quat a, fv_quat b, float t);
+/** The rotation whose local +x, +y, +z are right, up, back (an orthonormal basis); identity when not finite. */
+fv_quat fv_quat_from_basis(fv_vec3 right, fv_vec3 up, fv_vec3 back);
+/** The orientation that looks down `forward` (its local -z) with +y up and no roll; straight up or down: a defined
+ *  right axis; a zero or non-finite forward: -z. */
+fv_quat fv_quat_look_along(fv_vec3 forward);
 
 static inline float fv_clampf(float x, float lo, float hi) { return x < lo ? lo : (x > hi ? hi : x); }
 static inline double fv_deg_to_rad(double d) { return d * (FV_PI / 180.0); }

@@ -9,16 +9,14 @@
 #include <stdint.h>
 
 #include "fovea/fv_gaze_sample.h"
+#include "fv_head_follow.h"
 #include "fv_scene.h"
 
 typedef enum run_head_mode { RUN_HEAD_TRACE = 0, RUN_HEAD_SCENE, RUN_HEAD_FIXED } run_head_mode;
 
 typedef struct run_head {
     run_head_mode mode;
-    bool have_ref;        /* the first recorded pose has been seen */
-    fv_vec3 ref_pos_mm;   /* the first recorded pose: where the scene's head is */
-    fv_quat ref_q;
-    uint64_t ref_seq;     /* its sample's sequence number */
+    fv_head_follow follow; /* the recorded pose relative to the first one (runtime/fv_head_follow.h) */
     bool applied;         /* the last run_head_apply used a recorded pose */
     uint64_t seq;         /* and this sample's sequence number */
     uint64_t frames_moved;
