@@ -8,6 +8,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <cjson/cJSON.h>
+#include <dirent.h>
 #include <errno.h>
 #include <float.h>
 #include <limits.h>
@@ -111,6 +112,51 @@ static int32_t find_texture(const fv_scene *s, const char *source)
 /* The largest texture file read (a 16384 x 16384 RGBA PNG stored uncompressed is 1 GiB; no texture is). */
 #define TEXTURE_MAX_FILE_BYTES ((size_t)256 << 20)
 
+/* A texture reference as this file system has it (a model authored on Windows): backslashes as '/', and when the
+ * file is not there as written, each component of the path matched without regard to letter case in its folder.
+ * out: the path to read (dir + ref when ref is relative); true when it had to be adjusted to be found. */
+static bool texture_path(const char *dir, const char *ref, char *out, size_t size)
+{
+    char fixed[FV_SCENE_PATH_MAX];
+    snprintf(fixed, sizeof fixed, "%s", ref);
+    bool slashes = false;
+    for (char *p = fixed; *p; p++)
+        if (*p == '\\') *p = '/', slashes = true;
+    const char *rel = fixed;
+    while (rel[0] == '.' && rel[1] == '/') rel += 2; /* ".\tex\a.png" */
+    int n = fixed[0] == '/' ? snprintf(out, size, "%s", fixed) : snprintf(out, size, "%s%s", dir, rel);
+    if (n < 0 || (size_t)n >= size) return false;
+    if (access(out, F_OK) == 0) return slashes;
+    /* component by component from the folder the model is in, each the one entry that matches ignoring case */
+    char built[FV_SCENE_PATH_MAX];
+    int b = fixed[0] == '/' ? snprintf(built, sizeof built, "/") : snprintf(built, sizeof built, "%s", dir[0] ? dir : "./");
+    const char *p = fixed[0] == '/' ? fixed + 1 : rel;
+    while (*p && b > 0 && (size_t)b < sizeof built) {
+        size_t len = strcspn(p, "/");
+        char part[256];
+        if (len == 0 || len >= sizeof part) return slashes;
+        memcpy(part, p, len);
+        part[len] = '\0';
+        DIR *d = opendir(built);
+        const char *match = NULL;
+        char name[256];
+        for (struct dirent *e; d && (e = readdir(d));)
+            if (strcasecmp(e->d_name, part) == 0) {
+                snprintf(name, sizeof name, "%s", e->d_name);
+                match = name;
+                break;
+            }
+        if (d) closedir(d);
+        if (!match) return slashes; /* not there in any case: the caller's warning names what was asked for */
+        b += snprintf(built + b, sizeof built - (size_t)b, "%s%s", built[b - 1] == '/' ? "" : "/", match);
+        p += len;
+        while (*p == '/') p++;
+    }
+    if (b <= 0 || (size_t)b >= sizeof built || (size_t)b >= size) return slashes;
+    snprintf(out, size, "%s", built);
+    return true;
+}
+
 /* Load the base colour texture of an assimp material; -1 (after a warning) when it cannot be had. */
 static int32_t load_texture(import_ctx *c, const char *ref, const char *mat_name)
 {
@@ -156,6 +202,9 @@ static int32_t load_texture(import_ctx *c, const char *ref, const char *mat_name
                     mat_name, ref);
             return -1;
         }
+        if (texture_path(c->dir, ref, source, sizeof source))
+            FV_WARN("scene", "%s: material '%s': texture '%s' read as '%s' (Windows separators or letter case)",
+                    c->path, mat_name, ref, source);
         int32_t have = find_texture(c->s, source);
         if (have >= 0) return have;
         /* read through fv_file: a FIFO or device would block or never end; a huge file is refused from its size */

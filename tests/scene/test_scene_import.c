@@ -194,6 +194,35 @@ static void obj_texture_loads_and_a_missing_one_falls_back_with_a_warning(void *
     fv_scene_destroy(&s);
 }
 
+/* An .mtl written on Windows: backslashes and another letter case than the files have (assimp-testmodels has such
+ * files): the texture loads, with one warning saying how it was read. */
+static void windows_texture_paths_and_letter_case_are_resolved(void **state)
+{
+    (void)state;
+    static const unsigned char ppm[] = {'P', '6', '\n', '2', ' ', '1', '\n', '2', '5', '5', '\n', 255, 0, 0, 0, 255, 0};
+    char dir[1024], file[1100];
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp("WinTex"));
+    mkdir(dir, 0755);
+    snprintf(file, sizeof file, "%s/Brick.ppm", dir);
+    FILE *f = fopen(file, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(ppm, 1, sizeof ppm, f), sizeof ppm);
+    fclose(f);
+    const char *mtl = "newmtl brick\nKd 0.5 0.5 0.5\nmap_Kd .\\wintex\\BRICK.PPM\n";
+    fv_test_write_file("windows.mtl", mtl, strlen(mtl));
+    const char *obj = "mtllib windows.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl brick\nf 1/1 2/2 3/3\n";
+    const char *path = fv_test_write_file("windows.obj", obj, strlen(obj));
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load(path, &s), FV_OK);
+    fv_assert_log_contains("read as '");
+    fv_assert_log_contains("WinTex/Brick.ppm' (Windows separators or letter case)");
+    fv_test_log_capture_end();
+    assert_int_equal(s->texture_count, 1);
+    assert_int_equal(s->textures[0].width, 2);
+    fv_scene_destroy(&s);
+}
+
 /* ---- malformed input -------------------------------------------------------------------------------------- */
 
 static void expect_failure(const char *path, const char *const *needles)
@@ -461,6 +490,7 @@ int main(void)
         cmocka_unit_test(gltf_cornell_box_has_its_camera_and_warns_about_the_texture),
         cmocka_unit_test(utah_teapot_obj_loads_with_its_normals),
         cmocka_unit_test(obj_texture_loads_and_a_missing_one_falls_back_with_a_warning),
+        cmocka_unit_test(windows_texture_paths_and_letter_case_are_resolved),
         cmocka_unit_test(missing_file_is_an_error_naming_it),
         cmocka_unit_test(garbage_bytes_are_rejected_as_obj_gltf_and_ply),
         cmocka_unit_test(ply_face_index_past_the_vertex_count_is_rejected),
