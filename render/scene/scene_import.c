@@ -675,7 +675,7 @@ fv_result fv_scene_add_default_lights(fv_scene *s, const char *origin)
         added++;
     }
     if (added) {
-        FV_INFO("scene", "%s: no light in the file; added %u spot light(s) at the emissive surfaces", origin, added);
+        FV_WARN("scene", "%s: no light in the file; added %u spot light(s) at the emissive surfaces", origin, added);
         return FV_OK;
     }
     fv_vec3 lo, hi;
@@ -685,15 +685,22 @@ fv_result fv_scene_add_default_lights(fv_scene *s, const char *origin)
     fv_light l;
     memset(&l, 0, sizeof l);
     fv_scene_copy_name(l.name, sizeof l.name, "default_headlight");
-    l.type = FV_LIGHT_POINT;
+    /* A spot light, not a point light: one-bounce GI needs a reflective shadow map, which spot and directional
+     * lights have. Above the viewer, aimed at the scene's centre, its cone wide enough for the bounding sphere. */
+    l.type = FV_LIGHT_SPOT;
     l.position_m = fv_v3_add(s->head.position_m, fv_v3(0, 0.5f * r, 0));
-    l.direction = fv_v3(0, -1, 0);
+    fv_vec3 to = fv_v3_sub(centre, l.position_m);
+    float d = fv_v3_len(to);
+    l.direction = fv_v3_normalize_or(to, fv_v3(0, -1, 0));
+    double half = d > r ? asin(fmin(1.0, (double)r / d)) : FV_PI / 2.0;
+    l.outer_cone_rad = (float)fmin(half * 1.15, fv_deg_to_rad(85.0));
+    l.inner_cone_rad = (float)(0.8 * l.outer_cone_rad);
     l.color = fv_v3(1, 1, 1);
     /* Irradiance pi at the scene centre, so a white Lambert surface facing the light has radiance about 1. */
-    float d = fv_v3_len(fv_v3_sub(l.position_m, centre));
     l.intensity = (float)(FV_PI * (double)d * (double)d);
     if (!isfinite(l.intensity) || !(l.intensity > 0)) l.intensity = 1.0f;
-    FV_INFO("scene", "%s: no light in the file; added a point light above the viewer", origin);
+    FV_WARN("scene", "%s: no light in the file; added a spot light above the viewer aimed at the scene (cone %.0f "
+            "deg; it casts shadows and indirect light)", origin, fv_rad_to_deg(2.0 * l.outer_cone_rad));
     return fv_scene_add_light(s, &l, NULL);
 }
 
@@ -800,12 +807,15 @@ static fv_result import_file(const char *path, float unit_scale_m, bool default_
     if (k == 0.0f) {
         fv_vec3 lo, hi;
         k = 1.0f;
-        if (fv_scene_world_bounds(c.s, 0.0, &lo, &hi)) {
+        /* glTF's unit is the metre (glTF 2.0, 3.4 "Coordinate System and Units"): kept whatever the size. Formats
+         * without units (OBJ, PLY, STL, ...) get the guess, said at warning level with its factor. */
+        if (!is_gltf && fv_scene_world_bounds(c.s, 0.0, &lo, &hi)) {
             fv_vec3 ext = fv_v3_sub(hi, lo);
             float big = fmaxf(ext.x, fmaxf(ext.y, ext.z));
             if (big > MM_GUESS_EXTENT) {
                 k = 0.001f;
-                FV_INFO("scene", "%s: bounds span %.1f units (> %.0f): taking the file to be in millimetres", path,
+                FV_WARN("scene", "%s: bounds span %.1f units (> %.0f) and the format has no unit: taking the file to "
+                        "be in millimetres (scale 0.001; \"unit_scale_m\" in a scene file overrides)", path,
                         (double)big, (double)MM_GUESS_EXTENT);
             }
         }

@@ -223,6 +223,45 @@ static void windows_texture_paths_and_letter_case_are_resolved(void **state)
     fv_scene_destroy(&s);
 }
 
+/* glTF is in metres by its specification: a 100 m triangle stays 100 m (the millimetre guess is for formats without
+ * units, and says so at warning level); a file without lights gets a spot light, so GI has a map to work with. */
+static void gltf_keeps_metres_and_the_added_light_is_a_spot(void **state)
+{
+    (void)state;
+    static const char gltf[] =
+        "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}], \"nodes\": [{\"mesh\": 0}],"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}],"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\","
+        " \"min\": [0, 0, 0], \"max\": [100, 100, 0]}],"
+        " \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 36}],"
+        " \"buffers\": [{\"byteLength\": 36, \"uri\": \"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAADIQgAAAAAAAAAAAAAAAAAAyEIAAAAA\"}]}";
+    const char *path = fv_test_write_file("big.gltf", gltf, strlen(gltf));
+    fv_scene *s = NULL;
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load(path, &s), FV_OK);
+    fv_assert_log_contains("added a spot light above the viewer");
+    assert_true(strstr(fv_test_log_text(), "millimetres") == NULL);
+    fv_test_log_capture_end();
+    assert_float_equal(s->unit_scale_m, 1.0f, 0.0f);
+    fv_vec3 lo, hi;
+    assert_true(fv_scene_world_bounds(s, 0, &lo, &hi));
+    assert_float_equal(hi.x - lo.x, 100.0f, 0.01f);
+    assert_int_equal(s->light_count, 1);
+    assert_int_equal(s->lights[0].type, FV_LIGHT_SPOT);
+    fv_scene_destroy(&s);
+    /* the same triangle as OBJ: no unit, so the guess, at warning level with its factor */
+    static const char obj[] = "v 0 0 0\nv 100 0 0\nv 0 100 0\nf 1 2 3\n";
+    path = fv_test_write_file("big.obj", obj, strlen(obj));
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_scene_load(path, &s), FV_OK);
+    fv_assert_log_contains("warn scene: ");
+    fv_assert_log_contains("taking the file to be in millimetres (scale 0.001");
+    fv_test_log_capture_end();
+    assert_float_equal(s->unit_scale_m, 0.001f, 0.0f);
+    fv_scene_destroy(&s);
+}
+
 /* ---- malformed input -------------------------------------------------------------------------------------- */
 
 static void expect_failure(const char *path, const char *const *needles)
@@ -491,6 +530,7 @@ int main(void)
         cmocka_unit_test(utah_teapot_obj_loads_with_its_normals),
         cmocka_unit_test(obj_texture_loads_and_a_missing_one_falls_back_with_a_warning),
         cmocka_unit_test(windows_texture_paths_and_letter_case_are_resolved),
+        cmocka_unit_test(gltf_keeps_metres_and_the_added_light_is_a_spot),
         cmocka_unit_test(missing_file_is_an_error_naming_it),
         cmocka_unit_test(garbage_bytes_are_rejected_as_obj_gltf_and_ply),
         cmocka_unit_test(ply_face_index_past_the_vertex_count_is_rejected),
