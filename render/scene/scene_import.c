@@ -20,6 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "fovea/fv_frame_input.h"
 #include "fv_file.h"
 #include "fv_log.h"
 #include "fv_scene.h"
@@ -605,6 +606,30 @@ static void convert_camera(import_ctx *c)
     c->s->head.from_file = true;
 }
 
+/* The file's camera framed the model for its own field of view; the HMD's is wider (FV_HMD_FOV_UP + DOWN, about
+ * 93 degrees), so the model would come out small. Keep the camera's direction and move the head along it, towards
+ * the model, until the HMD's vertical field shows at the model's centre what the camera's did. One warning line. */
+static void honour_camera_fov(fv_scene *s, const char *path)
+{
+    if (!s->camera_count || !(s->cameras[0].yfov_rad > 0.0f)) return;
+    fv_vec3 lo, hi;
+    if (!fv_scene_world_bounds(s, 0.0, &lo, &hi)) return;
+    fv_vec3 centre = fv_v3_scale(fv_v3_add(lo, hi), 0.5f);
+    fv_vec3 look = fv_quat_rotate(s->head.orientation, fv_v3(0, 0, -1));
+    double d = fv_v3_dot(fv_v3_sub(centre, s->head.position_m), look); /* the model's depth along the view */
+    double hmd_half = fv_deg_to_rad(0.5 * (FV_HMD_FOV_UP_DEG + FV_HMD_FOV_DOWN_DEG));
+    double cam_half = 0.5 * s->cameras[0].yfov_rad;
+    double k = tan(cam_half) / tan(hmd_half); /* < 1: the HMD sees more at the same distance */
+    if (!(d > 0) || !isfinite(k) || k >= 0.999 || k <= 0.0) return;
+    double closer = d * (1.0 - k); /* at distance d k, the HMD's half-field spans what the camera's did at d */
+    fv_vec3 moved = fv_v3_add(s->head.position_m, fv_v3_scale(look, (float)closer));
+    if (!fv_v3_isfinite(moved)) return;
+    s->head.position_m = moved;
+    FV_WARN("scene", "%s: camera '%s' frames the model for a %.1f deg field of view; the HMD shows %.1f deg, so the "
+            "head moved %.3g m closer along the camera's view to show what it framed", path, s->cameras[0].name,
+            fv_rad_to_deg(2.0 * cam_half), fv_rad_to_deg(2.0 * hmd_half), closer);
+}
+
 /* Multiply every length in the scene by k (positions, translations, light positions, camera positions). Node
  * transforms are similarities, so scaling translations and vertices scales the whole world uniformly. */
 static void apply_unit_scale(fv_scene *s, float k)
@@ -823,6 +848,7 @@ static fv_result import_file(const char *path, float unit_scale_m, bool default_
     c.s->unit_scale_m = k;
     if (k != 1.0f) apply_unit_scale(c.s, k);
     if (!c.s->head.from_file) fv_scene_frame_head(c.s);
+    else honour_camera_fov(c.s, path);
     if (default_lights && c.s->light_count == 0 && (r = fv_scene_add_default_lights(c.s, path)) < 0) goto fail;
     if ((r = fv_scene_validate(c.s)) < 0) goto fail;
     aiReleaseImport(c.ai);

@@ -115,6 +115,7 @@ static void gltf_cornell_box_has_its_camera_and_warns_about_the_texture(void **s
     assert_int_equal(fv_scene_load(fv_test_data("scenes/cornell_box_gltf/cornellBox.gltf"), &s), FV_OK);
     fv_assert_log_contains("cornellBox.gltf: textures[0].source 0 refers to a missing image");
     fv_assert_log_contains("no images array");
+    fv_assert_log_contains("frames the model for a 41.1 deg field of view; the HMD shows 93.0 deg");
     assert_int_equal(fv_test_log_count(FV_LOG_LEVEL_ERROR), 0);
     fv_test_log_capture_end();
     /* 16,720 distinct triangles in 9 meshes; one mesh is instanced by two nodes, so 16,732 are drawn. */
@@ -124,11 +125,17 @@ static void gltf_cornell_box_has_its_camera_and_warns_about_the_texture(void **s
     assert_int_equal(fv_scene_triangle_count(s), 16732);
     assert_int_equal(s->camera_count, 1);
     assert_true(s->head.from_file);
-    /* camera node at z = 19.99, looking down -z */
-    assert_float_equal(s->head.position_m.z, 19.9921f, 1e-3f);
+    /* camera node at z = 19.99, looking down -z, with a 41.1 deg field of view: the head keeps its direction and
+     * moves closer until the HMD's ~93 deg shows what the camera framed (the model's centre is near z = 0) */
+    assert_float_equal(s->cameras[0].position_m.z, 19.9921f, 1e-3f);
     fv_vec3 fwd = fv_quat_rotate(s->head.orientation, fv_v3(0, 0, -1));
     assert_true(fwd.z < -0.999f);
     assert_float_equal(s->cameras[0].yfov_rad, 0.7175f, 1e-3f);
+    fv_vec3 lo, hi;
+    assert_true(fv_scene_world_bounds(s, 0, &lo, &hi));
+    double zc = 0.5 * (lo.z + hi.z), k = tan(0.5 * 0.7175) / tan(fv_deg_to_rad(0.5 * (45.0 + 48.0)));
+    assert_float_equal(s->head.position_m.z, zc + (19.9921 - zc) * k, 2e-3);
+    assert_float_equal(s->head.position_m.x, s->cameras[0].position_m.x, 1e-4f);
     assert_int_equal(s->texture_count, 0);
     for (uint32_t i = 0; i < s->material_count; i++) assert_int_equal(s->materials[i].base_color_texture, -1);
     /* the light block's emissive factor 10 */
