@@ -2,6 +2,7 @@
  * uncertainty radius (see fv_gaze_pipeline.h). Angles are (yaw, pitch) in degrees: yaw positive to the right,
  * pitch positive up, (0, 0) straight ahead (-z). */
 #include "fv_gaze_pipeline.h"
+#include "fv_gaze_validity.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -357,7 +358,7 @@ static bool predict_saccade(const fv_gaze_pipeline *p, int64_t t_target_ns, doub
 
 static bool eye_usable(const fv_gaze_pipeline *p, const fv_eye_sample *e, double out[2])
 {
-    if (!(e->flags & FV_EYE_DIRECTION_VALID) || (e->flags & FV_EYE_BLINK)) return false;
+    if (!fv_gaze_eye_usable(e)) return false; /* the rules every reader and the evaluation truth obey */
     return fv_gaze_dir_to_angles(e->direction, p->desc.max_eccentricity_deg, out);
 }
 
@@ -719,10 +720,13 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
     bool low_conf = isfinite(s->confidence) && s->confidence < p->desc.min_confidence;
     double a[3][2];
     bool ok[3] = {false, false, false};
+    /* a live device's physically impossible rays (fv_gaze_validity.h) are dropped here, as the readers do */
+    fv_gaze_sample g = *s;
+    if (fv_gaze_sample_enforce(&g)) p->stats.impossible++;
     if (!low_conf) {
-        ok[CH_LEFT] = eye_usable(p, &s->eye[0], a[CH_LEFT]);
-        ok[CH_RIGHT] = eye_usable(p, &s->eye[1], a[CH_RIGHT]);
-        ok[CH_COMBINED] = eye_usable(p, &s->combined, a[CH_COMBINED]);
+        ok[CH_LEFT] = eye_usable(p, &g.eye[0], a[CH_LEFT]);
+        ok[CH_RIGHT] = eye_usable(p, &g.eye[1], a[CH_RIGHT]);
+        ok[CH_COMBINED] = eye_usable(p, &g.combined, a[CH_COMBINED]);
     }
     if (!ok[CH_COMBINED] && ok[CH_LEFT] && ok[CH_RIGHT]) {
         for (int k = 0; k < 2; k++) a[CH_COMBINED][k] = 0.5 * (a[CH_LEFT][k] + a[CH_RIGHT][k]);

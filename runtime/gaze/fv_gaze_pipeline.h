@@ -76,6 +76,7 @@ typedef struct fv_gaze_pipeline_stats {
     uint64_t rejected;       /* duplicates / out of order (FV_NO_NEW_DATA) */
     uint64_t invalid;        /* accepted samples with no usable eye (blink, NaN, low confidence, implausible) */
     uint64_t one_eye;        /* accepted samples with exactly one usable eye */
+    uint64_t impossible;     /* accepted samples with a physically impossible ray dropped (fv_gaze_validity.h) */
     uint64_t saccades;       /* saccade onsets detected */
     uint64_t clock_resets;   /* device clock discontinuities (mapper restarted) */
     double clock_skew_ppm;   /* current device-to-host skew estimate */

@@ -93,11 +93,18 @@ static cJSON *err_json(const fv_sim_eval_error *e)
     return o;
 }
 
-static int print_json(const char *uri, const fv_sim_eval_result *r)
+static int print_json(const char *uri, const fv_sim_eval_result *r, const fv_gaze_validity_counts *validity,
+                      const char *why)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o) return FV_EXIT_FAIL;
     fv_cli_json_add_string(o, "uri", uri);
+    if (validity) {
+        cJSON *v = cJSON_AddObjectToObject(o, "impossible_gaze");
+        cJSON_AddNumberToObject(v, "repaired", (double)fv_gaze_validity_total(validity, true));
+        cJSON_AddNumberToObject(v, "dropped", (double)fv_gaze_validity_total(validity, false));
+        fv_cli_json_add_string(v, "why", why);
+    }
     cJSON_AddBoolToObject(o, "ground_truth", r->has_truth);
     cJSON_AddNumberToObject(o, "samples", (double)r->samples);
     cJSON_AddNumberToObject(o, "seconds", r->seconds);
@@ -350,6 +357,11 @@ static int cmd_eval(int argc, char **argv)
     /* blinks as `fovea trace info` counts them: the source's events when the format has them */
     uint64_t blink_events = fv_trace_device_blink_events(dev);
     if (r == FV_OK && blink_events > 0) res.recorded_blinks = blink_events;
+    /* physically impossible gaze the reader repaired or marked invalid (the same rules make the truth) */
+    const fv_trace_reader_stats *rs = fv_trace_device_reader_stats(dev);
+    fv_gaze_validity_counts validity = {0};
+    const bool have_validity = rs != NULL;
+    if (rs) validity = rs->validity;
     fv_device_close(&dev);
     if (r != FV_OK) {
         fprintf(stderr, "fovea gaze: evaluating '%s' failed: %s\n", uri, fv_result_str(r));
@@ -359,8 +371,11 @@ static int cmd_eval(int argc, char **argv)
         int prc = plot(plot_dir, uri, &res, 20);
         if (prc != FV_EXIT_OK) return prc;
     }
-    if (json) return print_json(uri, &res);
+    char why[320];
+    fv_gaze_validity_describe(&validity, why, sizeof why);
+    if (json) return print_json(uri, &res, have_validity ? &validity : NULL, why);
     print_text(uri, &res);
+    if (have_validity) printf("  impossible gaze (read as invalid, never scored): %s\n", why);
     return FV_EXIT_OK;
 }
 
