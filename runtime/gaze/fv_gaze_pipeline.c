@@ -29,14 +29,16 @@
 #define PURSUIT_OFF_DEG_S 2.5
 #define PURSUIT_MIN_SIGNIFICANCE 3.0
 #define SCORE_HORIZON_NS (20 * FV_NS_PER_MS)      /* candidates are scored at this horizon */
-#define SCORE_MIN 8                              /* scores needed before a candidate other than the model is used */
-#define SCORE_MEMORY 512.0                        /* the running scores average over about this many */
-#define SELECT_SES 1.25                           /* a candidate replaces the newest sample only when its mean
-                                                   * error stays below the sample's by 1.25 standard errors */
+/* the tuned constants (fv_gaze_tuning): scores needed before a candidate other than the model is used; the
+ * running scores' memory; a candidate replaces the newest sample only when its mean error stays below the sample's
+ * by SELECT_SES standard errors */
+#define SCORE_MIN (p->tun.score_min)
+#define SCORE_MEMORY (p->tun.score_memory)
+#define SELECT_SES (p->tun.select_ses)
 #define PEND_SLOTS 32
 #define RADIUS_PER_MEAN_ERROR 1.72                /* Rayleigh: P(r < 1.72 mean) = 0.90 */
-#define MID_WINDOW_NS (50 * FV_NS_PER_MS)         /* extrapolated velocity: regression over the newest 50 ms */
-#define SHRINK_SDS 2.0                            /* velocity shrinkage: nothing of a velocity within 2 SE */
+#define MID_WINDOW_NS ((int64_t)(p->tun.mid_window_ms * 1e6)) /* extrapolated velocity: regression window (50 ms) */
+#define SHRINK_SDS (p->tun.shrink_sds)            /* velocity shrinkage: nothing of a velocity within 2 SE */
 #define VERGENCE_TAU_S 0.2
 #define PUPIL_TAU_S 0.15
 #define PUPIL_MIN_MM 0.5
@@ -64,6 +66,7 @@ typedef struct channel {
 
 struct fv_gaze_pipeline {
     fv_gaze_pipeline_desc desc;
+    fv_gaze_tuning tun;       /* desc.tuning with the defaults filled in */
     fv_gaze_main_sequence ms;
     fv_gaze_clock_map clock;
     fv_gaze_noise noise;      /* the tracker's noise and rate, measured online during fixations */
@@ -138,6 +141,53 @@ const char *fv_gaze_event_str(fv_gaze_event e)
 
 static float pos_or(float v, float dflt) { return isfinite(v) && v > 0.0f ? v : dflt; }
 
+const char *const fv_gaze_tuning_names[] = {"select_ses",      "onset2_sds",     "onset_sds",
+                                            "shrink_sds",      "mid_window_ms",  "score_memory",
+                                            "score_min",       "speed_bin_scale", "slow_saccade_deg_s",
+                                            "blend",           NULL};
+
+static double *tuning_field(fv_gaze_tuning *t, int i)
+{
+    double *f[] = {&t->select_ses,   &t->onset2_sds, &t->onset_sds,       &t->shrink_sds,         &t->mid_window_ms,
+                   &t->score_memory, &t->score_min,  &t->speed_bin_scale, &t->slow_saccade_deg_s, &t->blend};
+    _Static_assert(sizeof f / sizeof f[0] + 1 == sizeof fv_gaze_tuning_names / sizeof fv_gaze_tuning_names[0],
+                   "one name per field");
+    return f[i];
+}
+
+fv_gaze_tuning fv_gaze_tuning_defaults(void)
+{
+    return (fv_gaze_tuning){.select_ses = 1.25, .onset2_sds = 6.0, .onset_sds = 4.0, .shrink_sds = 2.0,
+                            .mid_window_ms = 50.0, .score_memory = 512.0, .score_min = 8.0, .speed_bin_scale = 1.0,
+                            .slow_saccade_deg_s = 20.0, .blend = 1.0};
+}
+
+fv_result fv_gaze_tuning_set(fv_gaze_tuning *t, const char *name, double v)
+{
+    if (!t || !name) return FV_ERR_INVALID_ARG;
+    for (int i = 0; fv_gaze_tuning_names[i]; i++) {
+        if (strcmp(name, fv_gaze_tuning_names[i]) != 0) continue;
+        bool is_blend = strcmp(name, "blend") == 0;
+        if (is_blend ? !(v == 1.0 || v == -1.0) : !(isfinite(v) && v > 0.0 && v < 1e6)) return FV_ERR_RANGE;
+        *tuning_field(t, i) = v;
+        return FV_OK;
+    }
+    return FV_ERR_NOT_FOUND;
+}
+
+/* desc's tuning with zero (or invalid) fields replaced by the defaults */
+static fv_gaze_tuning tuning_filled(const fv_gaze_tuning *given)
+{
+    fv_gaze_tuning t = fv_gaze_tuning_defaults(), g = *given;
+    for (int i = 0; fv_gaze_tuning_names[i]; i++) {
+        double v = *tuning_field(&g, i);
+        if (isfinite(v) && v != 0.0 && (i == 9 ? fabs(v) == 1.0 : v > 0.0 && v < 1e6)) *tuning_field(&t, i) = v;
+    }
+    if (t.mid_window_ms < 5.0) t.mid_window_ms = 5.0;
+    if (t.score_memory < 1.0) t.score_memory = 1.0;
+    return t;
+}
+
 fv_result fv_gaze_pipeline_create(const fv_gaze_pipeline_desc *desc, fv_gaze_pipeline **out)
 {
     if (!out) return FV_ERR_INVALID_ARG;
@@ -168,6 +218,7 @@ fv_result fv_gaze_pipeline_create(const fv_gaze_pipeline_desc *desc, fv_gaze_pip
     fv_gaze_pipeline *p = calloc(1, sizeof *p);
     if (!p) return FV_ERR_NO_MEMORY;
     p->desc = d;
+    p->tun = tuning_filled(&d.tuning);
     p->adaptive_filter = adaptive;
     fv_gaze_noise_init(&p->noise);
     p->sacc_on = d.saccade_on_deg_s;
@@ -502,7 +553,7 @@ static void blend(const fv_gaze_pipeline *p, fv_gaze_event ev, double cand[CANDS
     if (p->scored[cx] >= SCORE_MIN) num = p->lam_num[cx], den = p->lam_den[cx];
     else if (p->scored_state[st] >= SCORE_MIN) num = p->lam_num_state[st], den = p->lam_den_state[st];
     double lam = den > 1e-12 ? fmax(0.0, fmin(1.0, num / den)) : 0.0;
-    if (!isfinite(lam)) lam = 0.0;
+    if (!isfinite(lam) || p->tun.blend < 0.0) lam = 0.0; /* without the blend: the newest sample, never chosen */
     for (int a = 0; a < 2; a++)
         cand[CAND_BLEND][a] = cand[CAND_SAMPLE][a] + lam * (cand[CAND_MODEL][a] - cand[CAND_SAMPLE][a]);
 }
@@ -568,8 +619,9 @@ static int context(const fv_gaze_pipeline *p, fv_gaze_event ev)
 {
     int st = (int)ev >= 0 && (int)ev < STATES ? (int)ev : 0;
     double v = ang_norm(p->v_mid, p->h_count > 0 ? p->h_p[hist_index(p, 0)][1] : 0.0);
-    int bin = !(v >= 5.0) ? 0 : v < 20.0 ? 1 : v < 60.0 ? 2 : 3;
-    if (ev == FV_GAZE_EVENT_SACCADE && p->state == FV_GAZE_EVENT_SACCADE && bin <= 1) {
+    double k = p->tun.speed_bin_scale;
+    int bin = !(v >= 5.0 * k) ? 0 : v < 20.0 * k ? 1 : v < 60.0 * k ? 2 : 3;
+    if (ev == FV_GAZE_EVENT_SACCADE && p->state == FV_GAZE_EVENT_SACCADE && !(v >= p->tun.slow_saccade_deg_s)) {
         int seen = 0;
         while (seen < p->h_count && seen < 3 && p->h_t[hist_index(p, seen)] >= p->sacc_start_ns) seen++;
         bin = seen <= 1 ? 0 : 2 + seen;
@@ -670,8 +722,8 @@ static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
 /* The tracker's noise and rate, measured during fixations, set the 1€ parameters (unless the desc fixed them) and
  * raise the saccade thresholds above the speed noise alone produces: SACCADE_NOISE_SDS standard errors of the
  * classifier's speed are needed to start a saccade. */
-#define SACCADE_NOISE_SDS 4.0
-#define SACCADE_ONSET2_SDS 6.0 /* the speed between the two newest samples: 6 of its standard errors start one too */
+#define SACCADE_NOISE_SDS (p->tun.onset_sds)
+#define SACCADE_ONSET2_SDS (p->tun.onset2_sds) /* the speed between the two newest samples: 6 of its SEs start one */
 static void adapt_to_noise(fv_gaze_pipeline *p, int64_t t, const double pos[2], bool fixating)
 {
     fv_gaze_noise_push(&p->noise, t, pos, fixating);

@@ -21,6 +21,7 @@
 static const char g_usage[] =
     "usage: fovea gaze eval --gaze URI [--seconds S] [--json] [--plot DIR] [--bench] [--accuracy-deg D]\n"
     "                       [--min-cutoff HZ] [--beta B] [--saccade-on DEG_S] [--saccade-off DEG_S]\n"
+    "                       [--tune KEY=VALUE]...\n"
     "  Runs the gaze pipeline over URI on a simulated clock (deterministic) and reports:\n"
     "  - saccade detection precision/recall/F1 (sim: URIs, event matching against the ground truth),\n"
     "  - mean and 95th-percentile angular error at photon time (newest sample's receipt + 0/10/20/40/60 ms) for\n"
@@ -34,7 +35,10 @@ static const char g_usage[] =
     "  sim: keys: seed rate_hz jitter_us latency_ms transport_jitter_ms dropout eye_loss precision_deg\n"
     "             accuracy_deg blink_per_min pursuit_prob microsaccades skew_ppm device_offset_s ipd_mm\n"
     "             vmax_deg_s c_deg main_seq_spread ts_bits\n"
-    "  --seconds S   device time to evaluate (default: 60 for sim:, the whole recording otherwise; at most 3600)\n";
+    "  --seconds S   device time to evaluate (default: 60 for sim:, the whole recording otherwise; at most 3600)\n"
+    "  --tune KEY=VALUE  set one of the predictor's tuned constants (select_ses onset2_sds onset_sds shrink_sds\n"
+    "                mid_window_ms score_memory score_min speed_bin_scale slow_saccade_deg_s blend); see\n"
+    "                tools/gaze_loro.py and docs/gaze.md for their cross-validation\n";
 
 static const char *const g_truth_title[FV_SIM_EVAL_TRUTHS] = {
     "the raw future sample", "the zero-phase smoothing of the samples", "the true gaze"};
@@ -321,6 +325,25 @@ static int cmd_eval(int argc, char **argv)
         } else if ((m = fv_cli_option(argc, argv, &i, "--saccade-on", &v)) != 0) {
             if (m < 0 || !parse_float_opt(v, 1.0, 2000.0, &pd.saccade_on_deg_s))
                 return fv_cli_usage_error("gaze", g_usage, "--saccade-on needs a speed in [1, 2000] deg/s");
+        } else if ((m = fv_cli_option(argc, argv, &i, "--tune", &v)) != 0) {
+            /* KEY=VALUE: one of the predictor's tuned constants (fv_gaze_tuning), for cross-validation */
+            const char *eq = m > 0 ? strchr(v, '=') : NULL;
+            char key[40];
+            double val = 0.0;
+            if (!eq || (size_t)(eq - v) >= sizeof key || !fv_cli_parse_f64(eq + 1, -1e6, 1e6, &val))
+                return fv_cli_usage_error("gaze", g_usage, "--tune needs KEY=VALUE, got '%s'", m < 0 ? "" : v);
+            snprintf(key, sizeof key, "%.*s", (int)(eq - v), v);
+            fv_result tr = fv_gaze_tuning_set(&pd.tuning, key, val);
+            if (tr == FV_ERR_NOT_FOUND) {
+                char names[400] = "";
+                for (int k = 0; fv_gaze_tuning_names[k]; k++)
+                    snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? " " : "",
+                             fv_gaze_tuning_names[k]);
+                return fv_cli_usage_error("gaze", g_usage, "--tune: unknown constant '%s' (one of: %s)", key, names);
+            }
+            if (tr != FV_OK)
+                return fv_cli_usage_error("gaze", g_usage, "--tune %s: %g is out of range (positive; blend 1 or -1)",
+                                          key, val);
         } else if ((m = fv_cli_option(argc, argv, &i, "--saccade-off", &v)) != 0) {
             if (m < 0 || !parse_float_opt(v, 1.0, 2000.0, &pd.saccade_off_deg_s))
                 return fv_cli_usage_error("gaze", g_usage, "--saccade-off needs a speed in [1, 2000] deg/s");
