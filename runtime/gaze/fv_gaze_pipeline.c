@@ -102,8 +102,14 @@ struct fv_gaze_pipeline {
     struct {
         int64_t t_ns;
         int context;
+        int chosen;           /* the candidate the selection took for this prediction (before the device fallback) */
         double c[CANDS][2];
     } pend[PEND_SLOTS];
+    /* the device-level check: the running mean of (chosen candidate's error - newest sample's error) over every
+     * scored prediction; prediction falls back to the newest sample while it is not below zero */
+    double dev_dmean;
+    uint64_t dev_scored;
+    bool fallback;
     int pend_head, pend_count;
     double mae[CONTEXTS][CANDS];   /* running mean angular error per context and candidate, deg */
     uint32_t scored[CONTEXTS];
@@ -144,12 +150,14 @@ static float pos_or(float v, float dflt) { return isfinite(v) && v > 0.0f ? v : 
 const char *const fv_gaze_tuning_names[] = {"select_ses",      "onset2_sds",     "onset_sds",
                                             "shrink_sds",      "mid_window_ms",  "score_memory",
                                             "score_min",       "speed_bin_scale", "slow_saccade_deg_s",
-                                            "blend",           NULL};
+                                            "blend",           "fallback_min",   "fallback_memory",
+                                            NULL};
 
 static double *tuning_field(fv_gaze_tuning *t, int i)
 {
     double *f[] = {&t->select_ses,   &t->onset2_sds, &t->onset_sds,       &t->shrink_sds,         &t->mid_window_ms,
-                   &t->score_memory, &t->score_min,  &t->speed_bin_scale, &t->slow_saccade_deg_s, &t->blend};
+                   &t->score_memory, &t->score_min,  &t->speed_bin_scale, &t->slow_saccade_deg_s, &t->blend,
+                   &t->fallback_min, &t->fallback_memory};
     _Static_assert(sizeof f / sizeof f[0] + 1 == sizeof fv_gaze_tuning_names / sizeof fv_gaze_tuning_names[0],
                    "one name per field");
     return f[i];
@@ -159,7 +167,8 @@ fv_gaze_tuning fv_gaze_tuning_defaults(void)
 {
     return (fv_gaze_tuning){.select_ses = 1.25, .onset2_sds = 6.0, .onset_sds = 4.0, .shrink_sds = 2.0,
                             .mid_window_ms = 50.0, .score_memory = 512.0, .score_min = 8.0, .speed_bin_scale = 1.0,
-                            .slow_saccade_deg_s = 20.0, .blend = 1.0};
+                            .slow_saccade_deg_s = 20.0, .blend = 1.0, .fallback_min = 64.0,
+                            .fallback_memory = 2048.0};
 }
 
 fv_result fv_gaze_tuning_set(fv_gaze_tuning *t, const char *name, double v)
@@ -185,6 +194,7 @@ static fv_gaze_tuning tuning_filled(const fv_gaze_tuning *given)
     }
     if (t.mid_window_ms < 5.0) t.mid_window_ms = 5.0;
     if (t.score_memory < 1.0) t.score_memory = 1.0;
+    if (t.fallback_memory < 1.0) t.fallback_memory = 1.0;
     return t;
 }
 
@@ -637,6 +647,17 @@ static int context(const fv_gaze_pipeline *p, fv_gaze_event ev)
  * The raw truth carries the tracker's noise, which is independent of every candidate 20 ms earlier. The mean
  * absolute error, not the mean square, ranks them: a candidate with rare large misses (a landing fit on a head
  * movement) loses less to them, and the 95th percentile followed better on the recordings. */
+static int select_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev);
+
+/* Where prediction cannot help on this device (a tracker that filters heavily itself, or one whose motion the eye
+ * data do not foretell), the whole device falls back: the selection's choices are scored against the newest sample
+ * too, over every context, and while their running mean is not below it (after fallback_min scores) predict()
+ * returns the newest sample. The check goes on in the background, so prediction comes back when it pays again. */
+static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
+{
+    return p->fallback ? CAND_SAMPLE : select_candidate(p, ev);
+}
+
 static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2])
 {
     while (p->pend_count > 0) {
@@ -679,6 +700,16 @@ static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2]
         }
         if (p->scored[cx] < UINT32_MAX) p->scored[cx]++;
         if (p->scored_state[st] < UINT32_MAX) p->scored_state[st]++;
+        {
+            int ch = p->pend[i].chosen;
+            double dd = ch >= 0 && ch < CANDS ? e[ch] - e[CAND_SAMPLE] : 0.0;
+            double lg = fmax(1.0 / ((double)p->dev_scored + 1.0), 1.0 / p->tun.fallback_memory);
+            p->dev_dmean += lg * (dd - p->dev_dmean);
+            p->dev_scored++;
+            bool was = p->fallback;
+            p->fallback = (double)p->dev_scored < p->tun.fallback_min || !(p->dev_dmean < 0.0);
+            if (p->fallback != was) p->stats.fallback_switches++;
+        }
     }
     p->have_prev_raw = true;
     p->prev_raw_ns = t;
@@ -692,6 +723,7 @@ static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2]
     p->pend_count++;
     p->pend[i].t_ns = fv_i64_add_sat(t, SCORE_HORIZON_NS);
     p->pend[i].context = context(p, p->state);
+    p->pend[i].chosen = select_candidate(p, p->state);
     double extra;
     candidates(p, p->state, (double)SCORE_HORIZON_NS * 1e-9, p->pend[i].c, &extra);
 }
@@ -700,7 +732,7 @@ static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2]
  * the newest sample unless a candidate's mean error stays below the sample's by SELECT_SES standard errors of the
  * paired difference (the one with the lowest upper bound): a tie, or a gain within the scores' noise, is the latest
  * sample itself, exactly. */
-static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
+static int select_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
 {
     int cx = context(p, ev), st = cx / SPEED_BINS;
     const double *dm = NULL, *dq = NULL;
@@ -898,6 +930,8 @@ void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_
         double cand[CANDS][2], extra = 0.0;
         candidates(p, ev, h_s, cand, &extra);
         int c = choose_candidate(p, ev);
+        p->stats.predictions++;
+        if (p->fallback) p->stats.fallback_predictions++;
         pred[0] = cand[c][0];
         pred[1] = cand[c][1];
         unc += FIXATION_GROWTH_DEG_S * hpos + (c == CAND_MODEL ? extra : 0.0);
@@ -956,6 +990,8 @@ void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stat
     out->rate_hz = fv_gaze_noise_rate_hz(&p->noise);
     out->filter_min_cutoff_hz = p->ch[CH_COMBINED].filter.min_cutoff_hz;
     out->filter_beta = p->ch[CH_COMBINED].filter.beta;
+    out->fallback = p->fallback;
+    out->fallback_margin_deg = p->dev_dmean;
 }
 
 fv_gaze_event fv_gaze_pipeline_event(const fv_gaze_pipeline *p)

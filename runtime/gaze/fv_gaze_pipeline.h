@@ -60,6 +60,8 @@ typedef struct fv_gaze_tuning {
     double speed_bin_scale;   /* the context speed bins 5 / 20 / 60 deg/s times this; 1 */
     double slow_saccade_deg_s; /* a saccade from slower motion is binned by the samples seen of it; 20 */
     double blend;             /* 1: the blend candidate takes part; -1: it does not; 0 = 1 */
+    double fallback_min;      /* scored predictions before the device-level fallback may start; 64 */
+    double fallback_memory;   /* the device-level check averages over about this many; 2048 */
 } fv_gaze_tuning;
 
 /** The defaults of every tuned constant (what zero means). */
@@ -108,6 +110,12 @@ typedef struct fv_gaze_pipeline_stats {
     double noise_deg;        /* online tracker noise estimate (deg RMS per axis, from fixations); NaN before one */
     double rate_hz;          /* online sample-rate estimate; 0 before one */
     double filter_min_cutoff_hz, filter_beta; /* the 1€ parameters in use */
+    /* Prediction's device-level check: predict() calls (outside blinks), those that fell back to the newest sample
+     * because the selection's choices have not beaten it on this device's own later samples, the switches, the
+     * state now, and the running mean of (chosen - newest sample) error in deg (negative: prediction pays). */
+    uint64_t predictions, fallback_predictions, fallback_switches;
+    bool fallback;
+    double fallback_margin_deg;
 } fv_gaze_pipeline_stats;
 
 void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stats *out);

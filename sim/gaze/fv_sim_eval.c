@@ -525,6 +525,7 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
     out->noise_deg = st.noise_deg;
     out->filter_min_cutoff_hz = st.filter_min_cutoff_hz;
     out->filter_beta = st.filter_beta;
+    out->pipeline = st; /* the predicting pipeline's counters (its device-level fallback among them) */
     out->seconds = ((double)recs[n - 1].s.t_device_ns - (double)recs[0].s.t_device_ns) * 1e-9;
     out->rate_hz = out->seconds > 0.0 ? (double)(n - 1) / out->seconds : 0.0;
     if (eye) {

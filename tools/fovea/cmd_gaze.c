@@ -84,6 +84,13 @@ static void print_text(const char *uri, const fv_sim_eval_result *r)
     printf("  (in r) = share of truths inside the predicted uncertainty radius; mean radius at 20 ms: %.2f deg\n",
            r->mean_uncertainty_deg);
     printf("  smoothed truth: local quadratic fit over +-%.1f ms of valid samples\n", r->smooth_half_ms);
+    const fv_gaze_pipeline_stats *ps = &r->pipeline;
+    if (ps->predictions)
+        printf("  prediction: %s; %.1f%% of the predictions fell back to the latest sample (the predictor's choices "
+               "did not beat it on this device's own later samples: %+.4f deg mean at the end, %llu switches)\n",
+               ps->fallback ? "FALLEN BACK to the latest sample (it cannot help on this device)" : "on",
+               100.0 * (double)ps->fallback_predictions / (double)ps->predictions, ps->fallback_margin_deg,
+               (unsigned long long)ps->fallback_switches);
     if (r->ns_per_sample > 0.0) printf("  pipeline cost: %.0f ns per sample (push + predict)\n", r->ns_per_sample);
 }
 
@@ -124,6 +131,12 @@ static int print_json(const char *uri, const fv_sim_eval_result *r, const fv_gaz
         cJSON_AddNumberToObject(nz, "filter_min_cutoff_hz", r->filter_min_cutoff_hz);
         cJSON_AddNumberToObject(nz, "filter_beta", r->filter_beta);
     }
+    cJSON *pr = cJSON_AddObjectToObject(o, "prediction");
+    cJSON_AddBoolToObject(pr, "fallback", r->pipeline.fallback);
+    cJSON_AddNumberToObject(pr, "fallback_share", r->pipeline.predictions ? (double)r->pipeline.fallback_predictions /
+                                                                              (double)r->pipeline.predictions : 0.0);
+    cJSON_AddNumberToObject(pr, "fallback_switches", (double)r->pipeline.fallback_switches);
+    cJSON_AddNumberToObject(pr, "margin_deg", r->pipeline.fallback_margin_deg);
     cJSON *s = cJSON_AddObjectToObject(o, "saccades");
     cJSON_AddNumberToObject(s, "detected", (double)r->det_saccades);
     if (r->has_truth) {
