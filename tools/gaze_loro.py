@@ -48,6 +48,7 @@ GRID = {
     "blend": [1.0, -1.0],
     "fallback_min": [64.0, 16.0, 256.0],
     "fallback_memory": [2048.0, 512.0, 8192.0],
+    "fallback": [1.0, -1.0],
 }
 
 

@@ -151,13 +151,13 @@ const char *const fv_gaze_tuning_names[] = {"select_ses",      "onset2_sds",    
                                             "shrink_sds",      "mid_window_ms",  "score_memory",
                                             "score_min",       "speed_bin_scale", "slow_saccade_deg_s",
                                             "blend",           "fallback_min",   "fallback_memory",
-                                            NULL};
+                                            "fallback",        NULL};
 
 static double *tuning_field(fv_gaze_tuning *t, int i)
 {
     double *f[] = {&t->select_ses,   &t->onset2_sds, &t->onset_sds,       &t->shrink_sds,         &t->mid_window_ms,
                    &t->score_memory, &t->score_min,  &t->speed_bin_scale, &t->slow_saccade_deg_s, &t->blend,
-                   &t->fallback_min, &t->fallback_memory};
+                   &t->fallback_min, &t->fallback_memory, &t->fallback};
     _Static_assert(sizeof f / sizeof f[0] + 1 == sizeof fv_gaze_tuning_names / sizeof fv_gaze_tuning_names[0],
                    "one name per field");
     return f[i];
@@ -168,7 +168,7 @@ fv_gaze_tuning fv_gaze_tuning_defaults(void)
     return (fv_gaze_tuning){.select_ses = 1.25, .onset2_sds = 6.0, .onset_sds = 4.0, .shrink_sds = 2.0,
                             .mid_window_ms = 50.0, .score_memory = 512.0, .score_min = 8.0, .speed_bin_scale = 1.0,
                             .slow_saccade_deg_s = 20.0, .blend = 1.0, .fallback_min = 64.0,
-                            .fallback_memory = 2048.0};
+                            .fallback_memory = 2048.0, .fallback = 1.0};
 }
 
 fv_result fv_gaze_tuning_set(fv_gaze_tuning *t, const char *name, double v)
@@ -176,7 +176,7 @@ fv_result fv_gaze_tuning_set(fv_gaze_tuning *t, const char *name, double v)
     if (!t || !name) return FV_ERR_INVALID_ARG;
     for (int i = 0; fv_gaze_tuning_names[i]; i++) {
         if (strcmp(name, fv_gaze_tuning_names[i]) != 0) continue;
-        bool is_blend = strcmp(name, "blend") == 0;
+        bool is_blend = strcmp(name, "blend") == 0 || strcmp(name, "fallback") == 0; /* switches: 1 on, -1 off */
         if (is_blend ? !(v == 1.0 || v == -1.0) : !(isfinite(v) && v > 0.0 && v < 1e6)) return FV_ERR_RANGE;
         *tuning_field(t, i) = v;
         return FV_OK;
@@ -190,7 +190,8 @@ static fv_gaze_tuning tuning_filled(const fv_gaze_tuning *given)
     fv_gaze_tuning t = fv_gaze_tuning_defaults(), g = *given;
     for (int i = 0; fv_gaze_tuning_names[i]; i++) {
         double v = *tuning_field(&g, i);
-        if (isfinite(v) && v != 0.0 && (i == 9 ? fabs(v) == 1.0 : v > 0.0 && v < 1e6)) *tuning_field(&t, i) = v;
+        bool is_switch = strcmp(fv_gaze_tuning_names[i], "blend") == 0 || strcmp(fv_gaze_tuning_names[i], "fallback") == 0;
+        if (isfinite(v) && v != 0.0 && (is_switch ? fabs(v) == 1.0 : v > 0.0 && v < 1e6)) *tuning_field(&t, i) = v;
     }
     if (t.mid_window_ms < 5.0) t.mid_window_ms = 5.0;
     if (t.score_memory < 1.0) t.score_memory = 1.0;
@@ -701,13 +702,15 @@ static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2]
         if (p->scored[cx] < UINT32_MAX) p->scored[cx]++;
         if (p->scored_state[st] < UINT32_MAX) p->scored_state[st]++;
         {
+            /* the mean over every scored prediction (a choice of the sample itself adds 0) */
             int ch = p->pend[i].chosen;
-            double dd = ch >= 0 && ch < CANDS ? e[ch] - e[CAND_SAMPLE] : 0.0;
+            double dd = ch > CAND_SAMPLE && ch < CANDS ? e[ch] - e[CAND_SAMPLE] : 0.0;
             double lg = fmax(1.0 / ((double)p->dev_scored + 1.0), 1.0 / p->tun.fallback_memory);
             p->dev_dmean += lg * (dd - p->dev_dmean);
             p->dev_scored++;
             bool was = p->fallback;
-            p->fallback = (double)p->dev_scored < p->tun.fallback_min || !(p->dev_dmean < 0.0);
+            p->fallback = p->tun.fallback > 0.0 &&
+                          ((double)p->dev_scored < p->tun.fallback_min || !(p->dev_dmean < 0.0));
             if (p->fallback != was) p->stats.fallback_switches++;
         }
     }

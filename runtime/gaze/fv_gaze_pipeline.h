@@ -62,12 +62,14 @@ typedef struct fv_gaze_tuning {
     double blend;             /* 1: the blend candidate takes part; -1: it does not; 0 = 1 */
     double fallback_min;      /* scored predictions before the device-level fallback may start; 64 */
     double fallback_memory;   /* the device-level check averages over about this many; 2048 */
+    double fallback;          /* 1: the device-level fallback is on (it starts fallen back until fallback_min
+                               * scores); -1: off; 0 = 1 */
 } fv_gaze_tuning;
 
 /** The defaults of every tuned constant (what zero means). */
 fv_gaze_tuning fv_gaze_tuning_defaults(void);
 /** Set one constant by name ("select_ses", ...); FV_ERR_NOT_FOUND for an unknown name, FV_ERR_RANGE for a value
- *  that is not finite and positive (blend: 1 or -1). */
+ *  that is not finite and positive (the switches blend and fallback: 1 or -1). */
 FV_MUST_CHECK fv_result fv_gaze_tuning_set(fv_gaze_tuning *t, const char *name, double value);
 /** The names, NULL-terminated. */
 extern const char *const fv_gaze_tuning_names[];

@@ -37,7 +37,8 @@ static const char g_usage[] =
     "             vmax_deg_s c_deg main_seq_spread ts_bits\n"
     "  --seconds S   device time to evaluate (default: 60 for sim:, the whole recording otherwise; at most 3600)\n"
     "  --tune KEY=VALUE  set one of the predictor's tuned constants (select_ses onset2_sds onset_sds shrink_sds\n"
-    "                mid_window_ms score_memory score_min speed_bin_scale slow_saccade_deg_s blend); see\n"
+    "                mid_window_ms score_memory score_min speed_bin_scale slow_saccade_deg_s blend fallback_min\n"
+    "                fallback_memory fallback); see\n"
     "                tools/gaze_loro.py and docs/gaze.md for their cross-validation\n";
 
 static const char *const g_truth_title[FV_SIM_EVAL_TRUTHS] = {
