@@ -148,10 +148,18 @@ def main():
             w["predicted"][0], w["predicted"][1], w["latest_sample"][0], w["latest_sample"][1],
             100.0 * r.get("fallback_share", 0.0), "yes" if meets(r) else "NO")
 
-    print("per constant: value chosen in each LORO fold (held-out recording: value)")
+    print("per constant, cross-validated alone (the others at their defaults): the values the LORO folds pick, and "
+          "over the ten held-out recordings the targets met and the mean loss (3.0 = the latest sample), against the "
+          "default's")
     for k in GRID:
         picks = [choose([m for m in names if m != n])[k] for n in names]
-        print("  %-20s default %-8g LORO picks %s; all ten: %g" % (k, GRID[k][0], sorted(set(picks)), all_chosen[k]))
+        held = [res[(k, p, n)] for p, n in zip(picks, names)]
+        dflt = [res[(k, GRID[k][0], n)] for n in names]
+        missed = [n for n, r in zip(names, held) if not meets(r)]
+        print("  %-20s default %-8g LORO picks %-28s all ten: %-8g held out: %2d/10 met, loss %.4f (default %2d/10, "
+              "%.4f)%s" % (k, GRID[k][0], sorted(set(picks)), all_chosen[k], sum(meets(r) for r in held),
+                           sum(loss(r) for r in held) / len(held), sum(meets(r) for r in dflt),
+                           sum(loss(r) for r in dflt) / len(dflt), "; missed: " + ", ".join(missed) if missed else ""))
     print("\nrecording | defaults (tuned on these recordings) | LORO held-out | LODO held-out   "
           "[smoothed mean / p95 predicted vs latest | raw ... | targets met]")
     for (n, c, r), (n2, c2, r2) in zip(loro, sorted(lodo, key=lambda x: names.index(x[0]))):
