@@ -87,9 +87,10 @@ static void print_text(const char *uri, const fv_sim_eval_result *r)
     printf("  smoothed truth: local quadratic fit over +-%.1f ms of valid samples\n", r->smooth_half_ms);
     const fv_gaze_pipeline_stats *ps = &r->pipeline;
     if (ps->predictions)
-        printf("  prediction: %s; %.1f%% of the predictions fell back to the latest sample (the predictor's choices "
-               "did not beat it on this device's own later samples: %+.4f deg mean at the end, %llu switches)\n",
-               ps->fallback ? "FALLEN BACK to the latest sample (it cannot help on this device)" : "on",
+        printf("  prediction: %s at the end; %.1f%% of the predictions fell back to the latest sample, where the "
+               "predictor's choices had not beaten it on this device's own later samples (chosen - latest error at "
+               "the end %+.4f deg; %llu switches)\n",
+               ps->fallback ? "fallen back to the latest sample (it cannot help on this device)" : "on",
                100.0 * (double)ps->fallback_predictions / (double)ps->predictions, ps->fallback_margin_deg,
                (unsigned long long)ps->fallback_switches);
     if (r->ns_per_sample > 0.0) printf("  pipeline cost: %.0f ns per sample (push + predict)\n", r->ns_per_sample);
