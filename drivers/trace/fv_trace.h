@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "fovea/fv_gaze_sample.h"
+#include "fv_gaze_validity.h"
 #include "fv_result.h"
 
 typedef enum fv_trace_format {
@@ -52,6 +53,9 @@ typedef struct fv_trace_reader_stats {
     uint64_t samples;      /* samples returned (first pass) */
     uint64_t rows_skipped; /* bad rows skipped with a warning (first pass) */
     uint64_t blink_events; /* distinct source blink events that covered at least one sample (first pass) */
+    /* Physically impossible gaze (fv_gaze_validity.h), per kind, first pass: samples a format's documented rule
+     * repaired, and samples whose impossible rays were marked invalid (outside blinks). */
+    fv_gaze_validity_counts validity;
 } fv_trace_reader_stats;
 
 typedef struct fv_trace_reader fv_trace_reader;

@@ -28,5 +28,8 @@ FV_MUST_CHECK fv_result fv_trace_replay_open(fv_trace_reader *reader, const fv_t
 /** The source blink events a trace device's reader has met so far (as `fovea trace info` counts them: Pupil's
  *  blinks.csv events that covered a sample); 0 for any other device or a format without blink events. */
 uint64_t fv_trace_device_blink_events(const fv_device *dev);
+/** The counters of a trace device's reader so far (impossible gaze repaired and dropped, bad rows, ...); NULL for
+ *  any other device. Valid until the device is closed. */
+const fv_trace_reader_stats *fv_trace_device_reader_stats(const fv_device *dev);
 
 #endif

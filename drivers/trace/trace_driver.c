@@ -336,6 +336,12 @@ uint64_t fv_trace_device_blink_events(const fv_device *dev)
     return fv_trace_reader_get_stats(d->reader)->blink_events;
 }
 
+const fv_trace_reader_stats *fv_trace_device_reader_stats(const fv_device *dev)
+{
+    if (!dev || dev->ops != &g_ops) return NULL;
+    return fv_trace_reader_get_stats(((const trace_device *)dev)->reader);
+}
+
 const fv_driver fv_trace_driver = {
     .scheme = "trace",
     .summary = "recorded gaze files (Pupil Core/Cloud, SRanipal, Tobii Glasses 3, Pico, fovea)",

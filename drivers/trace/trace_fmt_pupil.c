@@ -5,7 +5,11 @@
  * z forward, mm); fovea's head frame (x right, y up, -z forward) is (x, -y, -z), a 180 degree turn about x. eye0 is
  * the right eye, eye1 the left. The combined ray points from the eyes' midpoint to gaze_point_3d; without 3D data
  * it comes from norm_pos (origin bottom-left) through the default camera model below. Samples below the minimum
- * confidence (0.6, Pupil Labs' recommendation) are kept as invalid samples.
+ * confidence (0.6, Pupil Labs' recommendation) are kept as invalid samples. A confident row whose gaze_point_3d lies
+ * behind the head (z < 0: the two lines of sight meet behind the eyes, a quirk of the binocular intersection that
+ * Pupil Labs documents) is repaired as their tutorial does: the combined ray is the mean of the eyes' own gaze
+ * normals (gaze_normal0/1) when they point forward, else the point flipped through the camera (-p); counted as
+ * repaired (fv_gaze_validity.h). Nothing pointing backwards is passed on.
  *
  * Pupil Cloud: timestamp [ns] (Unix epoch). One combined gaze point: the direction comes from azimuth/elevation
  * (positive right and up) when present, else from the pixel position through the default camera model. Rows with a
@@ -71,6 +75,25 @@ static int opt_vec3(fv_trace_reader *r, int n, int slot, const char *const *name
     return 1;
 }
 
+/* gaze_point_3d (camera frame) behind the head: the lines of sight met behind the eyes. The repair Pupil Labs'
+ * tutorial gives: the eyes' gaze normals (already in the head frame here), averaged over those that point forward;
+ * without one, the point flipped through the camera. The reader's validity rules then check the result like any. */
+static void core_point_behind(fv_gaze_sample *s, const double p[3])
+{
+    fv_eye_sample *cb = &s->combined;
+    trace_combined_origin(s, true); /* the eyes' midpoint, one eye's centre, or none (the scene camera) */
+    double sum[3] = {0, 0, 0};
+    int used = 0;
+    for (int e = 0; e < 2; e++) {
+        const fv_eye_sample *es = &s->eye[e];
+        if (!(es->flags & FV_EYE_DIRECTION_VALID) || !fv_gaze_direction_possible(es->direction)) continue;
+        sum[0] += es->direction.x, sum[1] += es->direction.y, sum[2] += es->direction.z;
+        used++;
+    }
+    if (used) trace_eye_set_direction(cb, sum[0], sum[1], sum[2]);
+    else trace_eye_set_direction(cb, -p[0], p[1], p[2]); /* -p in the camera frame is (-x, y, z) in the head frame */
+}
+
 static fv_result core_row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample *s)
 {
     (void)len;
@@ -103,17 +126,13 @@ static fv_result core_row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sa
     double p[3];
     int rc = opt_vec3(r, n, K_P3_X, g_core_cols, p);
     if (rc < 0) return FV_ERR_PARSE;
-    if (rc > 0 && isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2])) {
+    const bool confident = r->min_confidence < 0.0f || conf >= (double)r->min_confidence;
+    if (rc > 0 && p[2] < 0.0 && isfinite(p[0]) && isfinite(p[1]) && confident) {
+        core_point_behind(s, p);
+        r->row_repaired |= 1u << FV_GAZE_FAULT_POINT_BEHIND;
+    } else if (rc > 0 && isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2])) {
         fv_vec3 ph = fv_v3(trace_f32(p[0]), trace_f32(-p[1]), trace_f32(-p[2]));
-        const fv_eye_sample *l = &s->eye[FV_EYE_LEFT], *rr = &s->eye[FV_EYE_RIGHT];
-        bool lo = l->flags & FV_EYE_ORIGIN_VALID, ro = rr->flags & FV_EYE_ORIGIN_VALID;
-        if (lo && ro)
-            trace_eye_set_origin(cb, 0.5 * ((double)l->origin_mm.x + rr->origin_mm.x),
-                                 0.5 * ((double)l->origin_mm.y + rr->origin_mm.y),
-                                 0.5 * ((double)l->origin_mm.z + rr->origin_mm.z));
-        else if (lo || ro)
-            trace_eye_set_origin(cb, (lo ? l : rr)->origin_mm.x, (lo ? l : rr)->origin_mm.y,
-                                 (lo ? l : rr)->origin_mm.z);
+        trace_combined_origin(s, true);
         /* from the eye(s), or from the scene camera when no eye centre is known */
         fv_vec3 o = (cb->flags & FV_EYE_ORIGIN_VALID) ? cb->origin_mm : fv_v3(0, 0, 0);
         trace_eye_set_direction(cb, (double)ph.x - o.x, (double)ph.y - o.y, (double)ph.z - o.z);

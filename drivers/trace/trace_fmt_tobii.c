@@ -77,12 +77,7 @@ static fv_result row(fv_trace_reader *r, char *line, size_t len, fv_gaze_sample 
     eye_from_json(&s->eye[FV_EYE_RIGHT], cJSON_GetObjectItemCaseSensitive(data, "eyeright"));
 
     fv_eye_sample *cb = &s->combined;
-    const fv_eye_sample *l = &s->eye[FV_EYE_LEFT], *rr = &s->eye[FV_EYE_RIGHT];
-    bool lo = l->flags & FV_EYE_ORIGIN_VALID, ro = rr->flags & FV_EYE_ORIGIN_VALID;
-    if (lo && ro)
-        trace_eye_set_origin(cb, 0.5 * ((double)l->origin_mm.x + rr->origin_mm.x),
-                             0.5 * ((double)l->origin_mm.y + rr->origin_mm.y),
-                             0.5 * ((double)l->origin_mm.z + rr->origin_mm.z));
+    trace_combined_origin(s, false);
     double g[3];
     if (arr3(cJSON_GetObjectItemCaseSensitive(data, "gaze3d"), g)) {
         fv_vec3 o = (cb->flags & FV_EYE_ORIGIN_VALID) ? cb->origin_mm : fv_v3(0, 0, 0); /* else: scene camera */

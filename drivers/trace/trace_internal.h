@@ -79,6 +79,7 @@ typedef struct trace_row {
     fv_gaze_sample s;
     uint64_t line_no;
     uint64_t blink_id;         /* the row parser's source blink event id (0 none) */
+    uint32_t repaired, dropped; /* fv_gaze_fault bits: repaired by the row parser, dropped by the validity rules */
 } trace_row;
 
 typedef struct trace_format_ops {
@@ -120,6 +121,8 @@ struct fv_trace_reader {
     bool in_blink_run;
     float min_confidence;
     uint64_t row_blink_id;     /* set by a row parser that knows the source's blink event id */
+    uint32_t row_repaired;     /* set by a row parser that repaired an impossible value its format documents
+                                  (1u << fv_gaze_fault) */
     double meta_rate_hz;       /* fovea format: "# rate_hz:" from the header (0 unknown) */
     char other_kind[48];       /* a row parser's name for the first non-sample row it skipped ("syncport"), for the
                                   error of a file without samples */

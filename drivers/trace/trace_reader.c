@@ -450,6 +450,7 @@ static fv_result parse_next(fv_trace_reader *r, uint64_t start, trace_row *out)
         fv_gaze_sample_init_invalid(&out->s, 0, 0);
         r->why[0] = '\0';
         r->row_blink_id = 0;
+        r->row_repaired = 0;
         fv_result res = r->ops->row(r, line, len, &out->s);
         if (res == FV_NO_NEW_DATA) continue;
         if (res != FV_OK) {
@@ -458,6 +459,9 @@ static fv_result parse_next(fv_trace_reader *r, uint64_t start, trace_row *out)
         }
         out->line_no = ln;
         out->blink_id = r->row_blink_id;
+        /* every format's sample obeys the same rules: an impossible ray is marked invalid, never handed out */
+        out->repaired = r->row_repaired;
+        out->dropped = fv_gaze_sample_enforce(&out->s);
         return FV_OK;
     }
 }
@@ -517,7 +521,10 @@ static void emit(fv_trace_reader *r, fv_gaze_sample *out)
     trace_row *c = &r->ahead[0];
     if (r->blinks.active) {
         uint64_t iv = blinks_at(r, c->s.t_device_ns);
-        if (iv) trace_sample_invalidate(&c->s, true);
+        if (iv) {
+            trace_sample_invalidate(&c->s, true);
+            c->repaired = c->dropped = 0; /* a blink: no gaze to repair or drop */
+        }
         c->blink_id = iv;
     }
     if (r->have_last_t) r->dt_ns[r->dt_n++ % TRACE_DT_WINDOW] = fv_i64_sub_sat(c->s.t_device_ns, r->last_t_ns);
@@ -526,6 +533,7 @@ static void emit(fv_trace_reader *r, fv_gaze_sample *out)
     if (r->ops->format != FV_TRACE_FORMAT_FOVEA) c->s.seq = c->line_no;
     if (r->pass == 0) {
         r->stats.samples++;
+        fv_gaze_validity_count(&r->stats.validity, c->repaired, c->dropped);
         bool blink = ((c->s.eye[0].flags | c->s.eye[1].flags | c->s.combined.flags) & FV_EYE_BLINK) != 0;
         if (blink) {
             if (c->blink_id) {

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "trace_util.h"
+#include "fv_gaze_validity.h"
 
 int trace_csv_split(char *line, char sep, char **fields, int cap)
 {
@@ -183,18 +184,31 @@ void trace_sample_invalidate(fv_gaze_sample *s, bool blink)
     }
 }
 
+void trace_combined_origin(fv_gaze_sample *s, bool one_ok)
+{
+    const fv_eye_sample *l = &s->eye[FV_EYE_LEFT], *r = &s->eye[FV_EYE_RIGHT];
+    bool lo = (l->flags & FV_EYE_ORIGIN_VALID) != 0, ro = (r->flags & FV_EYE_ORIGIN_VALID) != 0;
+    if (lo && ro)
+        trace_eye_set_origin(&s->combined, 0.5 * ((double)l->origin_mm.x + r->origin_mm.x),
+                             0.5 * ((double)l->origin_mm.y + r->origin_mm.y),
+                             0.5 * ((double)l->origin_mm.z + r->origin_mm.z));
+    else if (one_ok && (lo || ro))
+        trace_eye_set_origin(&s->combined, (lo ? l : r)->origin_mm.x, (lo ? l : r)->origin_mm.y,
+                             (lo ? l : r)->origin_mm.z);
+}
+
 void trace_combine_eyes(fv_gaze_sample *s)
 {
     const fv_eye_sample *l = &s->eye[FV_EYE_LEFT], *r = &s->eye[FV_EYE_RIGHT];
-    bool lv = (l->flags & FV_EYE_DIRECTION_VALID) != 0, rv = (r->flags & FV_EYE_DIRECTION_VALID) != 0;
+    /* an eye pointing backwards is left out here (the reader's validity rules clear and count it); a mean with it
+     * would be a ray neither eye made */
+    bool lv = (l->flags & FV_EYE_DIRECTION_VALID) && fv_gaze_direction_possible(l->direction);
+    bool rv = (r->flags & FV_EYE_DIRECTION_VALID) && fv_gaze_direction_possible(r->direction);
     fv_eye_sample *c = &s->combined;
     if (lv && rv) {
         trace_eye_set_direction(c, (double)l->direction.x + r->direction.x, (double)l->direction.y + r->direction.y,
                                 (double)l->direction.z + r->direction.z);
-        if ((l->flags & FV_EYE_ORIGIN_VALID) && (r->flags & FV_EYE_ORIGIN_VALID))
-            trace_eye_set_origin(c, 0.5 * ((double)l->origin_mm.x + r->origin_mm.x),
-                                 0.5 * ((double)l->origin_mm.y + r->origin_mm.y),
-                                 0.5 * ((double)l->origin_mm.z + r->origin_mm.z));
+        trace_combined_origin(s, false);
     } else if (lv || rv) {
         const fv_eye_sample *e = lv ? l : r;
         trace_eye_set_direction(c, e->direction.x, e->direction.y, e->direction.z);

@@ -40,8 +40,11 @@ void trace_eye_set_openness(fv_eye_sample *e, double v);
 void trace_eye_invalidate(fv_eye_sample *e);
 /** Invalidate both eyes and the combined ray (trace_eye_invalidate); with blink, also set FV_EYE_BLINK on all three. */
 void trace_sample_invalidate(fv_gaze_sample *s, bool blink);
-/** Combined ray from the eyes when the source gives none: both valid → mean origin and normalised sum of directions;
- *  one → that eye's direction, origin unknown. */
+/** The combined ray's origin from the eyes': both origins valid → their midpoint; only one (and one_ok) → that
+ *  eye's; else left unset. */
+void trace_combined_origin(fv_gaze_sample *s, bool one_ok);
+/** Combined ray from the eyes when the source gives none: both valid and possible (fv_gaze_direction_possible) →
+ *  mean origin and normalised sum of directions; one → that eye's direction, origin unknown. */
 void trace_combine_eyes(fv_gaze_sample *s);
 /** Head pose from a Unity log (Pico, SRanipal): pos_m is the position in metres and euler_deg the Euler angles in
  *  degrees (x, y, z; Unity applies Z, then X, then Y: R = Ry·Rx·Rz), both in Unity's left-handed world (+x right,

@@ -2,6 +2,7 @@
  * uncertainty radius (see fv_gaze_pipeline.h). Angles are (yaw, pitch) in degrees: yaw positive to the right,
  * pitch positive up, (0, 0) straight ahead (-z). */
 #include "fv_gaze_pipeline.h"
+#include "fv_gaze_validity.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -28,14 +29,16 @@
 #define PURSUIT_OFF_DEG_S 2.5
 #define PURSUIT_MIN_SIGNIFICANCE 3.0
 #define SCORE_HORIZON_NS (20 * FV_NS_PER_MS)      /* candidates are scored at this horizon */
-#define SCORE_MIN 8                              /* scores needed before a candidate other than the model is used */
-#define SCORE_MEMORY 512.0                        /* the running scores average over about this many */
-#define SELECT_SES 1.25                           /* a candidate replaces the newest sample only when its mean
-                                                   * error stays below the sample's by 1.25 standard errors */
+/* the tuned constants (fv_gaze_tuning): scores needed before a candidate other than the model is used; the
+ * running scores' memory; a candidate replaces the newest sample only when its mean error stays below the sample's
+ * by SELECT_SES standard errors */
+#define SCORE_MIN (p->tun.score_min)
+#define SCORE_MEMORY (p->tun.score_memory)
+#define SELECT_SES (p->tun.select_ses)
 #define PEND_SLOTS 32
 #define RADIUS_PER_MEAN_ERROR 1.72                /* Rayleigh: P(r < 1.72 mean) = 0.90 */
-#define MID_WINDOW_NS (50 * FV_NS_PER_MS)         /* extrapolated velocity: regression over the newest 50 ms */
-#define SHRINK_SDS 2.0                            /* velocity shrinkage: nothing of a velocity within 2 SE */
+#define MID_WINDOW_NS ((int64_t)(p->tun.mid_window_ms * 1e6)) /* extrapolated velocity: regression window (50 ms) */
+#define SHRINK_SDS (p->tun.shrink_sds)            /* velocity shrinkage: nothing of a velocity within 2 SE */
 #define VERGENCE_TAU_S 0.2
 #define PUPIL_TAU_S 0.15
 #define PUPIL_MIN_MM 0.5
@@ -63,6 +66,7 @@ typedef struct channel {
 
 struct fv_gaze_pipeline {
     fv_gaze_pipeline_desc desc;
+    fv_gaze_tuning tun;       /* desc.tuning with the defaults filled in */
     fv_gaze_main_sequence ms;
     fv_gaze_clock_map clock;
     fv_gaze_noise noise;      /* the tracker's noise and rate, measured online during fixations */
@@ -98,8 +102,14 @@ struct fv_gaze_pipeline {
     struct {
         int64_t t_ns;
         int context;
+        int chosen;           /* the candidate the selection took for this prediction (before the device fallback) */
         double c[CANDS][2];
     } pend[PEND_SLOTS];
+    /* the device-level check: the running mean of (chosen candidate's error - newest sample's error) over every
+     * scored prediction; prediction falls back to the newest sample while it is not below zero */
+    double dev_dmean;
+    uint64_t dev_scored;
+    bool fallback;
     int pend_head, pend_count;
     double mae[CONTEXTS][CANDS];   /* running mean angular error per context and candidate, deg */
     uint32_t scored[CONTEXTS];
@@ -137,6 +147,58 @@ const char *fv_gaze_event_str(fv_gaze_event e)
 
 static float pos_or(float v, float dflt) { return isfinite(v) && v > 0.0f ? v : dflt; }
 
+const char *const fv_gaze_tuning_names[] = {"select_ses",      "onset2_sds",     "onset_sds",
+                                            "shrink_sds",      "mid_window_ms",  "score_memory",
+                                            "score_min",       "speed_bin_scale", "slow_saccade_deg_s",
+                                            "blend",           "fallback_min",   "fallback_memory",
+                                            "fallback",        NULL};
+
+static double *tuning_field(fv_gaze_tuning *t, int i)
+{
+    double *f[] = {&t->select_ses,   &t->onset2_sds, &t->onset_sds,       &t->shrink_sds,         &t->mid_window_ms,
+                   &t->score_memory, &t->score_min,  &t->speed_bin_scale, &t->slow_saccade_deg_s, &t->blend,
+                   &t->fallback_min, &t->fallback_memory, &t->fallback};
+    _Static_assert(sizeof f / sizeof f[0] + 1 == sizeof fv_gaze_tuning_names / sizeof fv_gaze_tuning_names[0],
+                   "one name per field");
+    return f[i];
+}
+
+fv_gaze_tuning fv_gaze_tuning_defaults(void)
+{
+    return (fv_gaze_tuning){.select_ses = 1.25, .onset2_sds = 6.0, .onset_sds = 4.0, .shrink_sds = 2.0,
+                            .mid_window_ms = 50.0, .score_memory = 512.0, .score_min = 8.0, .speed_bin_scale = 1.0,
+                            .slow_saccade_deg_s = 20.0, .blend = 1.0, .fallback_min = 64.0,
+                            .fallback_memory = 2048.0, .fallback = 1.0};
+}
+
+fv_result fv_gaze_tuning_set(fv_gaze_tuning *t, const char *name, double v)
+{
+    if (!t || !name) return FV_ERR_INVALID_ARG;
+    for (int i = 0; fv_gaze_tuning_names[i]; i++) {
+        if (strcmp(name, fv_gaze_tuning_names[i]) != 0) continue;
+        bool is_blend = strcmp(name, "blend") == 0 || strcmp(name, "fallback") == 0; /* switches: 1 on, -1 off */
+        if (is_blend ? !(v == 1.0 || v == -1.0) : !(isfinite(v) && v > 0.0 && v < 1e6)) return FV_ERR_RANGE;
+        *tuning_field(t, i) = v;
+        return FV_OK;
+    }
+    return FV_ERR_NOT_FOUND;
+}
+
+/* desc's tuning with zero (or invalid) fields replaced by the defaults */
+static fv_gaze_tuning tuning_filled(const fv_gaze_tuning *given)
+{
+    fv_gaze_tuning t = fv_gaze_tuning_defaults(), g = *given;
+    for (int i = 0; fv_gaze_tuning_names[i]; i++) {
+        double v = *tuning_field(&g, i);
+        bool is_switch = strcmp(fv_gaze_tuning_names[i], "blend") == 0 || strcmp(fv_gaze_tuning_names[i], "fallback") == 0;
+        if (isfinite(v) && v != 0.0 && (is_switch ? fabs(v) == 1.0 : v > 0.0 && v < 1e6)) *tuning_field(&t, i) = v;
+    }
+    if (t.mid_window_ms < 5.0) t.mid_window_ms = 5.0;
+    if (t.score_memory < 1.0) t.score_memory = 1.0;
+    if (t.fallback_memory < 1.0) t.fallback_memory = 1.0;
+    return t;
+}
+
 fv_result fv_gaze_pipeline_create(const fv_gaze_pipeline_desc *desc, fv_gaze_pipeline **out)
 {
     if (!out) return FV_ERR_INVALID_ARG;
@@ -167,6 +229,7 @@ fv_result fv_gaze_pipeline_create(const fv_gaze_pipeline_desc *desc, fv_gaze_pip
     fv_gaze_pipeline *p = calloc(1, sizeof *p);
     if (!p) return FV_ERR_NO_MEMORY;
     p->desc = d;
+    p->tun = tuning_filled(&d.tuning);
     p->adaptive_filter = adaptive;
     fv_gaze_noise_init(&p->noise);
     p->sacc_on = d.saccade_on_deg_s;
@@ -357,7 +420,7 @@ static bool predict_saccade(const fv_gaze_pipeline *p, int64_t t_target_ns, doub
 
 static bool eye_usable(const fv_gaze_pipeline *p, const fv_eye_sample *e, double out[2])
 {
-    if (!(e->flags & FV_EYE_DIRECTION_VALID) || (e->flags & FV_EYE_BLINK)) return false;
+    if (!fv_gaze_eye_usable(e)) return false; /* the rules every reader and the evaluation truth obey */
     return fv_gaze_dir_to_angles(e->direction, p->desc.max_eccentricity_deg, out);
 }
 
@@ -501,7 +564,7 @@ static void blend(const fv_gaze_pipeline *p, fv_gaze_event ev, double cand[CANDS
     if (p->scored[cx] >= SCORE_MIN) num = p->lam_num[cx], den = p->lam_den[cx];
     else if (p->scored_state[st] >= SCORE_MIN) num = p->lam_num_state[st], den = p->lam_den_state[st];
     double lam = den > 1e-12 ? fmax(0.0, fmin(1.0, num / den)) : 0.0;
-    if (!isfinite(lam)) lam = 0.0;
+    if (!isfinite(lam) || p->tun.blend < 0.0) lam = 0.0; /* without the blend: the newest sample, never chosen */
     for (int a = 0; a < 2; a++)
         cand[CAND_BLEND][a] = cand[CAND_SAMPLE][a] + lam * (cand[CAND_MODEL][a] - cand[CAND_SAMPLE][a]);
 }
@@ -567,8 +630,9 @@ static int context(const fv_gaze_pipeline *p, fv_gaze_event ev)
 {
     int st = (int)ev >= 0 && (int)ev < STATES ? (int)ev : 0;
     double v = ang_norm(p->v_mid, p->h_count > 0 ? p->h_p[hist_index(p, 0)][1] : 0.0);
-    int bin = !(v >= 5.0) ? 0 : v < 20.0 ? 1 : v < 60.0 ? 2 : 3;
-    if (ev == FV_GAZE_EVENT_SACCADE && p->state == FV_GAZE_EVENT_SACCADE && bin <= 1) {
+    double k = p->tun.speed_bin_scale;
+    int bin = !(v >= 5.0 * k) ? 0 : v < 20.0 * k ? 1 : v < 60.0 * k ? 2 : 3;
+    if (ev == FV_GAZE_EVENT_SACCADE && p->state == FV_GAZE_EVENT_SACCADE && !(v >= p->tun.slow_saccade_deg_s)) {
         int seen = 0;
         while (seen < p->h_count && seen < 3 && p->h_t[hist_index(p, seen)] >= p->sacc_start_ns) seen++;
         bin = seen <= 1 ? 0 : 2 + seen;
@@ -584,6 +648,17 @@ static int context(const fv_gaze_pipeline *p, fv_gaze_event ev)
  * The raw truth carries the tracker's noise, which is independent of every candidate 20 ms earlier. The mean
  * absolute error, not the mean square, ranks them: a candidate with rare large misses (a landing fit on a head
  * movement) loses less to them, and the 95th percentile followed better on the recordings. */
+static int select_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev);
+
+/* Where prediction cannot help on this device (a tracker that filters heavily itself, or one whose motion the eye
+ * data do not foretell), the whole device falls back: the selection's choices are scored against the newest sample
+ * too, over every context, and while their running mean is not below it (after fallback_min scores) predict()
+ * returns the newest sample. The check goes on in the background, so prediction comes back when it pays again. */
+static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
+{
+    return p->fallback ? CAND_SAMPLE : select_candidate(p, ev);
+}
+
 static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2])
 {
     while (p->pend_count > 0) {
@@ -626,6 +701,18 @@ static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2]
         }
         if (p->scored[cx] < UINT32_MAX) p->scored[cx]++;
         if (p->scored_state[st] < UINT32_MAX) p->scored_state[st]++;
+        {
+            /* the mean over every scored prediction (a choice of the sample itself adds 0) */
+            int ch = p->pend[i].chosen;
+            double dd = ch > CAND_SAMPLE && ch < CANDS ? e[ch] - e[CAND_SAMPLE] : 0.0;
+            double lg = fmax(1.0 / ((double)p->dev_scored + 1.0), 1.0 / p->tun.fallback_memory);
+            p->dev_dmean += lg * (dd - p->dev_dmean);
+            p->dev_scored++;
+            bool was = p->fallback;
+            p->fallback = p->tun.fallback > 0.0 &&
+                          ((double)p->dev_scored < p->tun.fallback_min || !(p->dev_dmean < 0.0));
+            if (p->fallback != was) p->stats.fallback_switches++;
+        }
     }
     p->have_prev_raw = true;
     p->prev_raw_ns = t;
@@ -639,6 +726,7 @@ static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2]
     p->pend_count++;
     p->pend[i].t_ns = fv_i64_add_sat(t, SCORE_HORIZON_NS);
     p->pend[i].context = context(p, p->state);
+    p->pend[i].chosen = select_candidate(p, p->state);
     double extra;
     candidates(p, p->state, (double)SCORE_HORIZON_NS * 1e-9, p->pend[i].c, &extra);
 }
@@ -647,7 +735,7 @@ static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2]
  * the newest sample unless a candidate's mean error stays below the sample's by SELECT_SES standard errors of the
  * paired difference (the one with the lowest upper bound): a tie, or a gain within the scores' noise, is the latest
  * sample itself, exactly. */
-static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
+static int select_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
 {
     int cx = context(p, ev), st = cx / SPEED_BINS;
     const double *dm = NULL, *dq = NULL;
@@ -669,8 +757,8 @@ static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
 /* The tracker's noise and rate, measured during fixations, set the 1€ parameters (unless the desc fixed them) and
  * raise the saccade thresholds above the speed noise alone produces: SACCADE_NOISE_SDS standard errors of the
  * classifier's speed are needed to start a saccade. */
-#define SACCADE_NOISE_SDS 4.0
-#define SACCADE_ONSET2_SDS 6.0 /* the speed between the two newest samples: 6 of its standard errors start one too */
+#define SACCADE_NOISE_SDS (p->tun.onset_sds)
+#define SACCADE_ONSET2_SDS (p->tun.onset2_sds) /* the speed between the two newest samples: 6 of its SEs start one */
 static void adapt_to_noise(fv_gaze_pipeline *p, int64_t t, const double pos[2], bool fixating)
 {
     fv_gaze_noise_push(&p->noise, t, pos, fixating);
@@ -719,10 +807,13 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
     bool low_conf = isfinite(s->confidence) && s->confidence < p->desc.min_confidence;
     double a[3][2];
     bool ok[3] = {false, false, false};
+    /* a live device's physically impossible rays (fv_gaze_validity.h) are dropped here, as the readers do */
+    fv_gaze_sample g = *s;
+    if (fv_gaze_sample_enforce(&g)) p->stats.impossible++;
     if (!low_conf) {
-        ok[CH_LEFT] = eye_usable(p, &s->eye[0], a[CH_LEFT]);
-        ok[CH_RIGHT] = eye_usable(p, &s->eye[1], a[CH_RIGHT]);
-        ok[CH_COMBINED] = eye_usable(p, &s->combined, a[CH_COMBINED]);
+        ok[CH_LEFT] = eye_usable(p, &g.eye[0], a[CH_LEFT]);
+        ok[CH_RIGHT] = eye_usable(p, &g.eye[1], a[CH_RIGHT]);
+        ok[CH_COMBINED] = eye_usable(p, &g.combined, a[CH_COMBINED]);
     }
     if (!ok[CH_COMBINED] && ok[CH_LEFT] && ok[CH_RIGHT]) {
         for (int k = 0; k < 2; k++) a[CH_COMBINED][k] = 0.5 * (a[CH_LEFT][k] + a[CH_RIGHT][k]);
@@ -842,6 +933,8 @@ void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_
         double cand[CANDS][2], extra = 0.0;
         candidates(p, ev, h_s, cand, &extra);
         int c = choose_candidate(p, ev);
+        p->stats.predictions++;
+        if (p->fallback) p->stats.fallback_predictions++;
         pred[0] = cand[c][0];
         pred[1] = cand[c][1];
         unc += FIXATION_GROWTH_DEG_S * hpos + (c == CAND_MODEL ? extra : 0.0);
@@ -900,6 +993,8 @@ void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stat
     out->rate_hz = fv_gaze_noise_rate_hz(&p->noise);
     out->filter_min_cutoff_hz = p->ch[CH_COMBINED].filter.min_cutoff_hz;
     out->filter_beta = p->ch[CH_COMBINED].filter.beta;
+    out->fallback = p->fallback;
+    out->fallback_margin_deg = p->dev_dmean;
 }
 
 fv_gaze_event fv_gaze_pipeline_event(const fv_gaze_pipeline *p)

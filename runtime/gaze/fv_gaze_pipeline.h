@@ -46,6 +46,34 @@ typedef struct fv_gaze_prediction {
     bool predicted;              /* false when prediction is disabled and the latest sample was used as is */
 } fv_gaze_prediction;
 
+/* The predictor's tuned constants: every number that was chosen by looking at recordings (not derived from the
+ * noise, the rate or physiology). Zero = the default; `fovea gaze eval --tune KEY=VALUE` sets them, and
+ * tools/gaze_loro.py cross-validates each (leave one recording out, leave one device out: docs/gaze.md). */
+typedef struct fv_gaze_tuning {
+    double select_ses;        /* a candidate replaces the newest sample when it leads by this many SE; 1.25 */
+    double onset2_sds;        /* two-sample saccade onset: SDs of the speed between the two newest samples; 6 */
+    double onset_sds;         /* 20 ms slope onset: SEs of the slope; 4 */
+    double shrink_sds;        /* James-Stein threshold of the extrapolated velocity (SE); 2 */
+    double mid_window_ms;     /* the extrapolated velocity's regression window; 50 */
+    double score_memory;      /* the running scores average over about this many; 512 */
+    double score_min;         /* scores a context needs before its own figures are used; 8 */
+    double speed_bin_scale;   /* the context speed bins 5 / 20 / 60 deg/s times this; 1 */
+    double slow_saccade_deg_s; /* a saccade from slower motion is binned by the samples seen of it; 20 */
+    double blend;             /* 1: the blend candidate takes part; -1: it does not; 0 = 1 */
+    double fallback_min;      /* scored predictions before the device-level fallback may start; 64 */
+    double fallback_memory;   /* the device-level check averages over about this many; 2048 */
+    double fallback;          /* 1: the device-level fallback is on (it starts fallen back until fallback_min
+                               * scores); -1: off; 0 = 1 */
+} fv_gaze_tuning;
+
+/** The defaults of every tuned constant (what zero means). */
+fv_gaze_tuning fv_gaze_tuning_defaults(void);
+/** Set one constant by name ("select_ses", ...); FV_ERR_NOT_FOUND for an unknown name, FV_ERR_RANGE for a value
+ *  that is not finite and positive (the switches blend and fallback: 1 or -1). */
+FV_MUST_CHECK fv_result fv_gaze_tuning_set(fv_gaze_tuning *t, const char *name, double value);
+/** The names, NULL-terminated. */
+extern const char *const fv_gaze_tuning_names[];
+
 typedef struct fv_gaze_pipeline_desc {
     float accuracy_deg;          /* tracker accuracy floor for the uncertainty; 0 = 0.5 */
     float filter_min_cutoff_hz;  /* 1€ filter f_cmin; both 0 = set from the tracker's noise, measured online */
@@ -58,6 +86,7 @@ typedef struct fv_gaze_pipeline_desc {
     float max_eccentricity_deg;  /* directions further than this from straight ahead are invalid; 0 = 60, <= 90 */
     float main_sequence_vmax_deg_s; /* main sequence Vp = Vmax (1 - e^(-A/C)) for landing prediction; 0 = 600 */
     float main_sequence_c_deg;   /* 0 = 9 */
+    fv_gaze_tuning tuning;       /* the predictor's tuned constants; zero fields = defaults */
 } fv_gaze_pipeline_desc;
 
 typedef struct fv_gaze_pipeline fv_gaze_pipeline;
@@ -76,12 +105,19 @@ typedef struct fv_gaze_pipeline_stats {
     uint64_t rejected;       /* duplicates / out of order (FV_NO_NEW_DATA) */
     uint64_t invalid;        /* accepted samples with no usable eye (blink, NaN, low confidence, implausible) */
     uint64_t one_eye;        /* accepted samples with exactly one usable eye */
+    uint64_t impossible;     /* accepted samples with a physically impossible ray dropped (fv_gaze_validity.h) */
     uint64_t saccades;       /* saccade onsets detected */
     uint64_t clock_resets;   /* device clock discontinuities (mapper restarted) */
     double clock_skew_ppm;   /* current device-to-host skew estimate */
     double noise_deg;        /* online tracker noise estimate (deg RMS per axis, from fixations); NaN before one */
     double rate_hz;          /* online sample-rate estimate; 0 before one */
     double filter_min_cutoff_hz, filter_beta; /* the 1€ parameters in use */
+    /* Prediction's device-level check: predict() calls (outside blinks), those that fell back to the newest sample
+     * because the selection's choices have not beaten it on this device's own later samples, the switches, the
+     * state now, and the running mean of (chosen - newest sample) error in deg (negative: prediction pays). */
+    uint64_t predictions, fallback_predictions, fallback_switches;
+    bool fallback;
+    double fallback_margin_deg;
 } fv_gaze_pipeline_stats;
 
 void fv_gaze_pipeline_get_stats(const fv_gaze_pipeline *p, fv_gaze_pipeline_stats *out);

@@ -10,6 +10,7 @@
 
 #include "fv_log.h"
 #include "fv_sim_driver.h"
+#include "fv_gaze_validity.h"
 #include "fv_stats.h"
 
 static const int g_horizons_ms[FV_SIM_EVAL_HORIZONS] = {0, 10, 20, 40, 60};
@@ -60,28 +61,9 @@ static double angle_deg(fv_vec3 a, fv_vec3 b)
     return fv_rad_to_deg(atan2(cr, dt));
 }
 
-static bool raw_combined(const fv_gaze_sample *s, fv_vec3 *out)
-{
-    const fv_eye_sample *c = &s->combined;
-    if ((c->flags & FV_EYE_DIRECTION_VALID) && !(c->flags & FV_EYE_BLINK) && fv_v3_isfinite(c->direction) &&
-        fv_v3_len(c->direction) > 1e-6f) {
-        *out = fv_v3_normalize_or(c->direction, fv_v3(0, 0, -1));
-        return true;
-    }
-    int n = 0;
-    fv_vec3 sum = fv_v3(0, 0, 0);
-    for (int e = 0; e < 2; e++) {
-        const fv_eye_sample *es = &s->eye[e];
-        if ((es->flags & FV_EYE_DIRECTION_VALID) && !(es->flags & FV_EYE_BLINK) && fv_v3_isfinite(es->direction) &&
-            fv_v3_len(es->direction) > 1e-6f) {
-            sum = fv_v3_add(sum, fv_v3_normalize_or(es->direction, fv_v3(0, 0, -1)));
-            n++;
-        }
-    }
-    if (n == 0) return false;
-    *out = fv_v3_normalize_or(sum, fv_v3(0, 0, -1));
-    return fv_v3_len(sum) > 1e-6f;
-}
+/* The truth obeys the same validity rules as the readers and the pipeline (fv_gaze_validity.h): a ray no eye can
+ * make is no truth. */
+static bool raw_combined(const fv_gaze_sample *s, fv_vec3 *out) { return fv_gaze_sample_direction(s, out); }
 
 static fv_sim_eval_error summarize(double *v, uint64_t n)
 {
@@ -544,6 +526,7 @@ fv_result fv_sim_eval_run(fv_device *dev, fv_clock *clock, const fv_sim_eval_des
     out->noise_deg = st.noise_deg;
     out->filter_min_cutoff_hz = st.filter_min_cutoff_hz;
     out->filter_beta = st.filter_beta;
+    out->pipeline = st; /* the predicting pipeline's counters (its device-level fallback among them) */
     out->seconds = ((double)recs[n - 1].s.t_device_ns - (double)recs[0].s.t_device_ns) * 1e-9;
     out->rate_hz = out->seconds > 0.0 ? (double)(n - 1) / out->seconds : 0.0;
     if (eye) {

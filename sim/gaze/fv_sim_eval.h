@@ -96,6 +96,7 @@ typedef struct fv_sim_eval_result {
     double mean_uncertainty_deg;          /* mean predicted uncertainty radius at 20 ms */
     double skew_ppm;                      /* the pipeline's clock skew estimate at the end */
     double ns_per_sample;                 /* bench: push + one predict, per sample (0 when not run) */
+    fv_gaze_pipeline_stats pipeline;      /* the predicting pipeline's counters at the end (fallback, ...) */
 } fv_sim_eval_result;
 
 /** Read `dev` (pacing its clock: `clock` must be the simulated clock the device was opened with) and evaluate.

@@ -1,7 +1,10 @@
-/* @brief `fovea gaze eval`'s engine (fv_sim_eval) on the six real recordings (FV_SHARED_DATA_DIR) and on the
- * simulated eye: prediction at 20 ms against the zero-phase smoothed truth and against the raw future sample, the
- * counts that must add up (detected = TP + FP; blinks as `fovea trace info` counts them), and finite figures at
- * every horizon. A regression of the predictor on any recording fails here. Figures: docs/gaze.md. */
+/* @brief `fovea gaze eval`'s engine (fv_sim_eval) on the ten real recordings (FV_SHARED_DATA_DIR) and on the
+ * simulated eye: prediction at 20 ms against the zero-phase smoothed truth and against the raw future sample (the
+ * issue's targets; where prediction cannot help, the device-level fallback to the latest sample, declared), the
+ * counts that must add up (detected = TP + FP; blinks as `fovea trace info` counts them), finite figures at every
+ * horizon, and the p95 gain on sim seeds 1-20. A regression of the predictor on any recording fails here. These are
+ * the shipped defaults (chosen on these recordings); the held-out figures come from tools/gaze_loro.py. Figures:
+ * docs/gaze.md. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -15,16 +18,19 @@
 typedef struct recording {
     const char *path;     /* under FV_SHARED_DATA_DIR */
     uint64_t blinks;      /* what `fovea trace info` reports */
-    bool wins;            /* the prediction is strictly below the latest sample (mean and p95, smoothed truth) */
 } recording;
 
 static const recording g_recs[] = {
-    {"gaze/htc_vive_pro_eye_sranipal/TESTNA01_2D_Fist3.csv", 0, true},
-    {"gaze/htc_vive_pro_eye_sranipal/TESTNA10_360VR_Fist3.csv", 0, true},
-    {"gaze/tobii_pro_glasses3/gazedata.gz", 0, true},
-    {"gaze/pupil_core/gaze_positions.csv", 3, true},
-    {"gaze/pupil_invisible/gaze.csv", 32, true},
-    {"gaze/pico_neo3_pro/boxing_VR.tsv", 1, true},
+    {"gaze/htc_vive_pro_eye_sranipal/TESTNA01_2D_Fist3.csv", 0},
+    {"gaze/htc_vive_pro_eye_sranipal/TESTNA05_360VR_Spread7.csv", 0},
+    {"gaze/htc_vive_pro_eye_sranipal/TESTNA10_360VR_Fist3.csv", 0},
+    {"gaze/htc_vive_pro_eye_sranipal/TESTNA15_2D_Pen3.csv", 0},
+    {"gaze/pico_neo3_pro/boxing_VR.tsv", 1},
+    {"gaze/pupil_core/gaze_positions.csv", 3},
+    {"gaze/pupil_invisible/gaze.csv", 32},
+    {"gaze/pupil_invisible/trampoline_01/gaze.csv", UINT64_MAX}, /* UINT64_MAX: not checked */
+    {"gaze/tobii_pro_glasses3/gazedata.gz", 0},
+    {"gaze/tobii_pro_glasses3/calibration_tobii_1/gazedata.gz", UINT64_MAX},
 };
 
 static void eval(const char *uri, fv_sim_eval_result *out, uint64_t *blink_events)
@@ -79,19 +85,22 @@ static void gaze_eval_prediction_earns_its_place_on_real_recordings(void **state
         assert_false(r.has_truth);
         /* blinks as trace info counts them: the source's events when it has them, else runs of flagged samples */
         uint64_t blinks = events > 0 ? events : r.recorded_blinks;
-        if (blinks != g_recs[i].blinks)
+        if (g_recs[i].blinks != UINT64_MAX && blinks != g_recs[i].blinks)
             fail_msg("%s: %llu blinks, trace info says %llu", g_recs[i].path, (unsigned long long)blinks,
                      (unsigned long long)g_recs[i].blinks);
-        /* never worse than the latest sample against the raw future either (ties allowed: Tobii's and Pico's p95
-         * is the latest sample's own, which the selection falls back to exactly) */
-        if (!(rp->mean_deg <= rl->mean_deg && rp->p95_deg <= rl->p95_deg))
-            fail_msg("%s: predicted %.4f/%.4f is above the latest sample %.4f/%.4f (raw truth)", g_recs[i].path,
+        /* the issue's targets: against the raw future not above the latest sample by more than 2%; against the
+         * smoothed truth the p95 at most 1% above it and the mean below it -- or, where prediction cannot help, tied
+         * within 0.1% by the device-level fallback to the latest sample, which the counters declare */
+        if (!(rp->mean_deg <= 1.02 * rl->mean_deg && rp->p95_deg <= 1.02 * rl->p95_deg))
+            fail_msg("%s: predicted %.4f/%.4f is > 2%% above the latest sample %.4f/%.4f (raw truth)", g_recs[i].path,
                      rp->mean_deg, rp->p95_deg, rl->mean_deg, rl->p95_deg);
-        if (g_recs[i].wins) {
-            if (!(sp->mean_deg < sl->mean_deg && sp->p95_deg < sl->p95_deg))
-                fail_msg("%s: predicted %.3f/%.3f is not below the latest sample %.3f/%.3f (smoothed truth)",
-                         g_recs[i].path, sp->mean_deg, sp->p95_deg, sl->mean_deg, sl->p95_deg);
-        }
+        const fv_gaze_pipeline_stats *ps = &r.pipeline;
+        bool fell_back = ps->fallback_predictions > 0 && ps->fallback_predictions <= ps->predictions;
+        if (!(sp->p95_deg <= 1.01 * sl->p95_deg) ||
+            !(sp->mean_deg < sl->mean_deg || (fell_back && sp->mean_deg <= 1.001 * sl->mean_deg)))
+            fail_msg("%s: predicted %.4f/%.4f misses the latest sample %.4f/%.4f (smoothed truth; fallback %llu of "
+                     "%llu predictions)", g_recs[i].path, sp->mean_deg, sp->p95_deg, sl->mean_deg, sl->p95_deg,
+                     (unsigned long long)ps->fallback_predictions, (unsigned long long)ps->predictions);
     }
 }
 
@@ -119,6 +128,29 @@ static void gaze_eval_sim_counts_add_up_and_prediction_gains(void **state)
     for (int t = 0; t < 2; t++)
         assert_true(r.err[t][FV_SIM_EVAL_PREDICTED][h].p95_deg < 0.9 * r.err[t][FV_SIM_EVAL_LATEST_SAMPLE][h].p95_deg);
     assert_true(r.noise_deg > 0.08 && r.noise_deg < 0.14); /* 0.15 deg per eye, the mean of two: 0.106 */
+}
+
+/* The simulated eye's p95 gain at 20 ms over seeds 1-20 (never trained on): at least 22% on average and 15% on
+ * each (22.9% and 15.8% measured; docs/gaze.md). */
+static void gaze_eval_sim_seeds_1_to_20_gain(void **state)
+{
+    (void)state;
+    double sum = 0.0, lo = 100.0;
+    for (int seed = 1; seed <= 20; seed++) {
+        char uri[32];
+        snprintf(uri, sizeof uri, "sim:seed=%d", seed);
+        fv_sim_eval_result *r = test_malloc(sizeof *r);
+        uint64_t events = 0;
+        eval(uri, r, &events);
+        double g = 100.0 * (1.0 - r->err[FV_SIM_EVAL_TRUTH_TRUE][FV_SIM_EVAL_PREDICTED][2].p95_deg /
+                                      r->err[FV_SIM_EVAL_TRUTH_TRUE][FV_SIM_EVAL_LATEST_SAMPLE][2].p95_deg);
+        test_free(r);
+        sum += g;
+        lo = fmin(lo, g);
+        if (!(g >= 15.0)) fail_msg("%s: p95 gain %.1f%% < 15%%", uri, g);
+    }
+    print_message("sim seeds 1-20: mean p95 gain %.1f%%, min %.1f%%\n", sum / 20.0, lo);
+    assert_true(sum / 20.0 >= 22.0);
 }
 
 /* Blinks are treated alike on the simulated eye and on recordings: a target at which the eye is closed has no
@@ -179,6 +211,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gaze_eval_prediction_earns_its_place_on_real_recordings),
         cmocka_unit_test(gaze_eval_sim_counts_add_up_and_prediction_gains),
+        cmocka_unit_test(gaze_eval_sim_seeds_1_to_20_gain),
         cmocka_unit_test(gaze_eval_blink_targets_are_not_scored_on_sim_as_on_recordings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

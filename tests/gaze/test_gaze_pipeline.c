@@ -152,6 +152,12 @@ static void gaze_predictor_lands_a_saccade_under_way(void **state)
     const double amps[] = {6.0, 12.0, 20.0};
     for (size_t k = 0; k < 3; k++) {
         fv_gaze_pipeline *p = create(true);
+        /* the landing fit itself: the device-level fallback (which returns the newest sample until prediction has
+         * paid on this device) is off here -- gaze_prediction_falls_back_where_it_cannot_help tests it */
+        fv_gaze_pipeline_destroy(&p);
+        fv_gaze_pipeline_desc d = {0};
+        assert_int_equal(fv_gaze_tuning_set(&d.tuning, "fallback", -1.0), FV_OK);
+        assert_int_equal(fv_gaze_pipeline_create(&d, &p), FV_OK);
         const double amp = amps[k], t0 = 0.5, dur = fv_gaze_main_sequence_duration_s(NULL, amp);
         int checked = 0;
         for (int i = 0; i < 120; i++) {
@@ -321,6 +327,51 @@ static void gaze_pupil_is_filtered_and_nan_when_unknown(void **state)
     fv_gaze_pipeline_destroy(&p);
 }
 
+/* The device-level fallback: on a tracker whose gaze no candidate foretells (a random walk: every step independent,
+ * the newest sample is the best guess) the pipeline detects it from its own later samples and returns the newest
+ * sample, saying so in its counters; on a smooth pursuit, where prediction pays, it keeps predicting. */
+static void gaze_prediction_falls_back_where_it_cannot_help(void **state)
+{
+    (void)state;
+    for (int walk = 1; walk >= 0; walk--) {
+        fv_gaze_pipeline *p = create(true);
+        double yaw = 0.0, pitch = 0.0;
+        uint64_t same = 0, n = 0;
+        for (int i = 0; i < 1200; i++) { /* 10 s at 120 Hz */
+            int64_t t = i * DT_NS;
+            if (walk) yaw += 0.3 * normal(), pitch += 0.3 * normal();
+            else yaw = -20.0 + 4.0 * (double)t * 1e-9;
+            yaw = fmax(-30.0, fmin(30.0, yaw)), pitch = fmax(-20.0, fmin(20.0, pitch));
+            fv_gaze_sample s = make(t, yaw, pitch, walk ? 0.0 : 0.05);
+            assert_int_equal(fv_gaze_pipeline_push(p, &s), FV_OK);
+            if (i < 600) continue;
+            fv_gaze_prediction pr;
+            fv_gaze_pipeline_predict(p, t + 20 * FV_NS_PER_MS, &pr);
+            same += angle_between(pr.combined_dir_head, s.eye[0].direction) < 1e-3 ||
+                    angle_between(pr.combined_dir_head, dir_of(yaw, pitch)) < 1e-3;
+            n++;
+        }
+        fv_gaze_pipeline_stats st;
+        fv_gaze_pipeline_get_stats(p, &st);
+        print_message("%s: fallback %d, %llu of %llu predictions fell back, margin %+.4f deg, %llu of the last %llu "
+                      "are the newest sample\n", walk ? "random walk" : "pursuit", st.fallback,
+                      (unsigned long long)st.fallback_predictions, (unsigned long long)st.predictions,
+                      st.fallback_margin_deg, (unsigned long long)same, (unsigned long long)n);
+        assert_true(st.predictions >= n);
+        if (walk) {
+            assert_true(st.fallback);
+            assert_true(st.fallback_margin_deg >= 0.0);
+            assert_true(st.fallback_predictions > 9 * st.predictions / 10);
+            assert_true(same > 9 * n / 10);
+        } else {
+            assert_false(st.fallback);
+            assert_true(st.fallback_margin_deg < 0.0);
+            assert_true(st.fallback_predictions < st.predictions / 10);
+        }
+        fv_gaze_pipeline_destroy(&p);
+    }
+}
+
 static void gaze_desc_is_validated(void **state)
 {
     (void)state;
@@ -351,6 +402,7 @@ int main(void)
         cmocka_unit_test(gaze_pipeline_maps_device_clock_to_host),
         cmocka_unit_test(gaze_pupil_is_filtered_and_nan_when_unknown),
         cmocka_unit_test(gaze_desc_is_validated),
+        cmocka_unit_test(gaze_prediction_falls_back_where_it_cannot_help),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

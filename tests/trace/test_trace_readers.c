@@ -123,6 +123,17 @@ static void read_counts(const char *path, const fv_trace_reader_desc *desc, coun
     assert_null(r);
 }
 
+/* Independently of the readers' rules (fv_gaze_validity.h, docs/gaze.md): a pair of eye directions in fovea's head
+ * frame (x right, y up, -z forward) that no human makes — more than 10 deg divergent, 60 convergent or 10 apart
+ * vertically. */
+static int raw_pair_impossible(double lx, double ly, double lz, double rx, double ry, double rz)
+{
+    const double k = 180.0 / 3.14159265358979323846;
+    double yl = atan2(lx, -lz) * k, yr = atan2(rx, -rz) * k;
+    double pl = atan2(ly, hypot(lx, lz)) * k, pr = atan2(ry, hypot(rx, rz)) * k;
+    return yl - yr < -10.0 || yl - yr > 60.0 || fabs(pl - pr) > 10.0;
+}
+
 static void near(double got, double want, double tol, const char *what)
 {
     if (!(fabs(got - want) <= tol)) fail_msg("%s: got %.6f, want %.6f +- %.6f", what, got, want, tol);
@@ -131,8 +142,8 @@ static void near(double got, double want, double tol, const char *what)
 /* ------------------------------------------------------------------ SRanipal */
 
 typedef struct sr_raw {
-    int c_vl, c_vr, c_pl;
-    int rows, dir_invalid[2], pupil_minus1_l;
+    int c_vl, c_vr, c_pl, c_dl, c_dr;
+    int rows, dir_invalid[2], pupil_minus1_l, impossible;
 } sr_raw;
 
 static void sr_row(void *u, char **f, int n)
@@ -142,11 +153,19 @@ static void sr_row(void *u, char **f, int n)
         r->c_vl = col(f, -n, "eye_valid_L");
         r->c_vr = col(f, -n, "eye_valid_R");
         r->c_pl = col(f, -n, "pupil_diameter_L(mm)");
+        r->c_dl = col(f, -n, "gaze_direct_L.x");
+        r->c_dr = col(f, -n, "gaze_direct_R.x");
         return;
     }
     r->rows++;
-    if (!(atoi(f[r->c_vl]) & 2)) r->dir_invalid[0]++;
-    if (!(atoi(f[r->c_vr]) & 2)) r->dir_invalid[1]++;
+    int vl = atoi(f[r->c_vl]) & 2, vr = atoi(f[r->c_vr]) & 2;
+    /* SRanipal's +x is to the wearer's left, +z forward: head frame (-x, y, -z) */
+    double *d = (double[6]){0};
+    for (int k = 0; k < 3; k++) d[k] = atof(f[r->c_dl + k]), d[3 + k] = atof(f[r->c_dr + k]);
+    bool bad = vl && vr && raw_pair_impossible(-d[0], d[1], -d[2], -d[3], d[4], -d[5]);
+    r->impossible += bad;
+    if (!vl || bad) r->dir_invalid[0]++;
+    if (!vr || bad) r->dir_invalid[1]++;
     if (atof(f[r->c_pl]) == -1.0) r->pupil_minus1_l++;
 }
 
@@ -195,8 +214,12 @@ static void sranipal_testna10_is_monocular(void **state)
     assert_int_equal(c.n, raw.rows);
     assert_int_equal(c.n - c.eye_dir[0], raw.dir_invalid[0]);
     assert_int_equal(c.n - c.eye_dir[1], raw.dir_invalid[1]);
-    near(100.0 * (double)(c.n - c.eye_dir[1]) / c.n, 99.0, 0.1, "right invalid %");
-    near(100.0 * (double)(c.n - c.eye_dir[0]) / c.n, 37.5, 0.1, "left invalid %");
+    assert_int_equal(raw.impossible, 3); /* the eyes 11-14 deg apart vertically: dropped and counted */
+    assert_int_equal(c.rs.validity.dropped[FV_GAZE_FAULT_VERTICAL], 3);
+    assert_int_equal(fv_gaze_validity_total(&c.rs.validity, false), 3);
+    /* PROVENANCE.md's shares of the file's own invalid flags (without the 3 impossible pairs) */
+    near(100.0 * (double)(c.n - c.eye_dir[1] - raw.impossible) / c.n, 99.0, 0.1, "right invalid %");
+    near(100.0 * (double)(c.n - c.eye_dir[0] - raw.impossible) / c.n, 37.5, 0.1, "left invalid %");
     /* the combined ray falls back to the one valid eye */
     assert_int_equal(c.comb_dir, c.n - c.no_dir);
     assert_true(c.comb_dir >= c.eye_dir[0]);
@@ -209,8 +232,17 @@ static void sranipal_testna10_is_monocular(void **state)
 /* ------------------------------------------------------------------ Tobii Glasses 3 */
 
 typedef struct tobii_raw {
-    int lines, empty_data, no_left;
+    int lines, empty_data, no_left, impossible[3];
 } tobii_raw;
+
+/* The eye's gazedirection in a Tobii line (+x to the wearer's left, +z forward), in the head frame (-x, y, -z). */
+static bool tobii_raw_dir(const char *line, const char *eye, double d[3])
+{
+    const char *e = strstr(line, eye), *g = e ? strstr(e, "\"gazedirection\":[") : NULL;
+    if (!g || sscanf(g + 17, "%lf,%lf,%lf", &d[0], &d[1], &d[2]) != 3) return false;
+    d[0] = -d[0], d[2] = -d[2];
+    return true;
+}
 
 static void tobii_line(void *u, char **f, int n)
 {
@@ -219,7 +251,11 @@ static void tobii_line(void *u, char **f, int n)
     const char *line = f[0]; /* separator '\n' never splits: the whole line */
     r->lines++;
     if (strstr(line, "\"data\":{}")) r->empty_data++;
-    if (!strstr(line, "\"eyeleft\":{\"")) r->no_left++;
+    double l[3], rr[3];
+    bool bad = tobii_raw_dir(line, "\"eyeleft\":{", l) && tobii_raw_dir(line, "\"eyeright\":{", rr) &&
+               raw_pair_impossible(l[0], l[1], l[2], rr[0], rr[1], rr[2]);
+    r->impossible[0] += bad;
+    if (!strstr(line, "\"eyeleft\":{\"") || bad) r->no_left++;
 }
 
 static void tobii_g3_counts_rate_and_axes(void **state)
@@ -233,7 +269,9 @@ static void tobii_g3_counts_rate_and_axes(void **state)
     read_counts(path, NULL, &c);
     assert_int_equal(c.format, FV_TRACE_FORMAT_TOBII_G3);
     assert_int_equal(c.n, raw.lines);
-    assert_int_equal(c.no_dir, raw.empty_data); /* data: {} */
+    assert_int_equal(c.no_dir, raw.empty_data + raw.impossible[0]); /* data: {}, and eye pairs no human makes */
+    assert_int_equal(raw.impossible[0], 272);
+    assert_int_equal(fv_gaze_validity_total(&c.rs.validity, false), 272);
     near(100.0 * raw.empty_data / raw.lines, 6.3, 0.05, "empty data %");
     assert_int_equal(c.n - c.eye_dir[FV_EYE_LEFT], raw.no_left);
     near(c.st.rate_hz, 99.8, 0.05, "rate");
@@ -257,7 +295,7 @@ typedef struct core_raw {
     int c_ts, c_conf, c_s, c_e;
     interval iv[64];
     int niv;
-    int rows, invalid, in_blink, runs, prev_in;
+    int rows, invalid, in_blink, runs, prev_in, impossible, c_n0, c_n1;
 } core_raw;
 
 static void core_blink_row(void *u, char **f, int n)
@@ -277,6 +315,8 @@ static void core_gaze_row(void *u, char **f, int n)
     if (n < 0) {
         r->c_ts = col(f, -n, "gaze_timestamp");
         r->c_conf = col(f, -n, "confidence");
+        r->c_n0 = col(f, -n, "gaze_normal0_x");
+        r->c_n1 = col(f, -n, "gaze_normal1_x");
         return;
     }
     r->rows++;
@@ -287,7 +327,14 @@ static void core_gaze_row(void *u, char **f, int n)
     if (in) r->in_blink++;
     if (in && !r->prev_in) r->runs++;
     r->prev_in = in;
-    if (in || atof(f[r->c_conf]) < 0.6) r->invalid++;
+    /* eye0 = right, eye1 = left; camera frame (x right, y down, z forward) -> head (x, -y, -z) */
+    double a[3], b[3];
+    for (int k = 0; k < 3; k++) a[k] = atof(f[r->c_n1 + k]), b[k] = atof(f[r->c_n0 + k]);
+    bool confident = atof(f[r->c_conf]) >= 0.6;
+    bool bad = !in && confident && *f[r->c_n0] && *f[r->c_n1] &&
+               raw_pair_impossible(a[0], -a[1], -a[2], b[0], -b[1], -b[2]);
+    r->impossible += bad;
+    if (in || !confident || bad) r->invalid++;
 }
 
 static void pupil_core_counts_blinks_and_axes(void **state)
@@ -303,7 +350,9 @@ static void pupil_core_counts_blinks_and_axes(void **state)
     assert_int_equal(c.format, FV_TRACE_FORMAT_PUPIL_CORE);
     assert_int_equal(c.n, raw.rows);
     assert_int_equal(c.blink, raw.in_blink);
-    assert_int_equal(c.no_dir, raw.invalid); /* blinks and confidence < 0.6 */
+    assert_int_equal(c.no_dir, raw.invalid); /* blinks, confidence < 0.6 and eye pairs no human makes */
+    assert_int_equal(raw.impossible, 2);
+    assert_int_equal(fv_gaze_validity_total(&c.rs.validity, false), 2);
     assert_int_equal(c.rs.blink_events, 3);
     assert_int_equal(c.st.blinks, 3);
     assert_int_equal(raw.runs, 3);
@@ -320,7 +369,12 @@ static void pupil_core_counts_blinks_and_axes(void **state)
     fv_trace_reader_desc d = {.min_confidence = -1.0f};
     counts all;
     read_counts(fv_test_data("gaze/pupil_core/gaze_positions.csv"), &d, &all);
-    assert_int_equal(all.no_dir, raw.in_blink);
+    /* ... and the eye pairs no human makes (each drops the whole sample), now among the unconfident rows too */
+    const fv_gaze_validity_counts *v = &all.rs.validity;
+    uint64_t pairs = v->dropped[FV_GAZE_FAULT_DIVERGENT] + v->dropped[FV_GAZE_FAULT_CONVERGENT] +
+                     v->dropped[FV_GAZE_FAULT_VERTICAL];
+    assert_int_equal(pairs, fv_gaze_validity_total(v, false));
+    assert_int_equal(all.no_dir, raw.in_blink + pairs);
     /* without blinks.csv: no blink marks */
     fv_trace_reader_desc nb = {.blinks_path = ""};
     counts noblink;
@@ -734,7 +788,7 @@ static void extreme_values_stay_finite_or_invalid(void **state)
         "t_device_ns,flags,l_flags,l_origin_x_mm,l_origin_y_mm,l_origin_z_mm,l_dir_x,l_dir_y,l_dir_z,l_pupil_mm,"
         "l_openness,c_flags,c_dir_x,c_dir_y,c_dir_z\n"
         "0,0,15,1e300,0,0,1e-30,0,0,-3,2,2,0,0,0\n"
-        "1,0,15,1,2,3,3,4,0,4.5,0.5,2,1e38,1e38,1e38\n"
+        "1,0,15,1,2,3,3,0,-4,4.5,0.5,2,1e38,1e38,-1e38\n"
         "9223372036854775807,7,255,nan,inf,-inf,nan,0,0,1e39,-0,2,-0,-0,-1\n";
     fv_trace_reader_desc d = {.data = text, .size = strlen(text), .name = "x.fvt"};
     fv_trace_reader *r = NULL;
@@ -748,7 +802,7 @@ static void extreme_values_stay_finite_or_invalid(void **state)
     check_eye(&s.eye[0]);
     check_eye(&s.combined);
     assert_int_equal(s.eye[0].flags, 15);
-    assert_true(fabsf(s.eye[0].direction.x - 0.6f) < 1e-6f); /* (3,4,0) renormalised */
+    assert_true(fabsf(s.eye[0].direction.x - 0.6f) < 1e-6f); /* (3,0,-4) renormalised */
     assert_true(fabsf(s.combined.direction.x - 0.57735f) < 1e-4f); /* 1e38 components: no overflow to inf */
     assert_int_equal(fv_trace_reader_next(r, &s), FV_OK);
     check_eye(&s.eye[0]);

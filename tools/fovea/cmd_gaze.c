@@ -21,6 +21,7 @@
 static const char g_usage[] =
     "usage: fovea gaze eval --gaze URI [--seconds S] [--json] [--plot DIR] [--bench] [--accuracy-deg D]\n"
     "                       [--min-cutoff HZ] [--beta B] [--saccade-on DEG_S] [--saccade-off DEG_S]\n"
+    "                       [--tune KEY=VALUE]...\n"
     "  Runs the gaze pipeline over URI on a simulated clock (deterministic) and reports:\n"
     "  - saccade detection precision/recall/F1 (sim: URIs, event matching against the ground truth),\n"
     "  - mean and 95th-percentile angular error at photon time (newest sample's receipt + 0/10/20/40/60 ms) for\n"
@@ -34,7 +35,11 @@ static const char g_usage[] =
     "  sim: keys: seed rate_hz jitter_us latency_ms transport_jitter_ms dropout eye_loss precision_deg\n"
     "             accuracy_deg blink_per_min pursuit_prob microsaccades skew_ppm device_offset_s ipd_mm\n"
     "             vmax_deg_s c_deg main_seq_spread ts_bits\n"
-    "  --seconds S   device time to evaluate (default: 60 for sim:, the whole recording otherwise; at most 3600)\n";
+    "  --seconds S   device time to evaluate (default: 60 for sim:, the whole recording otherwise; at most 3600)\n"
+    "  --tune KEY=VALUE  set one of the predictor's tuned constants (select_ses onset2_sds onset_sds shrink_sds\n"
+    "                mid_window_ms score_memory score_min speed_bin_scale slow_saccade_deg_s blend fallback_min\n"
+    "                fallback_memory fallback); see\n"
+    "                tools/gaze_loro.py and docs/gaze.md for their cross-validation\n";
 
 static const char *const g_truth_title[FV_SIM_EVAL_TRUTHS] = {
     "the raw future sample", "the zero-phase smoothing of the samples", "the true gaze"};
@@ -80,6 +85,14 @@ static void print_text(const char *uri, const fv_sim_eval_result *r)
     printf("  (in r) = share of truths inside the predicted uncertainty radius; mean radius at 20 ms: %.2f deg\n",
            r->mean_uncertainty_deg);
     printf("  smoothed truth: local quadratic fit over +-%.1f ms of valid samples\n", r->smooth_half_ms);
+    const fv_gaze_pipeline_stats *ps = &r->pipeline;
+    if (ps->predictions)
+        printf("  prediction: %s at the end; %.1f%% of the predictions fell back to the latest sample, where the "
+               "predictor's choices had not beaten it on this device's own later samples (chosen - latest error at "
+               "the end %+.4f deg; %llu switches)\n",
+               ps->fallback ? "fallen back to the latest sample (it cannot help on this device)" : "on",
+               100.0 * (double)ps->fallback_predictions / (double)ps->predictions, ps->fallback_margin_deg,
+               (unsigned long long)ps->fallback_switches);
     if (r->ns_per_sample > 0.0) printf("  pipeline cost: %.0f ns per sample (push + predict)\n", r->ns_per_sample);
 }
 
@@ -93,11 +106,18 @@ static cJSON *err_json(const fv_sim_eval_error *e)
     return o;
 }
 
-static int print_json(const char *uri, const fv_sim_eval_result *r)
+static int print_json(const char *uri, const fv_sim_eval_result *r, const fv_gaze_validity_counts *validity,
+                      const char *why)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o) return FV_EXIT_FAIL;
     fv_cli_json_add_string(o, "uri", uri);
+    if (validity) {
+        cJSON *v = cJSON_AddObjectToObject(o, "impossible_gaze");
+        cJSON_AddNumberToObject(v, "repaired", (double)fv_gaze_validity_total(validity, true));
+        cJSON_AddNumberToObject(v, "dropped", (double)fv_gaze_validity_total(validity, false));
+        fv_cli_json_add_string(v, "why", why);
+    }
     cJSON_AddBoolToObject(o, "ground_truth", r->has_truth);
     cJSON_AddNumberToObject(o, "samples", (double)r->samples);
     cJSON_AddNumberToObject(o, "seconds", r->seconds);
@@ -113,6 +133,12 @@ static int print_json(const char *uri, const fv_sim_eval_result *r)
         cJSON_AddNumberToObject(nz, "filter_min_cutoff_hz", r->filter_min_cutoff_hz);
         cJSON_AddNumberToObject(nz, "filter_beta", r->filter_beta);
     }
+    cJSON *pr = cJSON_AddObjectToObject(o, "prediction");
+    cJSON_AddBoolToObject(pr, "fallback", r->pipeline.fallback);
+    cJSON_AddNumberToObject(pr, "fallback_share", r->pipeline.predictions ? (double)r->pipeline.fallback_predictions /
+                                                                              (double)r->pipeline.predictions : 0.0);
+    cJSON_AddNumberToObject(pr, "fallback_switches", (double)r->pipeline.fallback_switches);
+    cJSON_AddNumberToObject(pr, "margin_deg", r->pipeline.fallback_margin_deg);
     cJSON *s = cJSON_AddObjectToObject(o, "saccades");
     cJSON_AddNumberToObject(s, "detected", (double)r->det_saccades);
     if (r->has_truth) {
@@ -314,6 +340,25 @@ static int cmd_eval(int argc, char **argv)
         } else if ((m = fv_cli_option(argc, argv, &i, "--saccade-on", &v)) != 0) {
             if (m < 0 || !parse_float_opt(v, 1.0, 2000.0, &pd.saccade_on_deg_s))
                 return fv_cli_usage_error("gaze", g_usage, "--saccade-on needs a speed in [1, 2000] deg/s");
+        } else if ((m = fv_cli_option(argc, argv, &i, "--tune", &v)) != 0) {
+            /* KEY=VALUE: one of the predictor's tuned constants (fv_gaze_tuning), for cross-validation */
+            const char *eq = m > 0 ? strchr(v, '=') : NULL;
+            char key[40];
+            double val = 0.0;
+            if (!eq || (size_t)(eq - v) >= sizeof key || !fv_cli_parse_f64(eq + 1, -1e6, 1e6, &val))
+                return fv_cli_usage_error("gaze", g_usage, "--tune needs KEY=VALUE, got '%s'", m < 0 ? "" : v);
+            snprintf(key, sizeof key, "%.*s", (int)(eq - v), v);
+            fv_result tr = fv_gaze_tuning_set(&pd.tuning, key, val);
+            if (tr == FV_ERR_NOT_FOUND) {
+                char names[400] = "";
+                for (int k = 0; fv_gaze_tuning_names[k]; k++)
+                    snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? " " : "",
+                             fv_gaze_tuning_names[k]);
+                return fv_cli_usage_error("gaze", g_usage, "--tune: unknown constant '%s' (one of: %s)", key, names);
+            }
+            if (tr != FV_OK)
+                return fv_cli_usage_error("gaze", g_usage, "--tune %s: %g is out of range (positive; blend 1 or -1)",
+                                          key, val);
         } else if ((m = fv_cli_option(argc, argv, &i, "--saccade-off", &v)) != 0) {
             if (m < 0 || !parse_float_opt(v, 1.0, 2000.0, &pd.saccade_off_deg_s))
                 return fv_cli_usage_error("gaze", g_usage, "--saccade-off needs a speed in [1, 2000] deg/s");
@@ -350,6 +395,11 @@ static int cmd_eval(int argc, char **argv)
     /* blinks as `fovea trace info` counts them: the source's events when the format has them */
     uint64_t blink_events = fv_trace_device_blink_events(dev);
     if (r == FV_OK && blink_events > 0) res.recorded_blinks = blink_events;
+    /* physically impossible gaze the reader repaired or marked invalid (the same rules make the truth) */
+    const fv_trace_reader_stats *rs = fv_trace_device_reader_stats(dev);
+    fv_gaze_validity_counts validity = {0};
+    const bool have_validity = rs != NULL;
+    if (rs) validity = rs->validity;
     fv_device_close(&dev);
     if (r != FV_OK) {
         fprintf(stderr, "fovea gaze: evaluating '%s' failed: %s\n", uri, fv_result_str(r));
@@ -359,8 +409,11 @@ static int cmd_eval(int argc, char **argv)
         int prc = plot(plot_dir, uri, &res, 20);
         if (prc != FV_EXIT_OK) return prc;
     }
-    if (json) return print_json(uri, &res);
+    char why[320];
+    fv_gaze_validity_describe(&validity, why, sizeof why);
+    if (json) return print_json(uri, &res, have_validity ? &validity : NULL, why);
     print_text(uri, &res);
+    if (have_validity) printf("  impossible gaze (read as invalid, never scored): %s\n", why);
     return FV_EXIT_OK;
 }
 

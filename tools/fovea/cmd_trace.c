@@ -100,6 +100,22 @@ static void print_pupil(const char *label, const fv_trace_stats *s, int e)
         printf("%s none", label);
 }
 
+/* "impossible_gaze": {"repaired": N, "dropped": M, "kinds": {"<kind>": {"repaired": n, "dropped": m}, ...}} */
+static void validity_json(cJSON *j, const fv_gaze_validity_counts *c)
+{
+    cJSON *o = cJSON_AddObjectToObject(j, "impossible_gaze");
+    cJSON_AddNumberToObject(o, "repaired", (double)fv_gaze_validity_total(c, true));
+    cJSON_AddNumberToObject(o, "dropped", (double)fv_gaze_validity_total(c, false));
+    cJSON *k = cJSON_AddObjectToObject(o, "kinds");
+    static const char *const names[FV_GAZE_FAULTS] = {"point_behind_head", "backward", "divergent", "convergent",
+                                                      "vertical"};
+    for (int i = 0; i < FV_GAZE_FAULTS; i++) {
+        cJSON *e = cJSON_AddObjectToObject(k, names[i]);
+        cJSON_AddNumberToObject(e, "repaired", (double)c->repaired[i]);
+        cJSON_AddNumberToObject(e, "dropped", (double)c->dropped[i]);
+    }
+}
+
 static int cmd_info(int argc, char **argv)
 {
     reader_opts o = {0};
@@ -191,6 +207,7 @@ static int cmd_info(int argc, char **argv)
         cJSON_AddNumberToObject(g, "invalid_runs", (double)s.invalid_runs);
         cJSON_AddNumberToObject(j, "lines", (double)rs.lines);
         cJSON_AddNumberToObject(j, "rows_skipped", (double)rs.rows_skipped);
+        validity_json(j, &rs.validity);
         if (bench) {
             cJSON *bj = cJSON_AddObjectToObject(j, "bench");
             cJSON_AddNumberToObject(bj, "passes", (double)bench_passes);
@@ -223,6 +240,9 @@ static int cmd_info(int argc, char **argv)
                (unsigned long long)s.gaps, (double)s.gap_total_ns / 1e9, (unsigned long long)s.invalid_runs);
         printf("bad rows   %llu skipped of %llu lines\n", (unsigned long long)rs.rows_skipped,
                (unsigned long long)rs.lines);
+        char why[320];
+        fv_gaze_validity_describe(&rs.validity, why, sizeof why);
+        printf("impossible %s\n", why);
         if (bench)
             printf("bench      %.0f rows/s (%.1f MB/s of file), %llu passes\n", rows_per_s, mb_per_s,
                    (unsigned long long)bench_passes);

@@ -1,0 +1,1 @@
+#include "fv_gaze_validity.h" /* compiles on its own */
