@@ -119,7 +119,9 @@ static int32_t find_texture(const fv_scene *s, const char *source)
 static bool texture_path(const char *dir, const char *ref, char *out, size_t size)
 {
     char fixed[FV_SCENE_PATH_MAX];
-    snprintf(fixed, sizeof fixed, "%s", ref);
+    size_t ref_len = strlen(ref);
+    if (ref_len >= sizeof fixed) return false;
+    memcpy(fixed, ref, ref_len + 1);
     bool slashes = false;
     for (char *p = fixed; *p; p++)
         if (*p == '\\') *p = '/', slashes = true;
