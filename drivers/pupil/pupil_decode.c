@@ -9,6 +9,7 @@
 
 #include <msgpack.h>
 
+#include "fv_gaze_validity.h"
 #include "fv_pupil_driver.h"
 
 /* Plausible bounds: beyond them a value is broken, not a measurement. */
@@ -203,7 +204,17 @@ static fv_result decode_map(dec *d, const msgpack_object *m, int mono_eye, const
          * rounded to float first, as the recorded reader does, so live and recorded data decode alike. */
         fv_vec3 p = fv_v3((float)v[0], (float)-v[1], (float)-v[2]);
         fv_vec3 c = (cb->flags & FV_EYE_ORIGIN_VALID) ? cb->origin_mm : fv_v3(0, 0, 0);
-        if (fv_v3_isfinite(p)) set_direction(cb, (double)p.x - c.x, (double)p.y - c.y, (double)p.z - c.z);
+        fv_vec3 eyes;
+        fv_gaze_sample only_eyes = *s;
+        only_eyes.combined.flags &= ~(uint32_t)FV_EYE_DIRECTION_VALID;
+        if (v[2] < 0.0 && isfinite(v[0]) && isfinite(v[1])) {
+            /* the lines of sight met behind the head (a quirk Pupil Labs documents): their repair, as the recorded
+             * reader makes it (trace_fmt_pupil.c): the eyes' possible gaze normals averaged, else the point flipped */
+            if (fv_gaze_sample_direction(&only_eyes, &eyes)) set_direction(cb, eyes.x, eyes.y, eyes.z);
+            else set_direction(cb, -v[0], v[1], v[2]);
+        } else if (fv_v3_isfinite(p)) {
+            set_direction(cb, (double)p.x - c.x, (double)p.y - c.y, (double)p.z - c.z);
+        }
     }
     if ((o = map_get(m, "norm_pos"))) {
         FV_TRY(vec(d, o, "norm_pos", 2, v));
@@ -255,6 +266,7 @@ static fv_result decode_map(dec *d, const msgpack_object *m, int mono_eye, const
         s->eye[1] = inv.eye[1];
         s->combined = inv.combined;
     }
+    (void)fv_gaze_sample_enforce(s); /* physically impossible gaze: the rules every reader applies */
     return FV_OK;
 }
 

@@ -683,8 +683,15 @@ fv_result fv_scene_add_default_lights(fv_scene *s, const char *origin)
         if (!(area > 0)) continue;
         centre = fv_v3_scale(centre, (float)(1.0 / area));
         fv_vec3 dir = fv_v3_normalize_or(nsum, fv_v3(0, -1, 0));
-        /* An emitter that is a closed box (a glowing block) has normals that cancel: aim it down. */
-        if (fv_v3_len(nsum) < 0.25f * 2.0f * (float)area) dir = fv_v3(0, -1, 0);
+        /* An emitter that is a closed box (a glowing block) has normals that cancel: aim it down, from just outside
+         * its bottom (at its centre, the block's own faces would shadow everything). */
+        bool closed = fv_v3_len(nsum) < 0.25f * 2.0f * (float)area;
+        if (closed) {
+            dir = fv_v3(0, -1, 0);
+            fv_vec3 blo, bhi;
+            if (fv_scene_node_bounds_grow(s, i, 0.0, &blo, &bhi, false))
+                centre = fv_v3(centre.x, blo.y, centre.z);
+        }
         fv_light l;
         memset(&l, 0, sizeof l);
         char label[FV_SCENE_NAME_MAX + 16];

@@ -175,6 +175,10 @@ static void decode_2d_through_the_camera_model(void **state)
         assert_int_equal(fv_pupil_decode_gaze("gaze.2d.0.", 10, b, len, &cam, 0.6, &s, why, sizeof why), FV_OK);
         free(b);
         assert_true(s.t_device_ns == INT64_C(12500000000));
+        if (i == 4) { /* a million image widths off: a ray 90 degrees to the side no eye can make: dropped */
+            assert_false(s.combined.flags & FV_EYE_DIRECTION_VALID);
+            continue;
+        }
         assert_true(s.combined.flags & FV_EYE_DIRECTION_VALID);
         double x = (norm[i][0] * 1000 - 500) / 500, y = (400 - (1 - norm[i][1]) * 800) / 500, z = -1;
         double l = sqrt(x * x + y * y + z * z);

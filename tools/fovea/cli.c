@@ -6,6 +6,7 @@
 
 #include <cjson/cJSON.h>
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -52,7 +53,10 @@ bool fv_cli_parse_f64(const char *s, double lo, double hi, double *out)
     char *end = NULL;
     errno = 0;
     double v = strtod(s, &end);
-    if (errno || *end != '\0' || !isfinite(v) || v < lo || v > hi) return false;
+    /* ERANGE on underflow (a denormal or a value that rounds to 0) is still a number: it is judged by the range
+     * like any other, so "1e-310" is refused as out of range only when it is, and never as "not a number" */
+    bool underflow = errno == ERANGE && fabs(v) <= DBL_MIN;
+    if ((errno && !underflow) || end == s || *end != '\0' || !isfinite(v) || v < lo || v > hi) return false;
     *out = v;
     return true;
 }

@@ -64,8 +64,6 @@ void fv_cli_interrupt_install(const char *catch_message)
     pthread_attr_destroy(&attr);
 }
 
-void fv_cli_interrupt_catch(const char *message) { atomic_store(&g_message, message); }
-
 bool fv_cli_interrupted(void) { return atomic_load(&g_count) > 0; }
 
 void fv_cli_interrupt_child(void)

@@ -531,7 +531,21 @@ int fv_cmd_bench(int argc, char **argv)
         goto done;
     }
     /* Frame 0's views (scene time 0), as `fovea run` and `fovea reference` see them; the gaze as given. */
-    if (FV_FAILED(fv_renderer_frame_input(r, NULL, 0, 0.0, &st.views))) goto done;
+    { /* frame 0's views built by the one description `run` and `reference` build theirs from (tool_image.c): the
+       * scene's head, near/far from its bounds, a named HMD's frusta */
+        fv_tool_image img;
+        fv_tool_image_defaults(&img);
+        img.scene = o.scene;
+        img.eye_w = w;
+        img.eye_h = h;
+        fv_quality lens_q = exact;
+        if (o.hmd && strcmp(o.hmd, "none") != 0) {
+            img.hmd.name = o.hmd;
+            if (run_hmd_load(&img.hmd, &lens_q) != 0) goto done;
+        }
+        img.quality = exact;
+        fv_tool_image_frame_input(&img, scene, NULL, 0, 0.0, &st.views);
+    }
     fv_vec3 gaze_dir = fv_metrics_gaze_dir_from_deg(o.gaze_deg[0], o.gaze_deg[1]);
     if (o.has_gaze) {
         fv_eye_in_head eyes[2]; /* the gaze is the head frame's; the eyes meet it by their poses in the head */

@@ -38,7 +38,7 @@ static const char *USAGE_FMT =
     "                 [--quality PRESET] [--set NAME=VALUE]...\n"
     "                 [--view NAME] [--exposure X] [--float] [--explain] [--json]\n"
     "                 [--present headless|window|auto] [--window WxH] [--present-mode fifo|mailbox|immediate]\n"
-    "                 [--overlay] [--head trace|scene|fixed] [--frame-log FILE.csv]\n"
+    "                 [--overlay] [--head trace|scene|fixed] [--predict on|off] [--frame-log FILE.csv]\n"
     "                 [--hmd PROFILE|FILE|none] [--budget auto|off] [--budget-scale X]\n"
     "  --scene     built-in scene name (cornell, cornell-translucent, pillars) or a file: *.scene.json, .gltf/.glb,\n"
     "              .obj, .ply\n"
@@ -87,6 +87,8 @@ static const char *USAGE_HEAD_LOG =
     "  --head      with --gaze, the head the cameras follow: trace (default: the scene's head moved by the\n"
     "              tracker's recorded head pose, relative to its first pose; SRanipal, Pico, fovea traces), scene\n"
     "              (the scene's head; the tracker's pose is ignored), fixed (the scene's head at time 0, held)\n"
+    "  --predict   with --gaze: on (default: predicted to each frame's photon time) or off (the latest filtered\n"
+    "              sample: the baseline, or to check geometry alone)\n"
     "  --frame-log write one CSV row per frame to FILE: frame id, sample times, latch, predicted gaze per eye,\n"
     "              uncertainty, GPU/CPU ms, present and photon times, the head; `fovea latency --frame-log FILE`\n"
     "              summarises it. Ctrl-C ends a run after the frame in flight, with the summary (exit 130)\n";
@@ -126,6 +128,7 @@ typedef struct run_opts {
     fv_window_present_mode present_mode;
     bool overlay;
     const char *frame_log;    /* --frame-log FILE.csv */
+    bool no_predict, predict_given; /* --predict off: the latest filtered sample, no prediction (geometry alone) */
     run_head_mode head;       /* --head */
     bool head_given, hz_given, save_given; /* to refuse options that would have no effect */
 } run_opts;
@@ -199,6 +202,14 @@ static int parse_args(int argc, char **argv, run_opts *o)
             o->head_given = true;
             continue;
         }
+        if ((r = OPT("--predict")) == -2) return FV_EXIT_USAGE;
+        else if (r) {
+            if (strcmp(v, "on") == 0) o->no_predict = false;
+            else if (strcmp(v, "off") == 0) o->no_predict = true;
+            else return fv_cli_usage_error("run", USAGE, "--predict: '%s' is not one of on, off", v);
+            o->predict_given = true;
+            continue;
+        }
         if ((r = OPT("--frame-log")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->frame_log = v; continue; }
 #undef OPT
@@ -229,6 +240,9 @@ static int parse_args(int argc, char **argv, run_opts *o)
     if (o->hz_given && o->window)
         return fv_cli_usage_error("run", USAGE, "--hz has no effect with --present window: its swapchain paces the "
                                   "frames at the display's own rate");
+    if (o->predict_given && !o->gaze_uri)
+        return fv_cli_usage_error("run", USAGE, "--predict chooses how a --gaze run's gaze reaches the frame; "
+                                  "without --gaze there is no gaze to predict");
     if (o->head_given && !o->gaze_uri)
         return fv_cli_usage_error("run", USAGE, "--head chooses the head of a --gaze run (the scene's or the "
                                   "tracker's); without --gaze the scene's head is used");
@@ -587,7 +601,7 @@ int fv_cmd_run(int argc, char **argv)
         gaze_open = true;
         fv_display *shown_on = window ? fv_window_display(window) : NULL; /* NULL: a simulated display */
         if (FV_FAILED(run_gaze_open_on(&gaze, o.gaze_uri, shown_on, o.hz, (size_t)o.frames, render_cb, &st,
-                                       scene->head.ipd_mm))) {
+                                       scene->head.ipd_mm, o.no_predict))) {
             fprintf(stderr, "fovea run: cannot open gaze source '%s' (see the messages above)\n", o.gaze_uri);
             goto done;
         }

@@ -332,8 +332,8 @@ static int cmd_record(int argc, char **argv)
     fv_trace_writer_desc wd = {.source = uri, .rate_hz = dev->nominal_rate_hz, .gzip = gzip};
     res = fv_trace_writer_create(out, &wd, &w);
     if (res != FV_OK) goto fail;
-    /* Ctrl-C ends the recording early and keeps what was recorded (a whole file, exit 130) */
-    fv_cli_interrupt_catch("fovea trace: Ctrl-C: ending the recording (Ctrl-C again ends it at once)");
+    /* Ctrl-C (caught from main's first line: cli_interrupt.h) ends the recording early and keeps what was recorded
+     * (a whole file, exit 130) */
     int64_t t0 = fv_clock_now_ns(clock), end = t0 + (int64_t)llround(seconds * 1e9);
     fv_gaze_sample buf[256];
     uint64_t n = 0;

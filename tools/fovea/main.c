@@ -71,10 +71,19 @@ static const command *find_command(int argc, char **argv)
     return NULL;
 }
 
+/* What the command prints when it catches Ctrl-C, or NULL (it dies by it); `trace record` catches it (the recording
+ * is kept), `trace info` and `convert` do not. */
+static const char *ctrl_c_message(const command *c, int argc, char **argv)
+{
+    if (c && !strcmp(c->name, "trace") && argc > 2 && !strcmp(argv[2], "record"))
+        return "fovea trace: Ctrl-C: ending the recording (Ctrl-C again ends it at once)";
+    return c ? c->ctrl_c : NULL;
+}
+
 int main(int argc, char **argv)
 {
     const command *c = find_command(argc, argv);
-    fv_cli_interrupt_install(c ? c->ctrl_c : NULL); /* first: before anything makes a thread */
+    fv_cli_interrupt_install(ctrl_c_message(c, argc, argv)); /* first: before anything makes a thread */
     if (argc < 2) {
         usage(stderr);
         return FV_EXIT_USAGE;

@@ -19,7 +19,7 @@ static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc
 }
 
 fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, double refresh_hz, size_t frames,
-                           fv_frame_render_fn render, void *render_user, float ipd_mm)
+                           fv_frame_render_fn render, void *render_user, float ipd_mm, bool no_predict)
 {
     memset(g, 0, sizeof *g);
     snprintf(g->uri, sizeof g->uri, "%s", uri);
@@ -45,7 +45,7 @@ fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, do
         .mode = FV_GAZE_SOURCE_THREAD,
     };
     FV_TRY(fv_gaze_source_create(&sd, &g->source));
-    fv_gaze_pipeline_desc pd = {0};
+    fv_gaze_pipeline_desc pd = {.disable_prediction = no_predict};
     FV_TRY(fv_gaze_pipeline_create(&pd, &g->pipeline));
     /* A hardware tracker that is unplugged and plugged back is re-opened as soon as it arrives. Without hotplug
      * support (no udev, no permission) the source still re-opens on its backoff. */

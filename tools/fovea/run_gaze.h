@@ -32,9 +32,11 @@ typedef struct run_gaze {
 /** Open the gaze device by URI and build the loop around `render` (called once per frame with the frame input: gaze
  *  (in each eye's view space, fv_eye_gaze_from_head) and photon time filled by the loop, head and views to be set
  *  by the callback), paced by a given display clock (a window's swapchain; borrowed, outlives g), or by a simulated
- *  display at refresh_hz when display is NULL. ipd_mm: the eyes' distance in the head (0 = 63). */
+ *  display at refresh_hz when display is NULL. ipd_mm: the eyes' distance in the head (0 = 63). no_predict: the
+ *  latest filtered sample instead of the prediction (fv_gaze_pipeline_desc.disable_prediction). */
 FV_MUST_CHECK fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, double refresh_hz,
-                                         size_t frames, fv_frame_render_fn render, void *render_user, float ipd_mm);
+                                         size_t frames, fv_frame_render_fn render, void *render_user, float ipd_mm,
+                                         bool no_predict);
 /** One frame through the loop (waits for its refresh on the real clock). */
 FV_MUST_CHECK fv_result run_gaze_step(run_gaze *g);
 void run_gaze_print(const run_gaze *g, FILE *f);
