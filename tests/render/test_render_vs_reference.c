@@ -58,9 +58,10 @@
 #define PSNR_MIN_BUNNY 40.0
 #define PSNR_MIN_TEAPOT 44.0
 /* exact against balanced: exact's binary visibility can be a little further from the reference in PSNR than
- * balanced's PCF, which spreads an edge's error over intermediate values (teapot: 45.9 against 46.1 dB); exact may
- * not be worse by more than this. */
-#define EXACT_VS_BALANCED_SLACK_DB 0.5
+ * balanced's PCF, which spreads an edge's error over intermediate values (teapot: 45.9 against 46.1 dB with the
+ * point light an import used to add; 45.94 against 46.71 dB with the spot light it adds now, whose one perspective
+ * map has coarser texels at the teapot than the cube's); exact may not be worse by more than this. */
+#define EXACT_VS_BALANCED_SLACK_DB 1.0
 /* Over the pixels where the GPU's visibility equals the shadow rays' (both 0 or both 1): float shading against
  * double. Measured > 60 dB. */
 #define PSNR_MIN_AGREE 55.0
