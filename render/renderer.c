@@ -81,29 +81,12 @@ static fv_gpu_mat4 to_gpu(const fv_mat4 *m)
 
 /* ---- the plan ----------------------------------------------------------------------------------------------- */
 
-/* Out-of-range settings fall back to the defaults, field by field (a zeroed fv_quality becomes the default). */
+/* Out-of-range settings fall back to the defaults, field by field, as the knob table says (a zeroed fv_quality
+ * becomes the default). */
 static fv_quality quality_sanitized(const fv_quality *q)
 {
-    fv_quality d = fv_quality_default(), o = q ? *q : d;
-    if (!(isfinite(o.exposure) && o.exposure > 0.0f)) o.exposure = d.exposure;
-    if ((unsigned)o.debug_view >= FV_DEBUG_VIEW_COUNT) o.debug_view = d.debug_view;
-    fv_quality_shadow *s = &o.shadow;
-    if (s->splits < 1 || s->splits > 8) s->splits = d.shadow.splits;
-    if (!(s->lambda >= 0.0f && s->lambda <= 1.0f)) s->lambda = d.shadow.lambda;
-    uint32_t r = s->resolution_px;
-    if (r < 256 || r > 4096 || (r & (r - 1))) s->resolution_px = d.shadow.resolution_px;
-    if ((unsigned)s->filter > FV_SHADOW_FILTER_PCF5) s->filter = d.shadow.filter;
-    if (!(s->bias_texels >= 0.0f && s->bias_texels <= 10.0f)) s->bias_texels = d.shadow.bias_texels;
-    fv_quality_fovea *f = &o.fovea;
-    if (!(f->mar_slope >= 0.0f && f->mar_slope <= 1.0f)) f->mar_slope = d.fovea.mar_slope;
-    if (!(f->mar_w0_deg >= 0.001f && f->mar_w0_deg <= 1.0f)) f->mar_w0_deg = d.fovea.mar_w0_deg;
-    if (!(f->min_prob >= 0.01f && f->min_prob <= 1.0f)) f->min_prob = d.fovea.min_prob;
-    if (f->block < 2 || f->block > 16) f->block = d.fovea.block;
-    if ((unsigned)f->recon > FV_FOVEA_RECON_LAST) f->recon = d.fovea.recon;
-    if ((unsigned)f->compaction > FV_FOVEA_COMPACTION_LAST) f->compaction = d.fovea.compaction;
-    if ((unsigned)f->voronoi > FV_FOVEA_VORONOI_LAST) f->voronoi = d.fovea.voronoi;
-    if (f->temporal > 15) f->temporal = d.fovea.temporal;
-    if (!(f->saliency >= 0.0f && f->saliency <= 1.0f)) f->saliency = d.fovea.saliency;
+    fv_quality o = q ? *q : fv_quality_default();
+    fv_quality_sanitize(&o);
     return o;
 }
 

@@ -437,12 +437,7 @@ static void collect_stats(gi *g, uint32_t slot, bool settled)
 
 static bool key_equal(const build_key *a, const build_key *b)
 {
-    const fv_quality_gi *p = &a->q, *q = &b->q;
-    return p->mode == q->mode && p->rsm_size == q->rsm_size && p->start_level == q->start_level &&
-           p->limit_level == q->limit_level && p->depth_threshold == q->depth_threshold &&
-           p->normal_threshold == q->normal_threshold && p->samples == q->samples &&
-           p->bound_fraction == q->bound_fraction && p->average == q->average && p->refine == q->refine &&
-           memcmp(a->light, b->light, sizeof a->light) == 0 &&
+    return fv_quality_gi_equal(&a->q, &b->q) && memcmp(a->light, b->light, sizeof a->light) == 0 &&
            a->time_s == b->time_s && memcmp(&a->bmin, &b->bmin, sizeof a->bmin) == 0 &&
            memcmp(&a->bmax, &b->bmax, sizeof a->bmax) == 0;
 }

@@ -1,6 +1,6 @@
-/* @brief The knob table: every speed/accuracy knob of fovea in one place (dotted name, type, range, unit, a default
- * per preset, one-line doc, and where it lives in fv_quality), with the presets, parsing of NAME=VALUE, formatting and
- * validation built on it. `fovea run --help/--quality/--set`, its JSON summary, `fovea knobs` and `fovea bench`
+/* @brief The knob table: every speed/accuracy knob of fovea (dotted name, type, range, unit, a default per preset,
+ * one-line doc, and where it lives in fv_quality), generated from the one knob list (include/fv_knob_list.h), with
+ * the presets, parsing of NAME=VALUE, formatting, validation and sanitising built on it. `fovea run --help/--quality/--set`, its JSON summary, `fovea knobs` and `fovea bench`
  * derive from this table. Pure data and functions: no allocation, no logging, thread-safe. */
 #ifndef FV_KNOBS_H
 #define FV_KNOBS_H
@@ -47,9 +47,8 @@ typedef struct fv_knob {
     const char *const *choices; /* enum: the names of the values 0..choice_count-1; NULL otherwise */
     uint32_t choice_count;
     size_t offset, size;        /* where the value lives: offsetof(fv_quality, ...) and sizeof that field */
-    /* The value under fast, high and exact. The balanced value is fv_quality_default()'s field (one source of
-     * truth), so read any preset's value with fv_quality_preset() and fv_knob_get(). */
-    fv_knob_value fast, high, exact;
+    /* The value under each preset (fv_knob_list.h's columns; balanced is also fv_quality_default()'s field). */
+    fv_knob_value fast, balanced, high, exact;
     const char *doc;            /* one line */
     const char *exact_note;     /* why the exact version is not possible on the GPU and what `exact` uses instead
                                  * (shown as "exact: <note>"); NULL when exact is simply every shortcut off */
@@ -97,6 +96,12 @@ const char *fv_knob_type_name(fv_knob_type type);
  *  fv_debug_view. Otherwise FV_ERR_RANGE, and err (when non-NULL) lists each broken rule, "; "-separated, on one
  *  line. Renderer-side sanitising may rely on this. */
 FV_MUST_CHECK fv_result fv_quality_validate(const fv_quality *q, char *err, size_t err_size);
+
+/** Bring every field of *q (non-NULL) in range, field by field: a knob the table refuses (out of range, not a power of
+ *  two, an enum or bool byte out of its values, a float NaN) takes its balanced value, exposure that is not finite
+ *  and > 0 becomes 1, a debug_view out of range none. A zeroed fv_quality becomes valid. The renderer draws with it;
+ *  afterwards fv_quality_validate(q) is FV_OK. */
+void fv_quality_sanitize(fv_quality *q);
 
 /** True when a and b hold the same value in every knob and in exposure, debug_view and overlay (floats compare with
  *  ==, so a NaN is never equal). */

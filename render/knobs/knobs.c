@@ -1,5 +1,6 @@
-/* @brief The knob table (every speed/accuracy knob: name, type, range, unit, fast/high/exact values, doc) and the
- * presets, NAME=VALUE parsing, formatting and validation built on it. The balanced column is fv_quality_default(). */
+/* @brief The knob table (every speed/accuracy knob: name, type, range, unit, a value per preset, doc), generated from
+ * the one knob list (fv_knob_list.h), and the presets, NAME=VALUE parsing, formatting, validation and sanitising
+ * built on it. */
 #include "fv_knobs.h"
 
 #include <assert.h>
@@ -17,210 +18,45 @@ _Static_assert(sizeof(bool) == 1, "bool knobs are stored in one byte");
 _Static_assert(sizeof(fv_shadow_filter) == sizeof(uint32_t), "enum knobs are stored in 4 bytes");
 
 static const char *const g_presets[FV_QUALITY_PRESET_COUNT] = {"fast", "balanced", "high", "exact"};
-static const char *const g_filter_names[] = {"none", "pcf3", "pcf5"};
+/* ---- the table, generated from the one knob list (fv_knob_list.h) ------------------------------------------- */
 
-#define B(x) {.b = (x)}
-#define I(x) {.i = (x)}
-#define F(x) {.f = (x)}
-#define AT(field) .offset = offsetof(fv_quality, field), .size = sizeof(((fv_quality *)0)->field)
+#define UNPAREN_(...) __VA_ARGS__
+#define VALUE_BOOL(x) {.b = (x)}
+#define VALUE_INT(x) {.i = (x)}
+#define VALUE_ENUM(x) {.i = (x)}
+#define VALUE_FLOAT(x) {.f = (x)}
+#define CHOICES_BOOL(c) .choices = NULL, .choice_count = 0
+#define CHOICES_INT(c) .choices = NULL, .choice_count = 0
+#define CHOICES_FLOAT(c) .choices = NULL, .choice_count = 0
+#define CHOICES_ENUM(c)                                                                                                \
+    .choices = (const char *const[]){UNPAREN_ c},                                                                      \
+    .choice_count = (uint32_t)(sizeof((const char *const[]){UNPAREN_ c}) / sizeof(const char *))
+#define FIELD_(group, field) ((fv_quality *)0)->group.field
 
-/* The table. Presets: fast, high and exact here; balanced is fv_quality_default() (fv_frame_input.h). Split scheme
- * and its lambda: parallel-split shadow maps, ../shared/papers/README.md §2. */
-static const char *const g_recon_names[] = {"nearest", "sibson", "idw"};
-static const char *const g_voronoi_names[] = {"jfa", "blocks"};
-static const char *const g_compaction_names[] = {"tiles", "rows", "masked"};
-static const char *const g_gi_mode_names[] = {"cut", "traverse", "bound", "rsm_sampling", "exact"};
-static const char *const g_gi_limit_names[] = {"16", "32", "64", "leaf"};
-static const char *const g_gi_average_names[] = {"flux", "plain"};
-static const char *const g_sss_mode_names[] = {"hierarchy", "exact"};
+#define ROW_(group, field, name_, TYPE, ctype, lo, hi, pow2_, unit_, choices_, fast_, balanced_, high_, exact_,      \
+             doc_, exact_note_)                                                                                        \
+    {.name = #group "." #name_, .type = FV_KNOB_##TYPE, .min = (lo), .max = (hi), .pow2 = (pow2_), .unit = (unit_),   \
+     CHOICES_##TYPE(choices_), .offset = offsetof(fv_quality, group.field), .size = sizeof(FIELD_(group, field)),     \
+     .fast = VALUE_##TYPE(fast_), .balanced = VALUE_##TYPE(balanced_), .high = VALUE_##TYPE(high_),                   \
+     .exact = VALUE_##TYPE(exact_), .doc = (doc_), .exact_note = (exact_note_)},
 
-static const fv_knob g_knobs[] = {
-    {.name = "shadow.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(shadow.enabled),
-     .fast = B(true), .high = B(true), .exact = B(true),
-     .doc = "draw the shadow pass: each light's visibility from shadow maps (off: nothing is shadowed)"},
-    {.name = "shadow.splits", .type = FV_KNOB_INT, .min = 1, .max = 8, .unit = "", AT(shadow.splits),
-     .fast = I(2), .high = I(4), .exact = I(8),
-     .doc = "splits of the view frustum along depth, one shadow map each (PSSM): more splits, less aliasing, more draws",
-     .exact_note = "a shadow texel per screen pixel is out of reach of a few maps; the most splits, 8"},
-    {.name = "shadow.lambda", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(shadow.lambda),
-     .fast = F(0.5f), .high = F(0.5f), .exact = F(0.75f),
-     .doc = "split scheme: lambda * logarithmic + (1 - lambda) * uniform split depths (PSSM)",
-     .exact_note = "the logarithmic scheme (1) evens out perspective aliasing but makes the nearest splits uselessly "
-                   "thin; leans towards it with 0.75"},
-    {.name = "shadow.resolution", .type = FV_KNOB_INT, .min = 256, .max = 4096, .pow2 = true, .unit = "px",
-     AT(shadow.resolution_px), .fast = I(1024), .high = I(4096), .exact = I(4096),
-     .doc = "side of each split's square shadow map",
-     .exact_note = "a shadow texel per screen pixel is out of reach of a fixed map; the largest, 4096 px"},
-    {.name = "shadow.filter", .type = FV_KNOB_ENUM, .min = 0, .max = 2, .unit = "", .choices = g_filter_names,
-     .choice_count = 3, AT(shadow.filter), .fast = I(FV_SHADOW_FILTER_NONE), .high = I(FV_SHADOW_FILTER_PCF5),
-     .exact = I(FV_SHADOW_FILTER_NONE),
-     .doc = "percentage-closer filter of the shadow test: none (one tap), pcf3 (3x3), pcf5 (5x5) texels",
-     .exact_note = "visibility is binary (lit or not) and a filter blurs it, so none"},
-    {.name = "shadow.bias", .type = FV_KNOB_FLOAT, .min = 0, .max = 10, .unit = "texels", AT(shadow.bias_texels),
-     .fast = F(1.5f), .high = F(1.5f), .exact = F(1.0f),
-     .doc = "slope-scaled depth bias against shadow acne; too much detaches shadows from their casters",
-     .exact_note = "exact visibility needs no bias, but a depth map of finite texels shadows itself without one; "
-                   "a smaller 1 texel"},
-    {.name = "shadow.stereo_shared", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(shadow.stereo_shared),
-     .fast = B(true), .high = B(true), .exact = B(false),
-     .doc = "one set of splits for both eyes, fitted to the union of their frusta (off: one set per eye, twice the "
-            "shadow draws)"},
-    {.name = "fovea.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.enabled),
-     .fast = B(true), .high = B(true), .exact = B(false),
-     .doc = "foveated rendering: shade a gaze-driven subset of the pixels, reuse the previous frame's, reconstruct the "
-            "rest (off: every pixel shaded)"},
-    {.name = "fovea.mar_slope", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "deg/deg", AT(fovea.mar_slope),
-     .fast = F(0.03f), .high = F(0.016f), .exact = F(0.022f),
-     .doc = "slope m of the linear minimum angle of resolution w = m e + w0 (e: eccentricity from the gaze)"},
-    {.name = "fovea.mar_w0_deg", .type = FV_KNOB_FLOAT, .min = 0.001, .max = 1, .unit = "deg", AT(fovea.mar_w0_deg),
-     .fast = F(1.0f / 40.0f), .high = F(1.0f / 60.0f), .exact = F(1.0f / 48.0f),
-     .doc = "w0, the minimum angle of resolution at the gaze (also w_min of the sampling probability)"},
-    {.name = "fovea.min_prob", .type = FV_KNOB_FLOAT, .min = 0.01, .max = 1, .unit = "", AT(fovea.min_prob),
-     .fast = F(0.03f), .high = F(0.1f), .exact = F(1.0f),
-     .doc = "xi, the smallest sampling probability (the far periphery); 1 samples every pixel"},
-    {.name = "fovea.block", .type = FV_KNOB_INT, .min = 2, .max = 16, .unit = "px", AT(fovea.block),
-     .fast = I(5), .high = I(4), .exact = I(2),
-     .doc = "side of the square blocks that each hold at least one sample (bounds the gap reconstruction fills)"},
-    {.name = "fovea.uncertainty", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.uncertainty),
-     .fast = B(false), .high = B(true), .exact = B(true),
-     .doc = "widen the fovea by the predicted gaze's uncertainty (eccentricity e' = max(0, e - u))"},
-    {.name = "fovea.recon", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_RECON_LAST, .unit = "",
-     .choices = g_recon_names, .choice_count = 3, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_NEAREST),
-     .high = I(FV_FOVEA_RECON_NEAREST), .exact = I(FV_FOVEA_RECON_NEAREST),
-     .doc = "how unshaded pixels are filled: nearest (the nearest sample's colour), sibson (approximate discrete "
-            "natural-neighbour interpolation over the Voronoi diagram, window = the block), idw (inverse-distance-"
-            "squared weights of the neighbouring blocks' samples)"},
-    {.name = "fovea.voronoi", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_VORONOI_LAST, .unit = "",
-     .choices = g_voronoi_names, .choice_count = 2, AT(fovea.voronoi), .fast = I(FV_FOVEA_VORONOI_BLOCKS),
-     .high = I(FV_FOVEA_VORONOI_BLOCKS), .exact = I(FV_FOVEA_VORONOI_BLOCKS),
-     .doc = "how the nearest sample of every pixel is found: jfa (jump flooding, 1+JFA from the block size) or "
-            "blocks (exact: a search of the neighbouring blocks' samples, one pass)"},
-    {.name = "fovea.compaction", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_COMPACTION_LAST, .unit = "",
-     .choices = g_compaction_names, .choice_count = 3, AT(fovea.compaction), .fast = I(FV_FOVEA_COMPACTION_TILES),
-     .high = I(FV_FOVEA_COMPACTION_TILES), .exact = I(FV_FOVEA_COMPACTION_TILES),
-     .doc = "how the samples become the shading's list: tiles (8x8 tiles, one atomic each), rows (the paper's "
-            "row-wise CSR reorder), masked (a full dispatch that skips unsampled pixels)"},
-    {.name = "fovea.temporal", .type = FV_KNOB_INT, .min = 0, .max = 15, .unit = "frames", AT(fovea.temporal),
-     .fast = I(12), .high = I(4), .exact = I(0),
-     .doc = "temporal reuse: the previous frame reprojected through the motion vectors (depth test), blended into "
-            "shaded pixels and reused for unshaded ones until they are this many frames older than their last "
-            "shading (0: none)"},
-    {.name = "fovea.saliency", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(fovea.saliency),
-     .fast = F(0.0f), .high = F(0.5f), .exact = F(0.0f),
-     .doc = "weight of the saliency (CIELAB albedo gradient, normal gradient, object motion) that raises the "
-            "sampling probability at edges and moving objects (0: off)"},
-    {.name = "fovea.dof", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(fovea.dof),
-     .fast = B(true), .high = B(true), .exact = B(false),
-     .doc = "depth of field: the eye's defocus blur (pupil diameter, focus at the surface under the gaze) widens "
-            "the minimum angle of resolution off the focal plane; no pupil from the tracker: no effect"},
-    /* distort.*: the HMD lens (render/distort, the hidden-area mask in render/gbuffer). Not speed/accuracy trades of
-     * the image but what the panel needs: on in every preset, exact included (an undistorted frame on an HMD panel
-     * is wrong, not more exact; the mask removes only pixels no one can see). They act only with an HMD lens. */
-    {.name = "distort.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(distort.enabled),
-     .fast = B(true), .high = B(true), .exact = B(true),
-     .doc = "pre-distort each eye for its HMD lens (radial polynomial, per-channel scale for chromatic aberration); "
-            "off: the undistorted eye images reach the target"},
-    {.name = "distort.mask", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(distort.mask),
-     .fast = B(true), .high = B(true), .exact = B(true),
-     .doc = "hidden-area mask: the pixels the lens never shows are never shaded (depth pre-fill in the G-buffer; "
-            "later passes skip them as nothing drawn)"},
-    /* gi.*: one-bounce GI from the light quad-tree (render/gi; Ki & Oh 2007, ../shared/papers/README.md §1). The
-     * threshold pairs of the paper: (0.45, 0.3), (0.25, 0.6), (0.05, 0.9). */
-    {.name = "gi.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(gi.enabled),
-     .fast = B(true), .high = B(true), .exact = B(true),
-     .doc = "one-bounce indirect light: a reflective shadow map per spot or directional light, clustered in a light "
-            "quad-tree (off: direct light only)"},
-    {.name = "gi.mode", .type = FV_KNOB_ENUM, .min = 0, .max = 4, .unit = "", .choices = g_gi_mode_names,
-     .choice_count = 5, AT(gi.mode), .fast = I(FV_GI_CUT), .high = I(FV_GI_CUT), .exact = I(FV_GI_EXACT),
-     .doc = "gather: cut (the flat cut list), traverse (the paper's per-pixel traversal), bound (refine while a "
-            "cluster's bound is large), rsm_sampling (Dachsbacher & Stamminger 2005), exact (every VPL)"},
-    {.name = "gi.rsm_size", .type = FV_KNOB_INT, .min = 1, .max = 1024, .pow2 = true, .unit = "px", AT(gi.rsm_size),
-     .fast = I(128), .high = I(512), .exact = I(64),
-     .doc = "side of each light's reflective shadow map: one VPL per texel",
-     .exact_note = "the exact sum visits every VPL at every pixel (N^2 each); 64 px (4096 VPLs) keeps a frame "
-                   "within seconds on lavapipe — exact for that RSM"},
-    {.name = "gi.start_level", .type = FV_KNOB_INT, .min = 1, .max = 64, .pow2 = true, .unit = "nodes",
-     AT(gi.start_level), .fast = I(16), .high = I(8), .exact = I(8),
-     .doc = "nodes per side of the level the traversal and the cut start from (coarser nodes are never one light)"},
-    {.name = "gi.limit_level", .type = FV_KNOB_ENUM, .min = 0, .max = 3, .unit = "nodes", .choices = g_gi_limit_names,
-     .choice_count = 4, AT(gi.limit_level), .fast = I(FV_GI_LIMIT_16), .high = I(FV_GI_LIMIT_64),
-     .exact = I(FV_GI_LIMIT_LEAF),
-     .doc = "nodes per side of the level always taken as valid: bounds the clusters per pixel (16: 256, 32: 1024, "
-            "64: 4096), leaf: no bound"},
-    {.name = "gi.depth_threshold", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(gi.depth_threshold),
-     .fast = F(0.45f), .high = F(0.05f), .exact = F(0.05f),
-     .doc = "a cluster is valid when each child's depth from the light is within this of the mean (a fraction of "
-            "the scene's size)"},
-    {.name = "gi.normal_threshold", .type = FV_KNOB_FLOAT, .min = -1, .max = 1, .unit = "", AT(gi.normal_threshold),
-     .fast = F(0.3f), .high = F(0.9f), .exact = F(0.9f),
-     .doc = "a cluster is valid when each child's normal has a dot product above this with the mean normal"},
-    {.name = "gi.samples", .type = FV_KNOB_INT, .min = 1, .max = 65536, .unit = "", AT(gi.samples),
-     .fast = I(128), .high = I(1024), .exact = I(4096),
-     .doc = "RSM samples per pixel of gi.mode=rsm_sampling"},
-    {.name = "gi.bound_fraction", .type = FV_KNOB_FLOAT, .min = 0.00001, .max = 1, .unit = "", AT(gi.bound_fraction),
-     .fast = F(0.05f), .high = F(0.002f), .exact = F(0.0001f),
-     .doc = "gi.mode=bound: a cluster is one light when its bound is at most this fraction of the start level's "
-            "estimate"},
-    {.name = "gi.average", .type = FV_KNOB_ENUM, .min = 0, .max = 1, .unit = "", .choices = g_gi_average_names,
-     .choice_count = 2, AT(gi.average), .fast = I(FV_GI_AVERAGE_FLUX), .high = I(FV_GI_AVERAGE_FLUX),
-     .exact = I(FV_GI_AVERAGE_FLUX),
-     .doc = "how a tree node averages its children's position, depth and normal: flux (weighted by their power, "
-            "the cluster's flux centroid; measured closer to exact, BENCHMARKS.md) or plain (equal weights)"},
-    {.name = "gi.refine", .type = FV_KNOB_FLOAT, .min = 0, .max = 1, .unit = "", AT(gi.refine),
-     .fast = F(0.0f), .high = F(0.0f), .exact = F(0.0f),
-     .doc = "gi.mode=cut: a cut cluster whose extent is more than this times its distance from the pixel is "
-            "replaced, for that pixel, by its children (recursively; the near field), 0: the flat cut alone"},
-    /* sss.*: subsurface scattering, dipole diffusion over a quad-tree of light-view samples (render/sss; Ki & Oh,
-     * ../shared/papers/README.md section 4). Levels count from the root (level k: 2^k x 2^k clusters). */
-    {.name = "sss.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(sss.enabled),
-     .fast = B(true), .high = B(true), .exact = B(true),
-     .doc = "subsurface light on translucent materials (dipole, Jensen et al. 2001); off: shaded as opaque"},
-    {.name = "sss.map_size", .type = FV_KNOB_INT, .min = 16, .max = 512, .pow2 = true, .unit = "px",
-     AT(sss.map_size_px), .fast = I(64), .high = I(256), .exact = I(128),
-     .doc = "side of each light-view sample map (one per light and translucent material): map_size^2 samples",
-     .exact_note = "the exact sum is over every sample, so its cost grows with map_size^2; 128 keeps it measurable"},
-    {.name = "sss.start_level", .type = FV_KNOB_INT, .min = 0, .max = 9, .unit = "", AT(sss.start_level),
-     .fast = I(0), .high = I(0), .exact = I(0),
-     .doc = "the level the per-pixel cut starts from (the paper's 3 = 8 x 8 clusters; 0, the root, lets the cutoff "
-            "drop far halves whole: 1.5x faster, the same image, see BENCHMARKS.md)"},
-    {.name = "sss.limit_level", .type = FV_KNOB_INT, .min = 0, .max = 9, .unit = "", AT(sss.limit_level),
-     .fast = I(5), .high = I(8), .exact = I(9),
-     .doc = "the finest level the cut reaches; its clusters are always accepted (the paper's 4 = 16 x 16 bounds the "
-            "work at 4^limit clusters per pixel but blurs: see BENCHMARKS.md); at the leaves only the distance rule "
-            "refines"},
-    {.name = "sss.distance_scale", .type = FV_KNOB_FLOAT, .min = 0, .max = 100, .unit = "1/m",
-     AT(sss.distance_scale), .fast = F(2.0f), .high = F(1.0f), .exact = F(0.0f),
-     .doc = "a cluster of radius r at distance d is accepted when r <= distance_scale x eye distance (m) x "
-            "similarity x d: coarser clusters farther from the eye; 0 refines to the limit level"},
-    {.name = "sss.mode", .type = FV_KNOB_ENUM, .min = 0, .max = 1, .unit = "", .choices = g_sss_mode_names,
-     .choice_count = 2, AT(sss.mode), .fast = I(FV_SSS_MODE_HIERARCHY), .high = I(FV_SSS_MODE_HIERARCHY),
-     .exact = I(FV_SSS_MODE_EXACT),
-     .doc = "hierarchy: a cut through the quad-tree per pixel; exact: every sample (brute force)"},
-    {.name = "sss.cutoff", .type = FV_KNOB_FLOAT, .min = 0, .max = 0.5, .unit = "", AT(sss.cutoff),
-     .fast = F(0.01f), .high = F(0.001f), .exact = F(0.0f),
-     .doc = "the hierarchy skips clusters wholly beyond the radius outside which this fraction of a point source's "
-            "diffuse reflectance leaves (on a uniformly lit plane: the fraction of subsurface light dropped); 0: none"},
-    /* interp.*: hierarchical screen-space interpolation (render/interp; Ki & Oh, ../shared/papers/README.md
-     * section 4). Level k: regions of 2^k x 2^k px. */
-    {.name = "interp.enabled", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(interp.enabled),
-     .fast = B(false), .high = B(false), .exact = B(false),
-     .doc = "shade coherent screen regions at their corners and interpolate the rest (off: every pixel shaded)",
-     .exact_note = "interpolated pixels are approximations; every pixel is shaded"},
-    {.name = "interp.threshold", .type = FV_KNOB_FLOAT, .min = 0, .max = 1000, .unit = "", AT(interp.threshold),
-     .fast = F(0.3f), .high = F(0.05f), .exact = F(0.0f),
-     .doc = "tau: a region is coherent when each member's 1 - cos(normal, mean), distance off the mean tangent plane "
-            "in region widths (2^k px at the eye distance), and linear albedo difference are all <= tau (one "
-            "material; interp.light: the direct light too); 0: exact agreement only. Balanced 0.2: the knee measured "
-            "in BENCHMARKS.md"},
-    {.name = "interp.start_level", .type = FV_KNOB_INT, .min = 1, .max = 7, .unit = "", AT(interp.start_level),
-     .fast = I(3), .high = I(2), .exact = I(1),
-     .doc = "the coarsest regions, 2^k x 2^k px: a coherent one is shaded at its 4 corners (the paper: 4x4 px at "
-            "512x512)"},
-    {.name = "interp.light", .type = FV_KNOB_BOOL, .min = 0, .max = 1, .unit = "", AT(interp.light),
-     .fast = B(false), .high = B(true), .exact = B(true),
-     .doc = "coherence also needs the members' direct light (shadows included) within tau of the mean: no "
-            "interpolation across shadow edges, at one direct-light evaluation per G-buffer read of the pyramid"},
-};
+static const fv_knob g_knobs[] = {FV_KNOB_LIST(ROW_)};
+
+/* What the list promises, checked by the compiler for every row: the field's storage matches the type (bool: one
+ * byte, float: a float, int and enum: 4 bytes), a bool's range is 0..1, an enum's 0..choices-1, an int's min <= max
+ * (float bounds are not integer constant expressions: test_knobs checks them). */
+#define TYPE_OF_(x) _Generic((x), bool: FV_KNOB_BOOL, float: FV_KNOB_FLOAT, default: FV_KNOB_INT)
+#define RANGE_BOOL(lo, hi, c) ((lo) == 0 && (hi) == 1)
+#define RANGE_INT(lo, hi, c) ((lo) <= (hi))
+#define RANGE_FLOAT(lo, hi, c) 1
+#define RANGE_ENUM(lo, hi, c) ((lo) == 0 && (hi) + 1 == sizeof((const char *const[]){UNPAREN_ c}) / sizeof(char *))
+#define CHECK_(group, field, name_, TYPE, ctype, lo, hi, pow2_, unit_, choices_, ...)                                 \
+    _Static_assert(TYPE_OF_(FIELD_(group, field)) == (FV_KNOB_##TYPE == FV_KNOB_ENUM ? FV_KNOB_INT : FV_KNOB_##TYPE), \
+                   #group "." #name_ ": the field's C type is not the knob's type");                                 \
+    _Static_assert(sizeof(FIELD_(group, field)) == (FV_KNOB_##TYPE == FV_KNOB_BOOL ? 1u : 4u),                        \
+                   #group "." #name_ ": bools take one byte, every other knob four");                                \
+    _Static_assert(RANGE_##TYPE(lo, hi, choices_), #group "." #name_ ": the range does not fit the type");
+FV_KNOB_LIST(CHECK_)
 
 #define KNOB_COUNT (sizeof g_knobs / sizeof g_knobs[0])
 
@@ -449,9 +285,12 @@ fv_result fv_quality_preset(const char *preset, fv_quality *out, char *err, size
     for (int id = 0; preset && id < FV_QUALITY_PRESET_COUNT; id++) {
         if (strcmp(preset, g_presets[id]) != 0) continue;
         fv_quality q = fv_quality_default();
-        for (size_t i = 0; id != FV_QUALITY_BALANCED && i < KNOB_COUNT; i++) {
+        for (size_t i = 0; i < KNOB_COUNT; i++) {
             const fv_knob *k = &g_knobs[i];
-            knob_put(k, &q, id == FV_QUALITY_FAST ? k->fast : id == FV_QUALITY_HIGH ? k->high : k->exact);
+            knob_put(k, &q, id == FV_QUALITY_FAST       ? k->fast
+                            : id == FV_QUALITY_BALANCED ? k->balanced
+                            : id == FV_QUALITY_HIGH     ? k->high
+                                                        : k->exact);
         }
         *out = q;
         return FV_OK;
@@ -531,6 +370,22 @@ fv_result fv_quality_validate(const fv_quality *q, char *err, size_t err_size)
     }
 #undef BROKEN
     return ok ? FV_OK : FV_ERR_RANGE;
+}
+
+void fv_quality_sanitize(fv_quality *q)
+{
+    if (!q) return;
+    fv_quality d = fv_quality_default();
+    if (!(isfinite(q->exposure) && q->exposure > 0.0f)) q->exposure = d.exposure;
+    uint32_t view;
+    memcpy(&view, &q->debug_view, sizeof view);
+    if (view >= FV_DEBUG_VIEW_COUNT) q->debug_view = d.debug_view;
+    for (size_t i = 0; i < KNOB_COUNT; i++) {
+        const fv_knob *k = &g_knobs[i];
+        const unsigned char *p = (const unsigned char *)q + k->offset;
+        bool ok = k->type == FV_KNOB_BOOL ? p[0] <= 1 : value_ok(k, fv_knob_get(k, q));
+        if (!ok) knob_put(k, q, k->balanced);
+    }
 }
 
 bool fv_quality_equal(const fv_quality *a, const fv_quality *b)
