@@ -1,5 +1,6 @@
-/* @brief The knob table (render/knobs/fv_knobs.h): every row well formed, every preset in range, balanced is
- * fv_quality_default(), NAME=VALUE errors name the knob, the value and the range, format -> set round trips. */
+/* @brief The knob table (render/knobs/fv_knobs.h, generated from fv_knob_list.h): every row well formed, every preset
+ * in range, balanced is fv_quality_default(), NAME=VALUE errors name the knob, the value and the range, format -> set
+ * round trips, sanitising brings each refused knob back to balanced, each group's equality sees its knobs. */
 #include "fv_knobs.h" /* first: the header compiles on its own */
 
 #include <float.h>
@@ -379,6 +380,80 @@ static void validate_reports_each_broken_rule(void **state)
     assert_int_equal(fv_quality_validate(&q, NULL, 0), FV_OK);
 }
 
+static const char *const GROUPS[] = {"shadow", "fovea", "distort", "gi", "sss", "interp"};
+
+/* fv_quality_<group>_equal (fv_quality.h) by the group's name. */
+static bool group_equal(const char *group, const fv_quality *a, const fv_quality *b)
+{
+    if (!strcmp(group, "shadow")) return fv_quality_shadow_equal(&a->shadow, &b->shadow);
+    if (!strcmp(group, "fovea")) return fv_quality_fovea_equal(&a->fovea, &b->fovea);
+    if (!strcmp(group, "distort")) return fv_quality_distort_equal(&a->distort, &b->distort);
+    if (!strcmp(group, "gi")) return fv_quality_gi_equal(&a->gi, &b->gi);
+    if (!strcmp(group, "sss")) return fv_quality_sss_equal(&a->sss, &b->sss);
+    if (!strcmp(group, "interp")) return fv_quality_interp_equal(&a->interp, &b->interp);
+    fail_msg("no group %s", group);
+    return false;
+}
+
+/* Every knob belongs to one of the groups above (a new group needs its equality here). */
+static void every_knob_is_in_a_group(void **state)
+{
+    (void)state;
+    size_t n = 0;
+    const fv_knob *k = fv_knobs(&n);
+    for (size_t i = 0; i < n; i++) {
+        bool found = false;
+        for (size_t g = 0; g < sizeof GROUPS / sizeof GROUPS[0]; g++)
+            found = found || (strncmp(k[i].name, GROUPS[g], strlen(GROUPS[g])) == 0 && k[i].name[strlen(GROUPS[g])] == '.');
+        if (!found) fail_msg("%s: no group", k[i].name);
+    }
+}
+
+/* The renderer draws with fv_quality_sanitize's result: every knob the table refuses, one at a time, takes its
+ * balanced value and nothing else changes (the renderer's hand checks covered 15 of the knobs: gi.rsm_size = 3 or
+ * sss.map_size = 0 reached the passes); good values stay; a zeroed quality becomes a valid one. */
+static void sanitize_brings_each_refused_knob_back_to_balanced(void **state)
+{
+    (void)state;
+    size_t n = 0;
+    const fv_knob *k = fv_knobs(&n);
+    const fv_quality d = fv_quality_default();
+    for (size_t i = 0; i < n; i++) {
+        for (int how = 0; how < 3; how++) {
+            fv_quality one = d;
+            unsigned char *p = (unsigned char *)&one + k[i].offset;
+            if (k[i].type == FV_KNOB_BOOL) {
+                if (how) continue;
+                unsigned char two = 2;
+                memcpy(p, &two, 1);
+            } else if (k[i].type == FV_KNOB_FLOAT) {
+                float v = how == 0 ? (float)k[i].max * 2.0f + 1.0f : how == 1 ? (float)k[i].min - 1.0f : NAN;
+                memcpy(p, &v, sizeof v);
+            } else {
+                uint32_t v = how == 0 ? (uint32_t)k[i].max + 1u : how == 1 ? UINT32_MAX : (uint32_t)k[i].min * 3u;
+                if (how == 2 && (!k[i].pow2 || v > k[i].max)) continue; /* a whole number that is no power of two */
+                if (how == 1 && k[i].min == 0 && k[i].type == FV_KNOB_ENUM) v = k[i].choice_count;
+                memcpy(p, &v, sizeof v);
+            }
+            if (fv_quality_validate(&one, NULL, 0) != FV_ERR_RANGE) fail_msg("%s (case %d): not refused", k[i].name, how);
+            fv_quality_sanitize(&one);
+            if (memcmp(&one, &d, sizeof d) != 0) fail_msg("%s (case %d): not back to its balanced value", k[i].name, how);
+            assert_int_equal(fv_quality_validate(&one, NULL, 0), FV_OK);
+        }
+    }
+    for (size_t i = 0; i < sizeof PRESETS / sizeof PRESETS[0]; i++) { /* good values stay */
+        fv_quality q = preset(PRESETS[i]), before = q;
+        fv_quality_sanitize(&q);
+        assert_memory_equal(&q, &before, sizeof q);
+    }
+    fv_quality z;
+    memset(&z, 0, sizeof z);
+    fv_quality_sanitize(&z);
+    assert_int_equal(fv_quality_validate(&z, NULL, 0), FV_OK);
+    assert_true(z.exposure == 1.0f && z.shadow.splits == d.shadow.splits && z.gi.rsm_size == d.gi.rsm_size);
+    fv_quality_sanitize(NULL);
+}
+
 static void equal_sees_every_knob_and_view_setting(void **state)
 {
     (void)state;
@@ -419,6 +494,12 @@ static void equal_sees_every_knob_and_view_setting(void **state)
         }
         set_text(&c, &k[i], text);
         if (fv_quality_equal(&a, &c)) fail_msg("%s=%s is not seen as a difference", k[i].name, text);
+        /* the group's own equality (a pass's cache key) sees it too, and no other group's does */
+        for (size_t g = 0; g < sizeof GROUPS / sizeof GROUPS[0]; g++) {
+            bool mine = strncmp(k[i].name, GROUPS[g], strlen(GROUPS[g])) == 0 && k[i].name[strlen(GROUPS[g])] == '.';
+            if (group_equal(GROUPS[g], &a, &c) == mine)
+                fail_msg("%s=%s: fv_quality_%s_equal says %s", k[i].name, text, GROUPS[g], mine ? "equal" : "differs");
+        }
     }
     b.exposure = 2.0f;
     assert_false(fv_quality_equal(&a, &b));
@@ -504,6 +585,8 @@ int main(void)
         cmocka_unit_test(printed_bounds_are_accepted_and_just_outside_refused),
         cmocka_unit_test(validate_reports_each_broken_rule),
         cmocka_unit_test(equal_sees_every_knob_and_view_setting),
+        cmocka_unit_test(every_knob_is_in_a_group),
+        cmocka_unit_test(sanitize_brings_each_refused_knob_back_to_balanced),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
