@@ -393,8 +393,8 @@ static void shadow_record(void *state, const fv_pass_frame *f)
         VkRect2D sc = {{0, 0}, {sh->res, sh->res}};
         vkCmdSetViewport(cmd, 0, 1, &vp);
         vkCmdSetScissor(cmd, 0, 1, &sc);
-        /* Slope-scaled bias in texels of depth slope, plus the smallest resolvable step. */
-        vkCmdSetDepthBias(cmd, 1.0f, 0.0f, bias);
+        /* Slope-scaled bias in texels of depth slope, plus shadow.constant_bias smallest resolvable steps. */
+        vkCmdSetDepthBias(cmd, f->input->quality.shadow.constant_bias, 0.0f, bias);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, sh->pipeline);
         vkCmdPushConstants(cmd, sh->layout, VK_SHADER_STAGE_VERTEX_BIT, 16, 64, sm->view_proj[map].m);
         uint32_t n = fv_scene_gpu_record_draws(sh->scene, cmd, sh->layout, VK_SHADER_STAGE_VERTEX_BIT, f->slot, map);

@@ -51,6 +51,11 @@
       "slope-scaled depth bias against shadow acne; too much detaches shadows from their casters", \
       "exact visibility needs no bias, but a depth map of finite texels shadows itself without one; a smaller" \
       " 1 texel") \
+    X(shadow, constant_bias, constant_bias, FLOAT, float, 0, 16, false, "steps", (), \
+      1.0f, 1.0f, 1.0f, 1.0f, \
+      "constant depth bias of the shadow maps in the depth format's smallest resolvable steps, added to " \
+      "shadow.bias", \
+      "exact visibility needs no bias, but a depth map of finite precision shadows itself without one; one step") \
     X(shadow, stereo_shared, stereo_shared, BOOL, bool, 0, 1, false, "", (), \
       true, true, true, false, \
       "one set of splits for both eyes, fitted to the union of their frusta (off: one set per eye, twice the " \
