@@ -21,8 +21,11 @@ typedef enum fv_image_id {
     FV_IMAGE_HISTORY_B,
     FV_IMAGE_DISPLAY,    /* RGBA8 UNORM holding sRGB-encoded values: the present pass's output, what targets show */
     FV_IMAGE_BUILTIN_COUNT,
-    FV_IMAGE_MAX = FV_IMAGE_BUILTIN_COUNT + 8 /* + scratch images of passes */
+    FV_IMAGE_MAX = FV_IMAGE_BUILTIN_COUNT + 16 /* + FV_IMAGE_SCRATCH_MAX scratch images of passes */
 } fv_image_id;
+/** How many scratch images the passes may hold at once (7 in use with every pass on); one more is an error
+ *  (fv_images_scratch names the image and the limit). */
+#define FV_IMAGE_SCRATCH_MAX (FV_IMAGE_MAX - FV_IMAGE_BUILTIN_COUNT)
 
 typedef struct fv_image_slot {
     fv_vk_image img;

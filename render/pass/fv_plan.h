@@ -6,7 +6,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#define FV_MAX_PASSES 16
+/** The most entries the pass table may hold (frame_plan.c asserts it at compile time; 16 in use) and so the size of
+ *  every per-pass array (plans, stats, timers: the renderer asserts FV_VK_TIMER_MAX_PASSES >= it). */
+#define FV_MAX_PASSES 24
 #define FV_PASS_ID_MAX 24
 #define FV_PASS_REASON_MAX 160
 

@@ -85,7 +85,8 @@ fv_result fv_images_scratch(fv_images *t, const fv_vk_image_desc *desc, fv_image
     uint32_t k = FV_IMAGE_BUILTIN_COUNT;
     while (k < t->count && t->slot[k].created) k++; /* a released slot is taken again */
     if (k >= FV_IMAGE_MAX) {
-        FV_ERROR(MOD, "scratch image %s: the table holds %d images", desc->name ? desc->name : "?", FV_IMAGE_MAX);
+        FV_ERROR(MOD, "scratch image %s: the table holds %d scratch images, all taken (FV_IMAGE_SCRATCH_MAX)",
+                 desc->name ? desc->name : "?", FV_IMAGE_SCRATCH_MAX);
         return FV_ERR_RANGE;
     }
     fv_image_slot *s = &t->slot[k];

@@ -355,7 +355,9 @@ void fv_vk_compute_bind_pipeline(const fv_vk_compute *c, VkCommandBuffer cmd, Vk
 
 /* ---- per-pass GPU timestamps --------------------------------------------------------------------------------- */
 
-#define FV_VK_TIMER_MAX_PASSES 16
+/* Timed ranges per frame: the renderer times each recorded pass once, and asserts this holds FV_MAX_PASSES; one more
+ * is refused by fv_vk_timer_begin (-1), which the renderer reports as an error. */
+#define FV_VK_TIMER_MAX_PASSES 24
 #define FV_VK_TIMER_NAME_MAX 24
 
 /** One query range per frame in flight: 2 timestamps per pass. */

@@ -1,136 +1,11 @@
 /* @brief The gaze pipeline: device clock → host clock → validity → 1€ filter → classification → prediction with an
  * uncertainty radius (see fv_gaze_pipeline.h). Angles are (yaw, pitch) in degrees: yaw positive to the right,
  * pitch positive up, (0, 0) straight ahead (-z). */
-#include "fv_gaze_pipeline.h"
-#include "fv_gaze_validity.h"
+#include "gaze_pipeline_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "fv_clock.h"
-#include "fv_gaze_clock.h"
-#include "fv_gaze_filter.h"
-#include "fv_gaze_noise.h"
-#include "fv_gaze_saccade.h"
-#include "fv_log.h"
-#include "fv_stats.h"
-
-#define HIST 64                                   /* combined-gaze history (power of two not required) */
-#define SHORT_WINDOW_NS (20 * FV_NS_PER_MS)       /* saccade velocity: regression over 20 ms (>= 2 samples) */
-#define LONG_WINDOW_NS (150 * FV_NS_PER_MS)       /* pursuit velocity: regression over up to 150 ms */
-#define LONG_MIN_SPAN_NS (60 * FV_NS_PER_MS)      /* pursuit needs at least this much of a segment */
-#define GAP_RESET_NS (75 * FV_NS_PER_MS)          /* a hole this long breaks the velocity history */
-#define MAX_BLINK_NS (500 * FV_NS_PER_MS)         /* longer without valid gaze: lost */
-#define MAX_SACCADE_NS (200 * FV_NS_PER_MS)       /* no saccade lasts longer */
-#define DEVICE_RESET_NS INT64_C(1000000000)       /* device time going back > 1 s: the device restarted */
-#define MAX_EXTRAPOLATION_S 0.2                   /* never extrapolate a velocity further than this */
-#define PURSUIT_ON_DEG_S 4.0
-#define PURSUIT_OFF_DEG_S 2.5
-#define PURSUIT_MIN_SIGNIFICANCE 3.0
-#define SCORE_HORIZON_NS (20 * FV_NS_PER_MS)      /* candidates are scored at this horizon */
-/* the tuned constants (fv_gaze_tuning): scores needed before a candidate other than the model is used; the
- * running scores' memory; a candidate replaces the newest sample only when its mean error stays below the sample's
- * by SELECT_SES standard errors */
-#define SCORE_MIN (p->tun.score_min)
-#define SCORE_MEMORY (p->tun.score_memory)
-#define SELECT_SES (p->tun.select_ses)
-#define PEND_SLOTS 32
-#define RADIUS_PER_MEAN_ERROR 1.72                /* Rayleigh: P(r < 1.72 mean) = 0.90 */
-#define MID_WINDOW_NS ((int64_t)(p->tun.mid_window_ms * 1e6)) /* extrapolated velocity: regression window (50 ms) */
-#define SHRINK_SDS (p->tun.shrink_sds)            /* velocity shrinkage: nothing of a velocity within 2 SE */
-#define VERGENCE_TAU_S 0.2
-#define PUPIL_TAU_S 0.15
-#define PUPIL_MIN_MM 0.5
-#define PUPIL_MAX_MM 10.0
-#define MAX_UNCERTAINTY_DEG 90.0
-#define LOST_UNCERTAINTY_DEG 30.0
-#define BLINK_GROWTH_DEG_S 30.0
-#define FIXATION_GROWTH_DEG_S 2.0
-
-enum { CH_LEFT = 0, CH_RIGHT = 1, CH_COMBINED = 2 };
-/* the candidate predictions (see candidates()): the newest sample, the filtered position, the model, the newest
- * sample moved by the shrunk velocity, and by half of it (inside a saccade: by the 20 ms velocity) */
-enum { CAND_SAMPLE = 0, CAND_FILTERED = 1, CAND_MODEL = 2, CAND_SAMPLE_VEL = 3, CAND_SAMPLE_HALF = 4, CAND_BLEND = 5,
-       CANDS = 6 };
-/* scoring contexts: the motion state x the speed of the newest 50 ms (4 bins); a saccade that began from slow
- * motion (< 20 deg/s) instead by the samples seen of it (1, 2, 3+: bins 0, 4, 5) -- see context() */
-enum { STATES = FV_GAZE_EVENT_LOST + 1, SPEED_BINS = 6, CONTEXTS = STATES * SPEED_BINS };
-
-typedef struct channel {
-    fv_gaze_one_euro filter;
-    bool have;       /* pos holds an estimate */
-    double pos[2];   /* current estimate (filtered; raw inside a saccade), deg */
-    int64_t t_ns;    /* time of the last valid sample of this channel */
-} channel;
-
-struct fv_gaze_pipeline {
-    fv_gaze_pipeline_desc desc;
-    fv_gaze_tuning tun;       /* desc.tuning with the defaults filled in */
-    fv_gaze_main_sequence ms;
-    fv_gaze_clock_map clock;
-    fv_gaze_noise noise;      /* the tracker's noise and rate, measured online during fixations */
-    bool adaptive_filter;     /* the 1€ parameters follow the noise (none given in the desc) */
-    double sacc_on, sacc_off; /* saccade thresholds in use: the desc's, raised above the noise's velocity */
-    double sacc_on2;          /* the same for the speed between the two newest samples */
-    bool have_dev;
-    int64_t last_dev_ns, last_host_ns;
-    channel ch[3];
-    double verg[2][2]; /* per eye: eye − combined angle, deg */
-    bool verg_valid[2];
-    /* combined raw history of the current segment (valid samples only), ring, newest at h_head-1 */
-    int64_t h_t[HIST];
-    double h_p[HIST][2];
-    int h_head, h_count;
-    fv_gaze_event state;   /* FIXATION / SACCADE / PURSUIT (motion), NONE before data */
-    int64_t segment_start_ns;
-    int64_t sacc_start_ns, sacc_from_ns;
-    double sacc_start_pos[2];
-    bool fit_ok;              /* the landing fit of the saccade under way, refreshed at each saccade sample */
-    bool fit_confident;       /* >= 3 samples and a small residual: good enough to hold through a blink */
-    double fit_amp_deg, fit_dur_s, fit_dir[2], fit_d_now;
-    int64_t fit_onset_ns;
-    double v_short[2], v_long[2], reg_pos[2];
-    double v_long_sig;     /* significance of v_long (standard errors) */
-    double v_mid[2], mid_pos[2], v_mid_sig; /* velocity over the newest MID_WINDOW of the segment, its line's
-                                             * value at the newest sample, and its significance */
-    bool long_ok;
-    bool have_valid, last_sample_valid;
-    int64_t last_valid_ns;
-    double hold_pos[2];    /* the last fixation (held through blinks) */
-    /* online scoring of the candidate predictors (see score_candidates) */
-    struct {
-        int64_t t_ns;
-        int context;
-        int chosen;           /* the candidate the selection took for this prediction (before the device fallback) */
-        double c[CANDS][2];
-    } pend[PEND_SLOTS];
-    /* the device-level check: the running mean of (chosen candidate's error - newest sample's error) over every
-     * scored prediction; prediction falls back to the newest sample while it is not below zero */
-    double dev_dmean;
-    uint64_t dev_scored;
-    bool fallback;
-    int pend_head, pend_count;
-    double mae[CONTEXTS][CANDS];   /* running mean angular error per context and candidate, deg */
-    uint32_t scored[CONTEXTS];
-    double mae_state[STATES][CANDS]; /* the same per motion state alone (the fallback of a context not scored yet) */
-    uint32_t scored_state[STATES];
-    /* the paired difference to the newest sample's error (candidate - sample): running mean and mean square */
-    double dmean[CONTEXTS][CANDS], dsq[CONTEXTS][CANDS];
-    double dmean_state[STATES][CANDS], dsq_state[STATES][CANDS];
-    /* the blend's share of the model's step from the newest sample: running means of (truth - sample).(model -
-     * sample) and |model - sample|^2 per context and per state */
-    double lam_num[CONTEXTS], lam_den[CONTEXTS], lam_num_state[STATES], lam_den_state[STATES];
-    bool have_prev_raw;
-    int64_t prev_raw_ns;
-    double prev_raw[2];
-    bool pupil_valid;
-    double pupil_mm;
-    int64_t pupil_ns;
-    bool device_lost;
-    int64_t lost_since_ns;
-    fv_gaze_pipeline_stats stats;
-};
 
 const char *fv_gaze_event_str(fv_gaze_event e)
 {
@@ -279,13 +154,6 @@ fv_vec3 fv_gaze_angles_to_dir(const double a[2])
     return fv_v3((float)(sy * cp), (float)sp, (float)(-cy * cp));
 }
 
-/* angular distance in degrees for small differences of (yaw, pitch) */
-static double ang_norm(const double d[2], double pitch_deg)
-{
-    double c = cos(fv_deg_to_rad(fmax(-89.0, fmin(89.0, pitch_deg))));
-    return sqrt(d[0] * c * d[0] * c + d[1] * d[1]);
-}
-
 /* ---- history ---- */
 
 static void hist_clear(fv_gaze_pipeline *p) { p->h_count = 0; }
@@ -298,9 +166,6 @@ static void hist_push(fv_gaze_pipeline *p, int64_t t, const double pos[2])
     p->h_head = (p->h_head + 1) % HIST;
     if (p->h_count < HIST) p->h_count++;
 }
-
-/* i = 0 is the newest */
-static int hist_index(const fv_gaze_pipeline *p, int i) { return ((p->h_head - 1 - i) % HIST + HIST) % HIST; }
 
 /* Least-squares line through the newest samples within window_ns (at least min_n when available, only samples at
  * or after from_ns). Returns the number used; slope in deg/s, intercept at the newest time. */
@@ -402,7 +267,7 @@ static void fit_saccade(fv_gaze_pipeline *p)
 }
 
 /* Where the saccade under way will be at t_target_ns (from the cached fit). */
-static bool predict_saccade(const fv_gaze_pipeline *p, int64_t t_target_ns, double out[2], double *out_remaining_deg)
+bool fv_gaze_predict_saccade(const fv_gaze_pipeline *p, int64_t t_target_ns, double out[2], double *out_remaining_deg)
 {
     if (!p->fit_ok) return false;
     double u = ((double)t_target_ns - (double)p->fit_onset_ns) * 1e-9 / p->fit_dur_s;
@@ -545,215 +410,6 @@ static void classify(fv_gaze_pipeline *p, int64_t t)
     }
 }
 
-/* The candidate predictions at horizon h_s (clamped) after the newest valid sample for motion state ev:
- * the newest raw sample, the filtered position, and the model (fixation and pursuit: the filtered position moved
- * toward the line through the newest 50 ms, extrapolated by the share of its velocity that stands out of the noise,
- * g = 1 - (k/z)^2 for a velocity z standard errors from zero (James-Stein shrinkage; 0 below k): a fixation's drift
- * is within the noise, g = 0, the filtered position; a pursuit's velocity is not, g -> 1, the line free of the
- * filter's lag. Saccade: the main-sequence landing once the fit is confident, else the newest position).
- * *extra_unc: what the model adds to the uncertainty beyond the fixation growth. */
-static int context(const fv_gaze_pipeline *p, fv_gaze_event ev);
-
-/* The blend: the newest sample moved by the share lambda of the model's step from it that has paid off in this
- * context (least squares on the scored samples: lambda = E[(truth - sample).(model - sample)] / E[|model -
- * sample|^2], clamped to [0, 1]) -- shrinkage of the predicted displacement toward zero by its measured benefit. */
-static void blend(const fv_gaze_pipeline *p, fv_gaze_event ev, double cand[CANDS][2])
-{
-    int cx = context(p, ev), st = cx / SPEED_BINS;
-    double num = 0.0, den = 0.0;
-    if (p->scored[cx] >= SCORE_MIN) num = p->lam_num[cx], den = p->lam_den[cx];
-    else if (p->scored_state[st] >= SCORE_MIN) num = p->lam_num_state[st], den = p->lam_den_state[st];
-    double lam = den > 1e-12 ? fmax(0.0, fmin(1.0, num / den)) : 0.0;
-    if (!isfinite(lam) || p->tun.blend < 0.0) lam = 0.0; /* without the blend: the newest sample, never chosen */
-    for (int a = 0; a < 2; a++)
-        cand[CAND_BLEND][a] = cand[CAND_SAMPLE][a] + lam * (cand[CAND_MODEL][a] - cand[CAND_SAMPLE][a]);
-}
-
-static void candidates(const fv_gaze_pipeline *p, fv_gaze_event ev, double h_s, double cand[CANDS][2],
-                       double *extra_unc)
-{
-    const double *raw = p->h_p[hist_index(p, 0)];
-    const channel *cc = &p->ch[CH_COMBINED];
-    double hpos = fmax(0.0, h_s);
-    for (int a = 0; a < 2; a++) {
-        cand[CAND_SAMPLE][a] = p->h_count > 0 ? raw[a] : cc->pos[a];
-        cand[CAND_FILTERED][a] = cc->pos[a];
-        cand[CAND_MODEL][a] = cc->pos[a];
-        cand[CAND_SAMPLE_VEL][a] = cand[CAND_SAMPLE][a];
-        cand[CAND_SAMPLE_HALF][a] = cand[CAND_SAMPLE][a];
-        cand[CAND_BLEND][a] = cand[CAND_SAMPLE][a];
-    }
-    if (ev == FV_GAZE_EVENT_SACCADE) {
-        double remaining = 0.0;
-        int64_t target = fv_i64_add_sat(p->last_valid_ns, (int64_t)(h_s * 1e9));
-        if (!p->fit_confident || !predict_saccade(p, target, cand[CAND_MODEL], &remaining)) {
-            /* no trustworthy landing yet: the newest position (the saccade's extent is unknown) */
-            cand[CAND_MODEL][0] = cc->pos[0];
-            cand[CAND_MODEL][1] = cc->pos[1];
-            remaining = ang_norm(p->v_short, cc->pos[1]) * hpos;
-        }
-        *extra_unc = 0.5 + 0.25 * remaining;
-        /* the velocity slot: the landing fit even before it is confident (from its first two samples, the
-         * amplitude prior decides); the scorer keeps it only where it pays */
-        double r2;
-        if (p->fit_ok && !predict_saccade(p, target, cand[CAND_SAMPLE_VEL], &r2)) {
-            cand[CAND_SAMPLE_VEL][0] = cand[CAND_SAMPLE][0];
-            cand[CAND_SAMPLE_VEL][1] = cand[CAND_SAMPLE][1];
-        }
-        /* inside a saccade the half-velocity slot holds the newest sample moved by the 20 ms velocity (a head
-         * movement read as a saccade continues; the velocity slot stays the sample) */
-        double lim = p->desc.max_eccentricity_deg;
-        for (int a = 0; a < 2; a++)
-            cand[CAND_SAMPLE_HALF][a] = fmax(-lim, fmin(lim, cand[CAND_SAMPLE_HALF][a] + p->v_short[a] * hpos));
-        blend(p, ev, cand);
-        return;
-    }
-    double z = p->v_mid_sig, k = SHRINK_SDS, g = z > k ? 1.0 - (k / z) * (k / z) : 0.0;
-    for (int a = 0; a < 2; a++) {
-        cand[CAND_MODEL][a] += g * (p->mid_pos[a] + p->v_mid[a] * h_s - cc->pos[a]);
-        cand[CAND_SAMPLE_VEL][a] += g * p->v_mid[a] * h_s;
-        cand[CAND_SAMPLE_HALF][a] += 0.5 * g * p->v_mid[a] * h_s;
-    }
-    *extra_unc = 0.25 * g * ang_norm(p->v_mid, cc->pos[1]) * hpos;
-    blend(p, ev, cand);
-}
-
-/* The scoring context of state ev now: the state and a bin of the speed over the newest 50 ms (< 5, < 20, < 60,
- * >= 60 deg/s): the best candidate of a slow pursuit is not that of a fast one. Inside a saccade that speed is the
- * one before it (the 50 ms velocity is not updated in flight). A saccade that began from a fixation or a slow
- * pursuit (< 20 deg/s) is binned by how many of its samples have been seen instead (1: bin 0, 2: bin 4, 3 or more:
- * bin 5): what a candidate is worth depends on how much of the saccade the landing fit has had -- from one
- * displacement its amplitude is uncertain by a factor of several, from three it is not -- and a context mixing
- * the two takes the first samples' choice from the later ones' scores. One that began from fast motion (a head
- * movement on a head-worn tracker, a catch-up saccade in a fast pursuit) keeps its speed bin. */
-static int context(const fv_gaze_pipeline *p, fv_gaze_event ev)
-{
-    int st = (int)ev >= 0 && (int)ev < STATES ? (int)ev : 0;
-    double v = ang_norm(p->v_mid, p->h_count > 0 ? p->h_p[hist_index(p, 0)][1] : 0.0);
-    double k = p->tun.speed_bin_scale;
-    int bin = !(v >= 5.0 * k) ? 0 : v < 20.0 * k ? 1 : v < 60.0 * k ? 2 : 3;
-    if (ev == FV_GAZE_EVENT_SACCADE && p->state == FV_GAZE_EVENT_SACCADE && !(v >= p->tun.slow_saccade_deg_s)) {
-        int seen = 0;
-        while (seen < p->h_count && seen < 3 && p->h_t[hist_index(p, seen)] >= p->sacc_start_ns) seen++;
-        bin = seen <= 1 ? 0 : 2 + seen;
-    }
-    return st * SPEED_BINS + bin;
-}
-
-/* Prediction earns its place: every valid sample leaves the candidates' predictions for SCORE_HORIZON ahead; when
- * the samples around that time arrive, each candidate's angular error against the raw gaze interpolated there
- * enters a running mean per context (motion state x speed bin; the state alone until the context has SCORE_MIN).
- * choose_candidate() keeps the newest sample unless another candidate has led it by SELECT_SES standard errors in
- * this context (a tracker whose own filtering leaves nothing to gain, a noisy one where the saccade fit misleads).
- * The raw truth carries the tracker's noise, which is independent of every candidate 20 ms earlier. The mean
- * absolute error, not the mean square, ranks them: a candidate with rare large misses (a landing fit on a head
- * movement) loses less to them, and the 95th percentile followed better on the recordings. */
-static int select_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev);
-
-/* Where prediction cannot help on this device (a tracker that filters heavily itself, or one whose motion the eye
- * data do not foretell), the whole device falls back: the selection's choices are scored against the newest sample
- * too, over every context, and while their running mean is not below it (after fallback_min scores) predict()
- * returns the newest sample. The check goes on in the background, so prediction comes back when it pays again. */
-static int choose_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
-{
-    return p->fallback ? CAND_SAMPLE : select_candidate(p, ev);
-}
-
-static void score_candidates(fv_gaze_pipeline *p, int64_t t, const double pos[2])
-{
-    while (p->pend_count > 0) {
-        int i = (p->pend_head - p->pend_count + PEND_SLOTS) % PEND_SLOTS;
-        if (p->pend[i].t_ns > t) break;
-        p->pend_count--;
-        int64_t gap = fv_i64_sub_sat(t, p->prev_raw_ns);
-        if (!p->have_prev_raw || p->pend[i].t_ns < p->prev_raw_ns || gap > GAP_RESET_NS) continue;
-        double w = gap > 0 ? ((double)p->pend[i].t_ns - (double)p->prev_raw_ns) / (double)gap : 1.0;
-        double truth[2] = {p->prev_raw[0] + w * (pos[0] - p->prev_raw[0]), p->prev_raw[1] + w * (pos[1] - p->prev_raw[1])};
-        int cx = p->pend[i].context, st = cx / SPEED_BINS;
-        double lr = fmax(1.0 / ((double)p->scored[cx] + 1.0), 1.0 / SCORE_MEMORY);
-        double ls = fmax(1.0 / ((double)p->scored_state[st] + 1.0), 1.0 / SCORE_MEMORY);
-        double e[CANDS];
-        for (int c = 0; c < CANDS; c++) {
-            double d[2] = {p->pend[i].c[c][0] - truth[0], p->pend[i].c[c][1] - truth[1]};
-            e[c] = ang_norm(d, truth[1]);
-        }
-        if (!isfinite(e[CAND_SAMPLE])) continue;
-        {
-            const double *s0 = p->pend[i].c[CAND_SAMPLE], *m0 = p->pend[i].c[CAND_MODEL];
-            double dm[2] = {m0[0] - s0[0], m0[1] - s0[1]}, dr[2] = {truth[0] - s0[0], truth[1] - s0[1]};
-            double num = dm[0] * dr[0] + dm[1] * dr[1], den = dm[0] * dm[0] + dm[1] * dm[1];
-            if (isfinite(num) && isfinite(den)) {
-                p->lam_num[cx] += lr * (num - p->lam_num[cx]);
-                p->lam_den[cx] += lr * (den - p->lam_den[cx]);
-                p->lam_num_state[st] += ls * (num - p->lam_num_state[st]);
-                p->lam_den_state[st] += ls * (den - p->lam_den_state[st]);
-            }
-        }
-        for (int c = 0; c < CANDS; c++) {
-            if (!isfinite(e[c])) e[c] = e[CAND_SAMPLE] + 90.0; /* never chosen */
-            double dd = e[c] - e[CAND_SAMPLE];
-            p->mae[cx][c] += lr * (e[c] - p->mae[cx][c]);
-            p->mae_state[st][c] += ls * (e[c] - p->mae_state[st][c]);
-            p->dmean[cx][c] += lr * (dd - p->dmean[cx][c]);
-            p->dsq[cx][c] += lr * (dd * dd - p->dsq[cx][c]);
-            p->dmean_state[st][c] += ls * (dd - p->dmean_state[st][c]);
-            p->dsq_state[st][c] += ls * (dd * dd - p->dsq_state[st][c]);
-        }
-        if (p->scored[cx] < UINT32_MAX) p->scored[cx]++;
-        if (p->scored_state[st] < UINT32_MAX) p->scored_state[st]++;
-        {
-            /* the mean over every scored prediction (a choice of the sample itself adds 0) */
-            int ch = p->pend[i].chosen;
-            double dd = ch > CAND_SAMPLE && ch < CANDS ? e[ch] - e[CAND_SAMPLE] : 0.0;
-            double lg = fmax(1.0 / ((double)p->dev_scored + 1.0), 1.0 / p->tun.fallback_memory);
-            p->dev_dmean += lg * (dd - p->dev_dmean);
-            p->dev_scored++;
-            bool was = p->fallback;
-            p->fallback = p->tun.fallback > 0.0 &&
-                          ((double)p->dev_scored < p->tun.fallback_min || !(p->dev_dmean < 0.0));
-            if (p->fallback != was) p->stats.fallback_switches++;
-        }
-    }
-    p->have_prev_raw = true;
-    p->prev_raw_ns = t;
-    p->prev_raw[0] = pos[0];
-    p->prev_raw[1] = pos[1];
-    if (p->state != FV_GAZE_EVENT_FIXATION && p->state != FV_GAZE_EVENT_PURSUIT && p->state != FV_GAZE_EVENT_SACCADE)
-        return;
-    int i = p->pend_head;
-    if (p->pend_count == PEND_SLOTS) p->pend_count--; /* the oldest gives way */
-    p->pend_head = (p->pend_head + 1) % PEND_SLOTS;
-    p->pend_count++;
-    p->pend[i].t_ns = fv_i64_add_sat(t, SCORE_HORIZON_NS);
-    p->pend[i].context = context(p, p->state);
-    p->pend[i].chosen = select_candidate(p, p->state);
-    double extra;
-    candidates(p, p->state, (double)SCORE_HORIZON_NS * 1e-9, p->pend[i].c, &extra);
-}
-
-/* The candidate predict() uses in state ev: the model until the context (or its state) has SCORE_MIN scores; then
- * the newest sample unless a candidate's mean error stays below the sample's by SELECT_SES standard errors of the
- * paired difference (the one with the lowest upper bound): a tie, or a gain within the scores' noise, is the latest
- * sample itself, exactly. */
-static int select_candidate(const fv_gaze_pipeline *p, fv_gaze_event ev)
-{
-    int cx = context(p, ev), st = cx / SPEED_BINS;
-    const double *dm = NULL, *dq = NULL;
-    double n = 0.0;
-    if (p->scored[cx] >= SCORE_MIN) dm = p->dmean[cx], dq = p->dsq[cx], n = p->scored[cx];
-    else if (p->scored_state[st] >= SCORE_MIN) dm = p->dmean_state[st], dq = p->dsq_state[st], n = p->scored_state[st];
-    if (!dm) return CAND_MODEL;
-    n = fmin(n, SCORE_MEMORY);
-    int best = CAND_SAMPLE;
-    double best_ub = 0.0;
-    for (int c = 0; c < CANDS; c++) {
-        double var = fmax(0.0, dq[c] - dm[c] * dm[c]);
-        double ub = dm[c] + SELECT_SES * sqrt(var / n);
-        if (ub < best_ub) best = c, best_ub = ub;
-    }
-    return best;
-}
-
 /* The tracker's noise and rate, measured during fixations, set the 1€ parameters (unless the desc fixed them) and
  * raise the saccade thresholds above the speed noise alone produces: SACCADE_NOISE_SDS standard errors of the
  * classifier's speed are needed to start a saccade. */
@@ -871,8 +527,8 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
     double rem;
     if (sacc) fit_saccade(p);
     else p->fit_ok = false;
-    int choice = choose_candidate(p, p->state);
-    if (!sacc || choice != CAND_MODEL || !p->fit_confident || !predict_saccade(p, INT64_MAX / 2, p->hold_pos, &rem)) {
+    int choice = fv_gaze_choose_candidate(p, p->state);
+    if (!sacc || choice != CAND_MODEL || !p->fit_confident || !fv_gaze_predict_saccade(p, INT64_MAX / 2, p->hold_pos, &rem)) {
         /* the candidate that has earned its place in this state, at the newest sample */
         bool raw = choice == CAND_SAMPLE && p->h_count > 0;
         p->hold_pos[0] = raw ? a[CH_COMBINED][0] : p->ch[CH_COMBINED].pos[0];
@@ -881,7 +537,7 @@ fv_result fv_gaze_pipeline_push(fv_gaze_pipeline *p, const fv_gaze_sample *s)
     p->have_valid = true;
     p->last_sample_valid = true;
     p->last_valid_ns = t;
-    score_candidates(p, t, a[CH_COMBINED]);
+    fv_gaze_score_candidates(p, t, a[CH_COMBINED]);
     return FV_OK;
 }
 
@@ -931,8 +587,8 @@ void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_
     } else {
         /* fixation, pursuit, saccade: the candidate that has earned its place in this state (the model at first) */
         double cand[CANDS][2], extra = 0.0;
-        candidates(p, ev, h_s, cand, &extra);
-        int c = choose_candidate(p, ev);
+        fv_gaze_candidates(p, ev, h_s, cand, &extra);
+        int c = fv_gaze_choose_candidate(p, ev);
         p->stats.predictions++;
         if (p->fallback) p->stats.fallback_predictions++;
         pred[0] = cand[c][0];
@@ -944,7 +600,7 @@ void fv_gaze_pipeline_predict(fv_gaze_pipeline *p, int64_t t_target_ns, fv_gaze_
         }
         /* calibrated by experience: at least the chosen candidate's measured mean error at SCORE_HORIZON times the
          * factor that covers ~90% of a Rayleigh-distributed error (1.72 x its mean), scaled with the horizon */
-        int cx = context(p, ev);
+        int cx = fv_gaze_context(p, ev);
         if (p->scored[cx] >= SCORE_MIN) {
             double scale = fmin(3.0, fmax(0.25, hpos / ((double)SCORE_HORIZON_NS * 1e-9)));
             unc = fmax(unc, acc + RADIUS_PER_MEAN_ERROR * p->mae[cx][c] * scale);
@@ -1014,6 +670,6 @@ int fv_gaze_pipeline_candidates(const fv_gaze_pipeline *p, int64_t t_target_ns, 
     double since_valid_s = ((double)t_target_ns - (double)p->last_valid_ns) * 1e-9;
     if (since_valid_s * 1e9 > (double)MAX_BLINK_NS) return -1;
     double h_s = fmax(-MAX_EXTRAPOLATION_S, fmin(MAX_EXTRAPOLATION_S, since_valid_s)), extra = 0.0;
-    candidates(p, p->state, h_s, out, &extra);
-    return choose_candidate(p, p->state);
+    fv_gaze_candidates(p, p->state, h_s, out, &extra);
+    return fv_gaze_choose_candidate(p, p->state);
 }
