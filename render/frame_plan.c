@@ -66,19 +66,91 @@ const fv_pass *const *fv_pass_table(uint32_t *out_count)
     return table;
 }
 
-void fv_frame_plan_build_ctx(const fv_plan_context *ctx, fv_frame_plan *out)
+/* ---- declared images -------------------------------------------------------------------------------------------- */
+
+static bool listed(const char *const *names, const char *name)
+{
+    for (; names && *names; names++)
+        if (strcmp(*names, name) == 0) return true;
+    return false;
+}
+
+/* The table index of the pass that makes `name`, or -1. */
+static int maker_of(const fv_pass *const *t, uint32_t n, const char *name)
+{
+    for (uint32_t i = 0; i < n; i++)
+        if (listed(t[i]->makes, name)) return (int)i;
+    return -1;
+}
+
+/* Append "<label> a, b (maker), ..." to the entry's io line. */
+static void io_add(fv_plan_entry *e, size_t *at, const char *label, const char *const *names, const fv_pass *const *t,
+                   uint32_t n)
+{
+    for (uint32_t k = 0; names && names[k] && *at < sizeof e->io; k++) {
+        int m = maker_of(t, n, names[k]);
+        int w = snprintf(e->io + *at, sizeof e->io - *at, "%s%s%s%s%s%s", *at ? (k ? ", " : "; ") : "",
+                         k ? "" : label, names[k], m >= 0 && label[0] != 'm' ? " (" : "",
+                         m >= 0 && label[0] != 'm' ? t[m]->id : "", m >= 0 && label[0] != 'm' ? ")" : "");
+        *at = w < 0 ? sizeof e->io : *at + (size_t)w;
+    }
+}
+
+void fv_frame_plan_build_table(const fv_pass *const *t, uint32_t n, const fv_plan_context *ctx, fv_frame_plan *out)
 {
     memset(out, 0, sizeof *out);
     fv_quality q = fv_quality_default();
     fv_plan_context c = *ctx;
     if (!c.quality) c.quality = &q;
-    uint32_t n = 0;
-    const fv_pass *const *t = fv_pass_table(&n);
-    for (uint32_t i = 0; i < n; i++) {
+    for (uint32_t i = 0; i < n && i < FV_MAX_PASSES; i++) {
         fv_plan_entry *e = &out->entries[out->count++];
         snprintf(e->pass, sizeof e->pass, "%s", t[i]->id);
         t[i]->plan(&c, e);
+        size_t at = 0;
+        io_add(e, &at, "makes ", t[i]->makes, t, n);
+        io_add(e, &at, "needs ", t[i]->needs, t, n);
+        io_add(e, &at, "uses if made ", t[i]->uses_if_made, t, n);
     }
+}
+
+void fv_frame_plan_build_ctx(const fv_plan_context *ctx, fv_frame_plan *out)
+{
+    uint32_t n = 0;
+    const fv_pass *const *t = fv_pass_table(&n);
+    fv_frame_plan_build_table(t, n, ctx, out);
+}
+
+fv_result fv_frame_plan_check(const fv_pass *const *t, uint32_t n, const fv_frame_plan *plan, char *err,
+                              size_t err_size)
+{
+    if (err && err_size) err[0] = '\0';
+    for (uint32_t i = 0; i < n && i < plan->count; i++) {
+        for (const char *const *m = t[i]->makes; m && *m; m++) {
+            int first = maker_of(t, n, *m);
+            if (first != (int)i) {
+                if (err) snprintf(err, err_size, "image '%s' is made by two passes, %s and %s", *m, t[first]->id, t[i]->id);
+                return FV_ERR_STATE;
+            }
+        }
+        if (!plan->entries[i].enabled) continue;
+        for (int optional = 0; optional < 2; optional++) {
+            for (const char *const *r = optional ? t[i]->uses_if_made : t[i]->needs; r && *r; r++) {
+                int m = maker_of(t, n, *r);
+                const char *why = NULL;
+                if (m < 0) why = "no pass of the table makes it";
+                else if (m > (int)i) why = "its maker records after it";
+                else if (m < (int)i && !optional && !plan->entries[m].enabled) why = "its maker is off";
+                if (!why) continue;
+                if (err)
+                    snprintf(err, err_size, "pass %s %s image '%s'%s%s, but %s%s%s", t[i]->id,
+                             optional ? "uses" : "needs", *r, m >= 0 ? " of pass " : "", m >= 0 ? t[m]->id : "", why,
+                             m >= 0 && !plan->entries[m].enabled ? ": " : "",
+                             m >= 0 && !plan->entries[m].enabled ? plan->entries[m].reason : "");
+                return FV_ERR_STATE;
+            }
+        }
+    }
+    return FV_OK;
 }
 
 void fv_frame_plan_build(const fv_scene *scene, fv_frame_plan *out)

@@ -16,6 +16,8 @@ typedef struct fv_target fv_target;
 
 typedef struct fv_renderer fv_renderer;
 
+struct fv_pass;
+
 typedef struct fv_renderer_desc {
     uint32_t eye_width, eye_height; /* per-eye render size; 0 = 720x800 */
     const char *device;             /* index or name substring; NULL = $FOVEA_DEVICE, else prefer a discrete GPU */
@@ -24,6 +26,10 @@ typedef struct fv_renderer_desc {
     uint64_t memory_budget_bytes;   /* 0 = 80% of the largest device-local heap */
     fv_target *target;              /* where frames are shown (fv_target.h; borrowed, outlives the renderer);
                                      * NULL = headless */
+    const struct fv_pass *const *pass_table; /* the passes in frame order (fv_pass.h; borrowed, outlives the
+                                     * renderer); NULL = the built-in table (render/frame_plan.c). Tests add a pass
+                                     * of their own this way: its folder and one line of a table */
+    uint32_t pass_count;            /* entries of pass_table, at most FV_MAX_PASSES */
 } fv_renderer_desc;
 
 /** Per-pass GPU time and counters of one completed frame (the passes that ran, in order). */

@@ -51,7 +51,12 @@ fv_result fv_renderer_plan_apply(fv_renderer *r, const fv_quality *quality)
                            .quality = quality,
                            .target = r->target && r->target->ops ? r->target->ops->name : "headless"};
     fv_frame_plan plan;
-    fv_frame_plan_build_ctx(&ctx, &plan);
+    fv_frame_plan_build_table(r->table, r->pass_count, &ctx, &plan);
+    char why[256];
+    if (fv_frame_plan_check(r->table, r->pass_count, &plan, why, sizeof why) != FV_OK) {
+        FV_ERROR(MOD, "the frame plan does not hold together: %s", why);
+        return FV_ERR_STATE;
+    }
     uint32_t timed = 0;
     for (uint32_t i = 0; i < r->pass_count; i++) timed += plan.entries[i].enabled && r->table[i]->record;
     if (timed > FV_VK_TIMER_MAX_PASSES) { /* the compile-time assertion makes this unreachable with fv_pass_table */
@@ -81,7 +86,13 @@ fv_result fv_renderer_plan_apply(fv_renderer *r, const fv_quality *quality)
         if (!plan.entries[i].enabled || !r->table[i]->init || r->pass_state[i]) continue;
         fv_pass_env env;
         pass_env(r, i, &env);
-        fv_result res = r->table[i]->init(&env, &r->pass_state[i]);
+        const fv_pass *p = r->table[i];
+        r->images.starting = p->id; /* its images are the ones it declared (fv_images.h) */
+        r->images.declared[0] = p->makes;
+        r->images.declared[1] = p->needs;
+        r->images.declared[2] = p->uses_if_made;
+        fv_result res = p->init(&env, &r->pass_state[i]);
+        r->images.starting = NULL;
         if (res != FV_OK) {
             FV_ERROR(MOD, "pass %s could not start: %s", r->table[i]->id, fv_result_str(res));
             r->pass_state[i] = NULL;
@@ -144,12 +155,18 @@ fv_result fv_renderer_create(const fv_renderer_desc *desc_in, fv_renderer **out_
         FV_ERROR(MOD, "frames_in_flight %u exceeds %u", desc.frames_in_flight, FV_MAX_FRAMES_IN_FLIGHT);
         return FV_ERR_RANGE;
     }
+    if (desc.pass_table && (desc.pass_count > FV_MAX_PASSES || !desc.pass_count)) {
+        FV_ERROR(MOD, "a pass table of %u entries: the renderer holds 1..%d (FV_MAX_PASSES)", desc.pass_count,
+                 FV_MAX_PASSES);
+        return FV_ERR_RANGE;
+    }
     fv_renderer *r = calloc(1, sizeof *r);
     if (!r) return FV_ERR_NO_MEMORY;
     r->desc = desc;
     r->slot_count = desc.frames_in_flight;
     r->target = desc.target ? desc.target : fv_target_headless();
-    r->table = fv_pass_table(&r->pass_count);
+    r->table = desc.pass_table ? desc.pass_table : fv_pass_table(&r->pass_count);
+    if (desc.pass_table) r->pass_count = desc.pass_count;
     fv_vk_desc vd = {.device = desc.device,
                      .validation = desc.validation > 0 ? 1 : (desc.validation < 0 ? -1 : 0),
                      .memory_budget_bytes = desc.memory_budget_bytes,

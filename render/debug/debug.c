@@ -187,4 +187,5 @@ const fv_pass fv_debug_pass = {
     .init = debug_init,
     .record = debug_record,
     .fini = debug_fini,
+    .uses_if_made = FV_PASS_NAMES("fovea prob", "fovea mask", "fovea voronoi"), /* its fovea views */
 };

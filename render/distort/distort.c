@@ -172,4 +172,5 @@ const fv_pass fv_distort_pass = {
     .init = distort_init,
     .record = distort_record,
     .fini = distort_fini,
+    .makes = FV_PASS_NAMES("distort source (sRGB copy of the display)"),
 };

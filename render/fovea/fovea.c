@@ -308,6 +308,7 @@ const fv_pass fv_fovea_pass = {
     .record = fovea_record,
     .fini = fovea_fini,
     .details = fovea_details,
+    .makes = FV_PASS_NAMES("fovea prob", "fovea mask", "fovea blocks"),
 };
 
 /* ---- "compact": the mask as the frame sample list ---------------------------------------------------------------- */
@@ -498,6 +499,7 @@ const fv_pass fv_compact_pass = {
     .record = compact_record,
     .fini = compact_fini,
     .details = compact_details,
+    .needs = FV_PASS_NAMES("fovea mask"),
 };
 
 /* ---- "reconstruct" ------------------------------------------------------------------------------------------- */
@@ -681,4 +683,6 @@ const fv_pass fv_reconstruct_pass = {
     .record = recon_record,
     .fini = recon_fini,
     .details = recon_details,
+    .makes = FV_PASS_NAMES("fovea voronoi"),
+    .needs = FV_PASS_NAMES("fovea mask", "fovea blocks"),
 };

@@ -258,4 +258,5 @@ const fv_pass fv_temporal_pass = {
     .record = temporal_record,
     .fini = temporal_fini,
     .details = temporal_details,
+    .needs = FV_PASS_NAMES("fovea mask", "fovea blocks"),
 };

@@ -366,6 +366,7 @@ const fv_pass fv_interp_pass = {
     .record = interp_record,
     .fini = interp_fini,
     .details = interp_details,
+    .makes = FV_PASS_NAMES("interp level"),
 };
 
 /* ---- "interp_fill": the interpolated pixels, or the view -------------------------------------------------------- */
@@ -468,4 +469,6 @@ const fv_pass fv_interp_fill_pass = {
     .init = fill_init,
     .record = fill_record,
     .fini = fill_fini,
+    .needs = FV_PASS_NAMES("interp level"),
+    .uses_if_made = FV_PASS_NAMES("fovea mask", "fovea blocks"), /* marks what foveation shaded */
 };

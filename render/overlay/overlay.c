@@ -142,4 +142,5 @@ const fv_pass fv_overlay_pass = {
     .init = overlay_init,
     .record = overlay_record,
     .fini = overlay_fini,
+    .uses_if_made = FV_PASS_NAMES("fovea prob"), /* the foveal boundary */
 };

@@ -47,6 +47,11 @@ typedef struct fv_images {
     fv_image_slot slot[FV_IMAGE_MAX];
     uint32_t count;         /* builtins + scratch */
     uint32_t history_parity;
+    /* While a pass starts (the renderer sets these around its init): its id and its declared image names (fv_pass
+     * makes, needs, uses_if_made); fv_images_scratch and fv_images_find refuse any other name, with an error that
+     * names the pass. starting NULL: nothing is checked (the renderer's own reads, tests). */
+    const char *starting;
+    const char *const *declared[3];
 } fv_images;
 
 /** Describe the builtin images (nothing allocated yet). t is zeroed first. */
@@ -55,11 +60,13 @@ FV_MUST_CHECK fv_result fv_images_init(fv_images *t, fv_vk *vk, uint32_t width, 
 void fv_images_fini(fv_images *t);
 /** The image of id, created on first request (in UNDEFINED layout). */
 FV_MUST_CHECK fv_result fv_images_get(fv_images *t, fv_image_id id, const fv_vk_image **out);
-/** Add (and create) a scratch image of a pass: 2 layers of width x height per eye unless desc says otherwise. */
+/** Add (and create) a scratch image of a pass: 2 layers of width x height per eye unless desc says otherwise. While
+ *  a pass starts, its name must be one the pass declares it makes (else FV_ERR_STATE). */
 FV_MUST_CHECK fv_result fv_images_scratch(fv_images *t, const fv_vk_image_desc *desc, fv_image_id *out_id);
 /** Destroy a scratch image and free its slot for the next fv_images_scratch (the GPU must be done with it). */
 void fv_images_release(fv_images *t, fv_image_id id);
-/** The id of the created image named `name` (a scratch image's desc name), or FV_ERR_NOT_FOUND. */
+/** The id of the created image named `name` (a scratch image's desc name), or FV_ERR_NOT_FOUND. While a pass
+ *  starts, the name must be one it declares (else FV_ERR_STATE, checked before the search). */
 FV_MUST_CHECK fv_result fv_images_find(const fv_images *t, const char *name, fv_image_id *out_id);
 /** The image as created (NULL before fv_images_get created it). */
 const fv_vk_image *fv_images_image(const fv_images *t, fv_image_id id);

@@ -68,6 +68,9 @@ typedef struct fv_pass_frame {
                                   * after it then get it as `pixels` */
 } fv_pass_frame;
 
+/** A NULL-terminated list of image names for an entry's declarations: FV_PASS_NAMES("fovea mask", "fovea blocks"). */
+#define FV_PASS_NAMES(...) ((const char *const[]){__VA_ARGS__, NULL})
+
 /** Flags of a pass entry. */
 #define FV_PASS_REPLAYS_ON_PIXELS 1u /* runs again, after shading, when the renderer re-shades a pixel list */
 
@@ -91,6 +94,15 @@ typedef struct fv_pass {
     void (*fini)(void *state);
     /** What it decided for the last prepared frame, as named numbers (NULL: nothing to say). Returns the count. */
     uint32_t (*details)(void *state, fv_pass_detail *out, uint32_t cap);
+    /** Declared resources: the named images it makes (fv_images_scratch's desc name), those of other passes it
+     *  needs whenever it runs, and those it uses only when their maker runs (fv_images_find), each a
+     *  FV_PASS_NAMES list or NULL. The renderer checks the plan against them before any init (every need has an
+     *  enabled maker earlier in the table; a maker after its reader or a name nobody makes is an error naming
+     *  both passes: fv_frame_plan_check), and during init refuses an fv_images_find or fv_images_scratch of a name
+     *  the pass did not declare. `fovea run --explain` prints them. */
+    const char *const *makes;
+    const char *const *needs;
+    const char *const *uses_if_made;
 } fv_pass;
 
 #endif

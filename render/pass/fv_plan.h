@@ -11,6 +11,7 @@
 #define FV_MAX_PASSES 24
 #define FV_PASS_ID_MAX 24
 #define FV_PASS_REASON_MAX 160
+#define FV_PASS_IO_MAX 160
 
 /** One entry of the frame plan: a pass, whether it runs, why, and the parameters it was given. */
 typedef struct fv_plan_entry {
@@ -18,6 +19,8 @@ typedef struct fv_plan_entry {
     bool enabled;
     char reason[FV_PASS_REASON_MAX];
     uint32_t variant; /* a pass-defined choice made with the decision (e.g. a debug view), 0 by default */
+    char io[FV_PASS_IO_MAX]; /* its declared images and their makers: "makes fovea mask; needs fovea mask (fovea)";
+                              * "" when it declares none */
 } fv_plan_entry;
 
 typedef struct fv_frame_plan {

@@ -79,9 +79,23 @@ fv_result fv_images_get(fv_images *t, fv_image_id id, const fv_vk_image **out)
     return FV_OK;
 }
 
+/* While a pass starts: whether it declared `name` in any of lists first..last of t->declared (0 makes, 1 needs,
+ * 2 uses_if_made); an error naming the pass when not. */
+static fv_result declared(const fv_images *t, const char *name, int first, int last, const char *doing)
+{
+    if (!t->starting) return FV_OK;
+    for (int l = first; l <= last; l++)
+        for (const char *const *n = t->declared[l]; n && *n; n++)
+            if (strcmp(*n, name) == 0) return FV_OK;
+    FV_ERROR(MOD, "pass %s %s image '%s', which its table entry does not declare (fv_pass %s)", t->starting, doing,
+             name, first == 0 && last == 0 ? "makes" : "makes, needs or uses_if_made");
+    return FV_ERR_STATE;
+}
+
 fv_result fv_images_scratch(fv_images *t, const fv_vk_image_desc *desc, fv_image_id *out_id)
 {
     if (!t || !t->vk || !desc || !out_id || !desc->format || !desc->usage) return FV_ERR_INVALID_ARG;
+    FV_TRY(declared(t, desc->name ? desc->name : "scratch", 0, 0, "makes"));
     uint32_t k = FV_IMAGE_BUILTIN_COUNT;
     while (k < t->count && t->slot[k].created) k++; /* a released slot is taken again */
     if (k >= FV_IMAGE_MAX) {
@@ -110,6 +124,7 @@ void fv_images_release(fv_images *t, fv_image_id id)
 fv_result fv_images_find(const fv_images *t, const char *name, fv_image_id *out_id)
 {
     if (!t || !name || !out_id) return FV_ERR_INVALID_ARG;
+    FV_TRY(declared(t, name, 0, 2, "looks for"));
     for (uint32_t k = 0; k < t->count; k++)
         if (t->slot[k].created && strcmp(t->slot[k].name, name) == 0) {
             *out_id = (fv_image_id)k;

@@ -433,4 +433,5 @@ const fv_pass fv_shadow_pass = {
     .record = shadow_record,
     .fini = shadow_fini,
     .details = shadow_details,
+    .makes = FV_PASS_NAMES("shadow maps"),
 };

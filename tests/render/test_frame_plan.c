@@ -1,8 +1,11 @@
 /* @brief Pure tests (no GPU) of the frame plan and the stereo views: which passes run and why, eye placement, the
  * asymmetric mirrored field of view, near/far from bounds, and finite output for extreme input. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
+#include "fv_knobs.h"
+#include "fv_passes.h"
 #include "fv_renderer.h"
 #include "fv_scene.h"
 #include "fv_test.h"
@@ -169,6 +172,112 @@ static void near_far_hold_the_scene_bounds(void **state)
     assert_true(isfinite(n) && isfinite(f) && f > n && n > 0);
 }
 
+/* ---- declared images (fv_pass makes / needs / uses_if_made, fv_frame_plan_check) ------------------------------- */
+
+/* The built-in table holds together in every preset, with interpolation, every debug view and the overlay, for a
+ * scene with and without translucency: no pass needs an image no earlier enabled pass makes. */
+static void the_built_in_table_holds_together_in_every_plan(void **state)
+{
+    (void)state;
+    uint32_t n = 0;
+    const fv_pass *const *t = fv_pass_table(&n);
+    const char *scenes[] = {"cornell", "cornell-translucent"};
+    const char *presets[] = {"fast", "balanced", "high", "exact"};
+    for (size_t sc = 0; sc < 2; sc++) {
+        fv_scene *s = NULL;
+        assert_int_equal(fv_scene_load(scenes[sc], &s), FV_OK);
+        for (size_t p = 0; p < 4; p++)
+            for (int v = 0; v < FV_DEBUG_VIEW_COUNT; v++)
+                for (int variant = 0; variant < 4; variant++) {
+                    fv_quality q;
+                    assert_int_equal(fv_quality_preset(presets[p], &q, NULL, 0), FV_OK);
+                    q.debug_view = (fv_debug_view)v;
+                    q.interp.enabled = variant & 1;
+                    q.overlay = variant & 2;
+                    fv_plan_context ctx = {.scene = s, .multiview = true, .quality = &q};
+                    fv_frame_plan plan;
+                    fv_frame_plan_build_table(t, n, &ctx, &plan);
+                    char err[256];
+                    if (fv_frame_plan_check(t, n, &plan, err, sizeof err) != FV_OK)
+                        fail_msg("%s, %s, view %s, variant %d: %s", scenes[sc], presets[p],
+                                 fv_debug_view_name((fv_debug_view)v), variant, err);
+                }
+        fv_scene_destroy(&s);
+    }
+    /* --explain's graph: each reader names the image's maker */
+    fv_frame_plan plan;
+    fv_frame_plan_build(NULL, &plan);
+    assert_string_equal(fv_frame_plan_find(&plan, "compact")->io, "needs fovea mask (fovea)");
+    assert_string_equal(fv_frame_plan_find(&plan, "reconstruct")->io,
+                        "makes fovea voronoi; needs fovea mask (fovea), fovea blocks (fovea)");
+    assert_string_equal(fv_frame_plan_find(&plan, "gbuffer")->io, "");
+}
+
+/* Test passes: each is on unless its plan says otherwise (t_off), and declares what the test needs. */
+static void t_on(const fv_plan_context *ctx, fv_plan_entry *out)
+{
+    (void)ctx;
+    out->enabled = true;
+    snprintf(out->reason, sizeof out->reason, "test pass");
+}
+static void t_off(const fv_plan_context *ctx, fv_plan_entry *out)
+{
+    (void)ctx;
+    out->enabled = false;
+    snprintf(out->reason, sizeof out->reason, "off — a test says so");
+}
+static const fv_pass maker = {.id = "maker", .plan = t_on, .makes = FV_PASS_NAMES("test image")};
+static const fv_pass maker_off = {.id = "maker", .plan = t_off, .makes = FV_PASS_NAMES("test image")};
+static const fv_pass maker2 = {.id = "maker2", .plan = t_on, .makes = FV_PASS_NAMES("test image")};
+static const fv_pass reader = {.id = "reader", .plan = t_on, .needs = FV_PASS_NAMES("test image")};
+static const fv_pass reader_off = {.id = "reader", .plan = t_off, .needs = FV_PASS_NAMES("test image")};
+static const fv_pass maybe = {.id = "maybe", .plan = t_on, .uses_if_made = FV_PASS_NAMES("test image")};
+static const fv_pass stranger = {.id = "stranger", .plan = t_on, .needs = FV_PASS_NAMES("no such image")};
+
+/* One table: its plan's check, and the message when it fails (must contain want; NULL: must pass). */
+static void check_table(const fv_pass *const *t, uint32_t n, const char *want)
+{
+    fv_frame_plan plan;
+    fv_plan_context ctx = {.multiview = true};
+    fv_frame_plan_build_table(t, n, &ctx, &plan);
+    char err[256] = "";
+    fv_result r = fv_frame_plan_check(t, n, &plan, err, sizeof err);
+    if (!want) {
+        if (r != FV_OK) fail_msg("unexpected: %s", err);
+        return;
+    }
+    assert_int_equal(r, FV_ERR_STATE);
+    if (!strstr(err, want)) fail_msg("\"%s\" does not say \"%s\"", err, want);
+    assert_null(strchr(err, '\n'));
+}
+
+/* A pass that reads an image before its maker records, of a maker that is off, or that nobody makes is an error at
+ * plan time naming both passes (not a crash in init); an image made twice too; a use-if-made of a maker that is off
+ * is not. */
+static void a_reader_before_its_maker_is_an_error_at_plan_time(void **state)
+{
+    (void)state;
+    check_table((const fv_pass *const[]){&maker, &reader}, 2, NULL);
+    check_table((const fv_pass *const[]){&reader, &maker}, 2,
+                "pass reader needs image 'test image' of pass maker, but its maker records after it");
+    check_table((const fv_pass *const[]){&maker_off, &reader}, 2,
+                "pass reader needs image 'test image' of pass maker, but its maker is off: off — a test says so");
+    check_table((const fv_pass *const[]){&maker_off, &reader_off}, 2, NULL); /* nobody reads it */
+    check_table((const fv_pass *const[]){&stranger}, 1,
+                "pass stranger needs image 'no such image', but no pass of the table makes it");
+    check_table((const fv_pass *const[]){&maker, &maker2, &reader}, 3,
+                "image 'test image' is made by two passes, maker and maker2");
+    check_table((const fv_pass *const[]){&maker_off, &maybe}, 2, NULL);
+    check_table((const fv_pass *const[]){&maybe, &maker}, 2,
+                "pass maybe uses image 'test image' of pass maker, but its maker records after it");
+    fv_frame_plan plan;
+    fv_plan_context ctx = {.multiview = true};
+    fv_frame_plan_build_table((const fv_pass *const[]){&maker, &reader, &maybe}, 3, &ctx, &plan);
+    assert_string_equal(plan.entries[0].io, "makes test image");
+    assert_string_equal(plan.entries[1].io, "needs test image (maker)");
+    assert_string_equal(plan.entries[2].io, "uses if made test image (maker)");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -178,6 +287,8 @@ int main(void)
         cmocka_unit_test(fov_is_asymmetric_outer_wider_and_mirrored),
         cmocka_unit_test(extreme_inputs_give_finite_views),
         cmocka_unit_test(near_far_hold_the_scene_bounds),
+        cmocka_unit_test(the_built_in_table_holds_together_in_every_plan),
+        cmocka_unit_test(a_reader_before_its_maker_is_an_error_at_plan_time),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

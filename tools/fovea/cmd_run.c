@@ -261,9 +261,11 @@ static int parse_args(int argc, char **argv, run_opts *o)
 static void print_plan(FILE *f, const fv_frame_plan *plan)
 {
     fprintf(f, "frame plan:\n");
-    for (uint32_t i = 0; i < plan->count; i++)
+    for (uint32_t i = 0; i < plan->count; i++) {
         fprintf(f, "  %-3s %-12s %s\n", plan->entries[i].enabled ? "on" : "off", plan->entries[i].pass,
                 plan->entries[i].reason);
+        if (plan->entries[i].io[0]) fprintf(f, "                   images: %s\n", plan->entries[i].io); /* the graph */
+    }
 }
 
 /* Everything one run measures. */
@@ -693,6 +695,7 @@ int fv_cmd_run(int argc, char **argv)
                 fv_cli_json_add_string(e, "pass", plan->entries[i].pass);
                 cJSON_AddBoolToObject(e, "enabled", plan->entries[i].enabled);
                 fv_cli_json_add_string(e, "reason", plan->entries[i].reason);
+                if (plan->entries[i].io[0]) fv_cli_json_add_string(e, "images", plan->entries[i].io);
                 fv_pass_detail det[16];
                 uint32_t nd = fv_renderer_pass_details(r, plan->entries[i].pass, det, 16);
                 if (nd) {
