@@ -15,6 +15,7 @@
 
 _Static_assert(sizeof(struct fv_fovea_push) == 32, "fv_fovea_push layout");
 _Static_assert(FV_FOVEA_SRGB_TABLE >= FV_FOVEA_BLOCK_MAX * FV_FOVEA_BLOCK_MAX, "the sRGB table follows the ranks");
+_Static_assert(FV_KNOB_MIN_fovea_block == 2 && FV_KNOB_MAX_fovea_block == FV_FOVEA_BLOCK_MAX, "fovea.block's range");
 _Static_assert(sizeof(struct fv_compact_push) == 32, "fv_compact_push layout");
 _Static_assert(sizeof(struct fv_recon_push) == 32, "fv_recon_push layout");
 _Static_assert(FV_COMPACT_TILE_SIZE == FV_GPU_LIST_GROUP_SIZE, "masked lists: one list workgroup per tile");

@@ -172,6 +172,17 @@ static inline fv_quality fv_quality_default(void)
     return q;
 }
 
+/* Each INT knob's bounds as constants, FV_KNOB_MIN_<group>_<field> and FV_KNOB_MAX_<group>_<field>, so that a pass
+ * whose shaders have a limit of their own asserts at compile time that the knob's range fits it (render/fovea:
+ * FV_FOVEA_BLOCK_MAX is fovea.block's max). */
+#define FV_KNOB_LIMITS_BOOL(group, field, lo, hi)
+#define FV_KNOB_LIMITS_FLOAT(group, field, lo, hi)
+#define FV_KNOB_LIMITS_ENUM(group, field, lo, hi)
+#define FV_KNOB_LIMITS_INT(group, field, lo, hi)                                                                       \
+    FV_KNOB_MIN_##group##_##field = (lo), FV_KNOB_MAX_##group##_##field = (hi),
+#define FV_KNOB_LIMITS_(group, field, name, TYPE, ctype, lo, hi, ...) FV_KNOB_LIMITS_##TYPE(group, field, lo, hi)
+enum fv_knob_int_limits { FV_KNOB_LIST(FV_KNOB_LIMITS_) FV_KNOB_LIMITS_END_ };
+
 /* Equality per group: every knob of the group holds the same value (floats compare with ==, so NaN is never equal;
  * the distort group's lens is not a knob and is not compared). For caches keyed on a group's knobs. */
 #define FV_KNOB_SAME_(group, field, ...) &&a->field == b->field
