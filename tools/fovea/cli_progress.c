@@ -39,7 +39,7 @@ void fv_progress_format(char *out, size_t cap, const char *what, const char *uni
     ADD(", %.1f s", elapsed_s);
     if (total > 0 && completed >= total) ADD(", finishing");
     else if (total > 0 && completed > 0) ADD(", about %.0f s left", elapsed_s / (double)completed * (double)(total - completed));
-    else if (total > 0) ADD(", time left: after the first %s", unit);
+    else if (total > 0) ADD(", time left known after the first %s", unit);
     if (detail && detail[0]) ADD("; %s", detail);
 #undef ADD
 }
@@ -89,7 +89,7 @@ fv_progress *fv_progress_start(const char *what, const char *unit, int64_t total
     bool tty = isatty(STDERR_FILENO) != 0;
     double after = FV_PROGRESS_AFTER_S;
     if (env && *env) {
-        if (!strcmp(env, "off") || !strcmp(env, "0")) return NULL;
+        if (!strcmp(env, "off")) return NULL;
         char *end;
         double v = strtod(env, &end);
         if (end != env && *end == '\0' && v >= 0 && v < 1e6) after = v;
@@ -133,6 +133,14 @@ void fv_progress_update(fv_progress *p, int64_t submitted, int64_t completed, do
     pthread_mutex_unlock(&p->lock);
 }
 
+void fv_progress_set_total(fv_progress *p, int64_t total)
+{
+    if (!p) return;
+    pthread_mutex_lock(&p->lock);
+    p->total = total;
+    pthread_mutex_unlock(&p->lock);
+}
+
 void fv_progress_detail(fv_progress *p, const char *detail)
 {
     if (!p) return;
@@ -153,6 +161,8 @@ void fv_progress_stop(fv_progress **pp)
     if (p->shown && p->tty) {
         fprintf(stderr, "\r%*s\r", (int)p->width, "");
         fflush(stderr);
+    } else if (!p->tty && (double)(fv_time_monotonic_ns() - p->t_start_ns) / 1e9 >= p->after_s) {
+        print_line(p); /* where the lines stay (not a terminal): the last state too */
     }
     pthread_cond_destroy(&p->cond);
     pthread_mutex_destroy(&p->lock);

@@ -20,6 +20,8 @@ fv_progress *fv_progress_start(const char *what, const char *unit, int64_t total
 /** The work so far: items submitted (-1: not a notion here), completed, and the GPU time of the completed (ms; < 0:
  *  not measured). Any thread. */
 void fv_progress_update(fv_progress *p, int64_t submitted, int64_t completed, double gpu_ms);
+/** The total, when it is known only once the work runs (<= 0: unknown). Any thread. */
+void fv_progress_set_total(fv_progress *p, int64_t total);
 /** A short text after the counts ("point 3/12 shadow.resolution=1024"; NULL: none). Any thread; copied. */
 void fv_progress_detail(fv_progress *p, const char *detail);
 /** Stop the thread and clear the line (at a terminal). Sets *p to NULL; safe on NULL. */

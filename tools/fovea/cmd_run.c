@@ -724,6 +724,7 @@ int fv_cmd_run(int argc, char **argv)
                 (long long)o.frames);
     if (FV_FAILED(fv_renderer_finish(r)) || !fv_measure_take(&st.m, r)) goto done;
     fv_measure_run_wall(&st.m, (double)(fv_time_monotonic_ns() - t_start) / 1e6, (size_t)frames_done);
+    fv_progress_update(progress, frames_done, (int64_t)st.m.measured, fv_measure_gpu_ms_sum(&st.m));
     fv_progress_stop(&progress);
     check_head_moves(&st, true);
     if (o.frame_log && FV_FAILED(write_frame_log(&st, o.gaze_uri ? &gaze : NULL, o.frame_log))) goto done;
