@@ -150,27 +150,9 @@ struct fv_xr_budget {
     uint64_t frames;
 };
 
-/* Only foveation's knobs (the insets' MAR model: fv_xr_quad_inset_radius_deg) are the runtime's to trade: every
- * other knob group is a pass the runtime does not run for an app's frames, whose rungs would save nothing here. */
-#define XR_BUDGET_GROUPS 32
-static void groups_not_run(char names[XR_BUDGET_GROUPS][32], const char *out[XR_BUDGET_GROUPS + 1])
-{
-    size_t count = 0, n = 0;
-    const fv_knob *k = fv_knobs(&count);
-    for (size_t i = 0; i < count; i++) {
-        const char *dot = strchr(k[i].name, '.');
-        size_t len = dot ? (size_t)(dot - k[i].name) : 0;
-        if (!len || len >= 32 || !strncmp(k[i].name, "fovea.", 6)) continue;
-        bool seen = false;
-        for (size_t j = 0; j < n && !seen; j++) seen = strlen(names[j]) == len && !strncmp(names[j], k[i].name, len);
-        if (seen || n == XR_BUDGET_GROUPS) continue;
-        memcpy(names[n], k[i].name, len);
-        names[n][len] = '\0';
-        out[n] = names[n];
-        n++;
-    }
-    out[n] = NULL;
-}
+/* The knobs the runtime's own work reads: the insets' MAR model (fv_xr_quad_inset_radius_deg). The ladder's other
+ * rungs would save nothing here. */
+static const char *const g_xr_knobs[] = {"fovea.mar_slope", "fovea.mar_w0_deg", NULL};
 
 fv_xr_budget *fv_xr_budget_create(double refresh_hz)
 {
@@ -189,10 +171,8 @@ fv_xr_budget *fv_xr_budget_create(double refresh_hz)
     fv_xr_budget *xb = calloc(1, sizeof *xb);
     if (!xb) return NULL;
     xb->q = fv_quality_default();
-    char names[XR_BUDGET_GROUPS][32];
-    const char *not_run[XR_BUDGET_GROUPS + 1];
-    groups_not_run(names, not_run);
-    if (fv_app_budget_start(&xb->b, FV_XR_LOG, &xb->q, "balanced", refresh_hz, scale, not_run) != FV_OK) {
+    if (fv_app_budget_start(&xb->b, FV_XR_LOG, &xb->q, "balanced", refresh_hz, scale, NULL) != FV_OK ||
+        fv_app_budget_keep_knobs(&xb->b, g_xr_knobs) != FV_OK) {
         free(xb);
         return NULL;
     }

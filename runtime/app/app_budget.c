@@ -30,6 +30,20 @@ fv_result fv_app_budget_start(fv_app_budget *b, const char *who, const fv_qualit
     return FV_OK;
 }
 
+fv_result fv_app_budget_keep_knobs(fv_app_budget *b, const char *const *names)
+{
+    size_t n = 0;
+    for (size_t i = 0; i < b->rung_count; i++) {
+        bool keep = false;
+        for (size_t k = 0; names && names[k] && !keep; k++) keep = !strcmp(b->rungs[i].knob->name, names[k]);
+        if (keep) b->rungs[n++] = b->rungs[i];
+    }
+    b->rung_count = n;
+    fv_budget_desc d = b->ctl.desc;
+    d.rungs = (uint32_t)n;
+    return fv_budget_init(&b->ctl, &d);
+}
+
 double fv_app_budget_target_ms(const fv_app_budget *b) { return b->on ? fv_budget_target_ns(&b->ctl) / 1e6 : 0.0; }
 
 fv_budget_step fv_app_budget_push(fv_app_budget *b, uint64_t frame_next, double ms, fv_quality *q)

@@ -41,6 +41,10 @@ FV_MUST_CHECK fv_result fv_app_budget_start(fv_app_budget *b, const char *who, c
                                             const char *preset, double hz, double scale,
                                             const char *const *off_passes);
 
+/** Keep only the rungs of the knobs named (NULL-terminated): a program that uses only some knobs (the OpenXR
+ *  runtime: foveation's MAR model) budgets with those. Restarts the controller at level 0. */
+FV_MUST_CHECK fv_result fv_app_budget_keep_knobs(fv_app_budget *b, const char *const *names);
+
 /** One finished frame's time (ms; non-finite counts as 0). On a change: logs it (one line), records it (frame_next:
  *  the frame that will be drawn with it) and sets *q to the base with the new level's rungs, keeping *q's view
  *  settings (exposure, view, overlay) and lens. Returns the step. No-op (KEEP) when the budget is off. */

@@ -6,7 +6,7 @@
  *   gpu 0.23 ms);
  * - where an interactive run starts on a software device (its size from the CPU cores, never larger, the aspect
  *   kept, the budget on), and only there;
- * - each budget change is one line at the default log level. */
+ * - each budget change is one line at the default log level; a budget kept to some knobs (the OpenXR runtime's). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -121,6 +121,18 @@ static void budget_changes_are_one_line_each_at_the_default_level(void **state)
     assert_true(q.exposure == 2.0f); /* the view settings stay the run's */
     assert_int_equal(b.log_n, (size_t)b.changes);
     assert_true(b.log[0].down);
+    /* the OpenXR runtime's budget: only the knobs its own work reads (the insets' MAR model) */
+    fv_quality base = fv_quality_default();
+    assert_int_equal(fv_app_budget_start(&b, "xr", &base, "balanced", 90.0, 1.0, NULL), FV_OK);
+    const char *const mar[] = {"fovea.mar_slope", "fovea.mar_w0_deg", NULL};
+    assert_int_equal(fv_app_budget_keep_knobs(&b, mar), FV_OK);
+    assert_int_equal(b.rung_count, 2);
+    assert_true(!strcmp(b.rungs[0].knob->name, mar[0]) || !strcmp(b.rungs[0].knob->name, mar[1]));
+    fv_log_set_level("*", FV_LOG_LEVEL_ERROR); /* quiet: the steps were checked above */
+    for (uint64_t f = 0; f < 100; f++) (void)fv_app_budget_push(&b, f + 1, 40.0, &base);
+    fv_log_set_level("*", FV_LOG_LEVEL_WARN);
+    assert_int_equal(b.ctl.level, 2);
+    assert_true(base.fovea.mar_slope > fv_quality_default().fovea.mar_slope); /* coarser periphery: smaller insets */
     /* a period that cannot be budgeted: one line naming it */
     fv_test_log_capture_begin();
     assert_int_equal(fv_app_budget_start(&b, "run", &q, "balanced", 0.0, 1.0, NULL), FV_ERR_INVALID_ARG);
