@@ -2,8 +2,8 @@
  * - a driver plugged into the one driver list (FOVEA_DRIVERS: the test-only probe plug-in) is listed by
  *   `fovea devices` and followed by `fovea run --gaze` (tests/xr/test_xr_gaze.c: the same plug-in in an OpenXR app);
  * - `fovea run --gaze pupil:` with no Pupil Capture fails before any rendering work, naming the source;
- * - a progress line (frames completed and submitted, GPU ms so far, time left) for long runs (FOVEA_PROGRESS=0 shows
- *   it at once, as a terminal would after 2 s);
+ * - a progress line (frames completed and submitted, GPU ms so far, time left) for long runs, `reference` and
+ *   `bench` (FOVEA_PROGRESS=0 shows it at once, as a terminal would after 2 s);
  * - a --gaze run on a software device starts at the interactive size with the budget on, saying so in one line, and
  *   not when the size is given;
  * - --head trace with a recording whose head pose is all zero, or never changes, says so;
@@ -79,6 +79,20 @@ static void long_work_shows_progress_with_gpu_time_and_time_left(void **state)
     assert_contains(r.out, "loop per frame");
     assert_contains(r.out, "wall per frame");
     assert_contains(r.out, "(completed:");
+    /* reference and bench: the same line, in their units */
+    static fv_test_cmd ref, bench;
+    char args[1200];
+    snprintf(args, sizeof args, "reference --eye-size 16x16 --out '%s'", fv_test_tmp("ref"));
+    run_env(&ref, "FOVEA_PROGRESS=0", args);
+    assert_int_equal(ref.exit_code, 0);
+    assert_contains(ref.err, "fovea reference: ");
+    assert_contains(ref.err, " tiles done");
+    snprintf(args, sizeof args, "bench --sweep shadow.splits=1,2 --frames 3 --eye-size 16x16 --reference none "
+             "--exact off --out '%s'", fv_test_tmp("bench"));
+    run_env(&bench, "FOVEA_PROGRESS=0", args);
+    assert_int_equal(bench.exit_code, 0);
+    assert_contains(bench.err, "fovea bench: 2/2 points done, GPU ");
+    assert_contains(bench.err, "point 2/2 shadow.splits=2");
     /* not a terminal and not asked for: no progress */
     static fv_test_cmd q;
     run_env(&q, NULL, "run --frames 2 --eye-size 16x16");
