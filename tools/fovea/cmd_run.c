@@ -592,7 +592,10 @@ int fv_cmd_run(int argc, char **argv)
         free(st.rows);
         return FV_EXIT_FAIL;
     }
-    if (o.gaze_uri) { /* the tracker first: a source that is not there fails the run before any rendering work */
+    /* The tracker first: a source that is not there fails the run before any rendering work. Only the mouse, a gaze
+     * source made of the window's cursor, opens once the window is there. */
+    bool gaze_after_window = o.gaze_uri && !strncmp(o.gaze_uri, "mouse:", 6);
+    if (o.gaze_uri && !gaze_after_window) {
         gaze_open = true;
         if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.no_predict))) goto done; /* one line said why */
     }
@@ -666,6 +669,10 @@ int fv_cmd_run(int argc, char **argv)
             mouse_views.tan_down[e] = fi.eye[e].tan_down;
         }
         fv_mouse_pointer_attach(&mouse_views);
+    }
+    if (gaze_after_window) {
+        gaze_open = true;
+        if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.no_predict))) goto done; /* one line said why */
     }
     if (o.gaze_uri) {
         fv_display *shown_on = window ? fv_window_display(window) : NULL; /* NULL: a simulated display */
