@@ -75,7 +75,9 @@ static void build(void)
     for (const char *p = env; p && *p;) {
         const char *end = strchr(p, ':');
         size_t len = end ? (size_t)(end - p) : strlen(p);
-        if (len > 0 && len < 4096) {
+        if (len >= 4096) {
+            FV_ERROR(MOD, "FOVEA_DRIVERS: a path of %zu characters (at most 4095); skipped", len);
+        } else if (len > 0) {
             char path[4096];
             memcpy(path, p, len);
             path[len] = '\0';

@@ -1,6 +1,6 @@
 /* @brief The application layer as a user meets it through `fovea` (label cli: the release build):
  * - a driver plugged into the one driver list (FOVEA_DRIVERS: the test-only probe plug-in) is listed by
- *   `fovea devices` and followed by `fovea run --gaze` (tests/xr/test_xr_gaze.c: the same plug-in in an OpenXR app);
+ *   `fovea devices` and followed by `fovea run --gaze`; paths that are no plug-ins are skipped with one line each (tests/xr/test_xr_gaze.c: the same plug-in in an OpenXR app);
  * - `fovea run --gaze pupil:` with no Pupil Capture fails before any rendering work, naming the source;
  * - a progress line (frames completed and submitted, GPU ms so far, time left) for long runs, `reference` and
  *   `bench` (FOVEA_PROGRESS=0 shows it at once, as a terminal would after 2 s);
@@ -8,7 +8,7 @@
  *   not when the size is given;
  * - --head trace with a recording whose head pose is all zero, or never changes, says so;
  * - `fovea latency --frame-log` books a software device's GPU time as GPU even in a log whose run booked it as CPU.
- * argv[1] = fovea, argv[2] = the probe plug-in. */
+ * argv[1] = fovea, argv[2] = the probe plug-in, argv[3] = a shared object that is no plug-in. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdbool.h>
@@ -18,7 +18,7 @@
 
 #include "fv_test.h"
 
-static const char *g_fovea, *g_plugin;
+static const char *g_fovea, *g_plugin, *g_not_plugin;
 
 #define assert_contains fv_assert_contains
 
@@ -40,7 +40,18 @@ static void plugged_in_driver_is_listed_and_followed_by_run(void **state)
     run_env(&dev, env, "devices");
     assert_int_equal(dev.exit_code, 0);
     assert_contains(dev.out, "probe");
-    run_env(&run, env, "run --gaze probe:yaw_deg=9,pitch_deg=2,rate_hz=500 --frames 2 --eye-size 16x16 --json");
+    /* paths that are no plug-ins are skipped, one line each, and the rest still load */
+    static fv_test_cmd bad;
+    char benv[2600];
+    snprintf(benv, sizeof benv, "FOVEA_DRIVERS='/nonexistent/x.so:%s:%s:%s'", g_not_plugin, g_plugin, g_plugin);
+    run_env(&bad, benv, "devices");
+    print_message("%s", bad.err);
+    assert_int_equal(bad.exit_code, 0);
+    assert_contains(bad.err, "'/nonexistent/x.so': cannot load");
+    assert_contains(bad.err, "no symbol fv_driver_plugin"); /* a shared object, not a plug-in */
+    assert_contains(bad.err, "its scheme is already taken: probe"); /* the same plug-in twice */
+    assert_contains(bad.out, "probe");
+        run_env(&run, env, "run --gaze probe:yaw_deg=9,pitch_deg=2,rate_hz=500 --frames 2 --eye-size 16x16 --json");
     if (run.exit_code != 0) fail_msg("run failed:\n%s", run.err);
     cJSON *j = cJSON_Parse(run.out);
     assert_non_null(j);
@@ -236,12 +247,13 @@ static void latency_books_a_software_devices_gpu_time_as_gpu(void **state)
 
 int main(int argc, char **argv)
 {
-    if (argc < 3) {
-        fprintf(stderr, "usage: test_cli_app FOVEA PROBE_PLUGIN\n");
+    if (argc < 4) {
+        fprintf(stderr, "usage: test_cli_app FOVEA PROBE_PLUGIN NOT_A_PLUGIN\n");
         return 2;
     }
     g_fovea = argv[1];
     g_plugin = argv[2];
+    g_not_plugin = argv[3];
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(plugged_in_driver_is_listed_and_followed_by_run),
         cmocka_unit_test(missing_pupil_capture_fails_before_rendering),
