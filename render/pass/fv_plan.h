@@ -6,7 +6,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#define FV_MAX_PASSES 16
+#define FV_MAX_PASSES 24
 #define FV_PASS_ID_MAX 24
 #define FV_PASS_REASON_MAX 160
 

@@ -162,6 +162,15 @@ typedef enum fv_gi_average {
     FV_GI_AVERAGE_PLAIN = 1, /* "plain": every child with geometry counts equally (the paper's mip-map mean) */
 } fv_gi_average;
 
+/** The rate the one-bounce GI is gathered at (fv_quality.gi.rate, knob `gi.rate`): per pixel, or once per r x r
+ *  block of the G-buffer, joint-bilaterally upsampled where the G-buffer is coherent (render/gi_gather). */
+typedef enum fv_gi_rate {
+    FV_GI_RATE_FULL = 0,    /* "full": every shaded pixel gathers (exact keeps this) */
+    FV_GI_RATE_HALF = 1,    /* "half": one gather per 2 x 2 block */
+    FV_GI_RATE_QUARTER = 2, /* "quarter": one gather per 4 x 4 block */
+    FV_GI_RATE_LAST = FV_GI_RATE_QUARTER,
+} fv_gi_rate;
+
 /** The one-bounce GI knobs (render/gi/: reflective shadow maps, light quad-tree, Ki & Oh 2007; papers/README.md
  *  section 1). Each field is one knob of the table in render/knobs/. */
 typedef struct fv_quality_gi {
@@ -178,6 +187,8 @@ typedef struct fv_quality_gi {
     fv_gi_average average;   /* "gi.average": flux | plain weights of the pyramid's means */
     float refine;            /* "gi.refine": cut mode splits, per pixel, a cluster whose extent over its distance
                               * exceeds this (0: the flat cut alone), 0..1 */
+    fv_gi_rate rate;         /* "gi.rate": full | half | quarter: gather per pixel, or per 2x2 / 4x4 block and
+                              * upsample (joint bilateral, depth and normal guided; per pixel where incoherent) */
 } fv_quality_gi;
 
 /** How subsurface light is summed (fv_quality.sss.mode, knob `sss.mode`). */
@@ -271,7 +282,8 @@ static inline fv_quality fv_quality_default(void)
                            .samples = 256,
                            .bound_fraction = 0.01f,
                            .average = FV_GI_AVERAGE_FLUX,
-                           .refine = 0.0f},
+                           .refine = 0.0f,
+                           .rate = FV_GI_RATE_QUARTER},
                     .sss = {.enabled = true,
                             .map_size_px = 128,
                             .start_level = 0,
