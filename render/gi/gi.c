@@ -442,6 +442,7 @@ static bool key_equal(const build_key *a, const build_key *b)
            p->limit_level == q->limit_level && p->depth_threshold == q->depth_threshold &&
            p->normal_threshold == q->normal_threshold && p->samples == q->samples &&
            p->bound_fraction == q->bound_fraction && p->average == q->average && p->refine == q->refine &&
+           p->rate == q->rate && /* the header carries it (a rate change is a plan change: rare) */
            memcmp(a->light, b->light, sizeof a->light) == 0 &&
            a->time_s == b->time_s && memcmp(&a->bmin, &b->bmin, sizeof a->bmin) == 0 &&
            memcmp(&a->bmax, &b->bmax, sizeof a->bmax) == 0;

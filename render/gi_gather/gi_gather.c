@@ -90,7 +90,7 @@ static fv_result gi_gather_init(const fv_pass_env *env, void **out_state)
     for (uint32_t i = 0; i < OUTPUTS; i++) g->out[i] = FV_IMAGE_MAX;
     uint32_t variant = env->plan ? env->plan->variant : 4u;
     g->rate = variant & 0xffu;
-    if (g->rate != 2u && g->rate != 4u) g->rate = 4u;
+    if (g->rate != 2u && g->rate != 4u && g->rate != 8u) g->rate = 4u;
     int32_t mode = (int32_t)(variant >> 8);
     g->low_w = (g->width + g->rate - 1) / g->rate;
     g->low_h = (g->height + g->rate - 1) / g->rate;

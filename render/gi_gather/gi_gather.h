@@ -1,5 +1,5 @@
 /* @brief The reduced-rate GI gather (knob gi.rate = half | quarter): indirect light is smooth along a surface, so
- * instead of gathering it at every shaded pixel, one invocation per r x r block of each eye's G-buffer (r = 2 or 4)
+ * instead of gathering it at every shaded pixel, one invocation per r x r block of each eye's G-buffer (r = 2, 4 or 8)
  * gathers it at the block's sample pixel (the same gather as the shading function, fv_gi_irradiance, from the light
  * quad-tree the GI pass built earlier in the frame) into three images bound in the GI image slots of the shading
  * inputs: irradiance, the sample's position, its normal (ceil(W / r) x ceil(H / r) per eye). The shading function

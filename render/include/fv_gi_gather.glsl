@@ -314,7 +314,7 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
 // ---- the reduced-rate gather's upsample (gi.rate; render/gi_gather writes the low-rate images) -------------------
 //
 // The rate a pipeline has compiled in (fv_gpu.h FV_SPEC_ID_GI_RATE): 0 the header's (run time), 1 the per-pixel
-// gather alone (the upsample's code is not in the pipeline), 2 or 4.
+// gather alone (the upsample's code is not in the pipeline), 2, 4 or 8.
 layout(constant_id = FV_SPEC_ID_GI_RATE) const int FV_SPEC_GI_RATE = 0;
 
 // Joint-bilateral weights: a block sample counts for a pixel as far as it lies on the pixel's surface. Irradiance

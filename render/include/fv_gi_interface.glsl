@@ -23,7 +23,7 @@
 #define FV_GI_BINDING_LOW_IRRADIANCE (FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + 0) /* rgb irradiance (W/m^2), w 1 = a sample */
 #define FV_GI_BINDING_LOW_POSITION (FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + 1)   /* xyz the sample's world position (m) */
 #define FV_GI_BINDING_LOW_NORMAL (FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + 2)     /* xyz its unit normal */
-#define FV_GI_MAX_RATE 4u /* r is 1, 2 or 4 */
+#define FV_GI_MAX_RATE 8u /* r is 1, 2, 4 or 8 */
 
 /* fv_gi_stats, one per frame in flight */
 #define FV_GI_BINDING_STATS (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + FV_SHADE_INPUTS_SLOT_STATS)
@@ -84,7 +84,7 @@ struct fv_gi_header {
                       * bits of the float gi.refine^2 (cut mode: split a cluster whose extent^2 exceeds it times d^2;
                       * 0 = never) */
     FV_VEC4 params;  /* x depth threshold, y normal threshold, z bound fraction, w sampling radius in texels */
-    FV_UVEC4 rate;   /* x the gather rate r (gi.rate: 1 per pixel, 2 or 4: per r x r block, upsampled); y, z, w 0 */
+    FV_UVEC4 rate;   /* x the gather rate r (gi.rate: 1 per pixel, 2, 4 or 8: per r x r block, upsampled); y, z, w 0 */
 #ifdef FV_GLSL
     fv_gi_light light[FV_GI_MAX_LIGHTS];
 #else
@@ -101,9 +101,10 @@ struct fv_gi_stats {
 };
 
 #ifndef FV_GLSL
-/** The block side r of a gi.rate knob value (fv_gi_rate: full 0 -> 1, half 1 -> 2, quarter 2 -> 4; out of range: 1,
- *  the per-pixel gather): the one mapping the GI pass's header, the reduced-rate gather and shading use. */
-static inline uint32_t fv_gi_rate_factor(uint32_t rate) { return rate <= 2u ? 1u << rate : 1u; }
+/** The block side r of a gi.rate knob value (fv_gi_rate: full 0 -> 1, half 1 -> 2, quarter 2 -> 4, eighth 3 -> 8;
+ *  out of range: 1, the per-pixel gather): the one mapping the GI pass's header, the reduced-rate gather and shading
+ *  use. */
+static inline uint32_t fv_gi_rate_factor(uint32_t rate) { return rate <= 3u ? 1u << rate : 1u; }
 typedef struct fv_gi_stats fv_gi_stats;
 _Static_assert(sizeof(fv_gi_stats) == 16, "fv_gi_stats layout");
 typedef struct fv_gi_node fv_gi_node;

@@ -32,7 +32,7 @@ static const char *const g_compaction_names[] = {"tiles", "rows", "masked"};
 static const char *const g_gi_mode_names[] = {"cut", "traverse", "bound", "rsm_sampling", "exact"};
 static const char *const g_gi_limit_names[] = {"16", "32", "64", "leaf"};
 static const char *const g_gi_average_names[] = {"flux", "plain"};
-static const char *const g_gi_rate_names[] = {"full", "half", "quarter"};
+static const char *const g_gi_rate_names[] = {"full", "half", "quarter", "eighth"};
 static const char *const g_sss_mode_names[] = {"hierarchy", "exact"};
 
 static const fv_knob g_knobs[] = {
@@ -172,10 +172,10 @@ static const fv_knob g_knobs[] = {
      .doc = "gi.mode=cut: a cut cluster whose extent is more than this times its distance from the pixel is "
             "replaced, for that pixel, by its children (recursively; the near field), 0: the flat cut alone"},
     {.name = "gi.rate", .type = FV_KNOB_ENUM, .min = 0, .max = FV_GI_RATE_LAST, .unit = "", .choices = g_gi_rate_names,
-     .choice_count = 3, AT(gi.rate), .fast = I(FV_GI_RATE_QUARTER), .high = I(FV_GI_RATE_HALF),
+     .choice_count = 4, AT(gi.rate), .fast = I(FV_GI_RATE_QUARTER), .high = I(FV_GI_RATE_HALF),
      .exact = I(FV_GI_RATE_FULL),
-     .doc = "where the indirect light is gathered: full (every shaded pixel), half or quarter (once per 2x2 or 4x4 "
-            "block of the G-buffer, then a joint-bilateral upsample guided by depth and normal; a pixel no block "
+     .doc = "where the indirect light is gathered: full (every shaded pixel), half, quarter or eighth (once per "
+            "2x2, 4x4 or 8x8 block of the G-buffer, then a joint-bilateral upsample guided by depth and normal; a pixel no block "
             "sample matches gathers itself)"},
     /* sss.*: subsurface scattering, dipole diffusion over a quad-tree of light-view samples (render/sss; Ki & Oh,
      * ../shared/papers/README.md section 4). Levels count from the root (level k: 2^k x 2^k clusters). */

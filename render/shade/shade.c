@@ -20,7 +20,7 @@ _Static_assert(FV_SHADE_BINDING_NORMAL == FV_SHADE_BINDING_DEPTH + 1 && FV_SHADE
 
 /* Pipelines specialised per feature set (fv_gpu.h FV_SPEC_ID_*): GI mode or off, SSS, shadows, the GI rate. */
 #define SHADE_GI_KEYS (FV_GI_EXACT + 3) /* any, off, and each mode */
-#define SHADE_RATES 3                   /* per pixel, 2, 4 (render/gi_gather) */
+#define SHADE_RATES 4                   /* per pixel, 2, 4, 8 (render/gi_gather) */
 #define SHADE_SPECS 5                   /* constant ids 0..FV_SPEC_ID_GI_RATE */
 #define SHADE_VARIANTS (SHADE_GI_KEYS * 2 * 2 * SHADE_RATES)
 _Static_assert(FV_SPEC_ID_GI_RATE == SHADE_SPECS - 1, "spec[] holds every id");
@@ -187,7 +187,7 @@ static uint32_t variant_of(const fv_quality *q, bool translucent, uint32_t spec[
     /* the upsample of the reduced-rate gather only where GI is on at a reduced rate: else not in the pipeline */
     uint32_t r = gi == FV_SPEC_GI_OFF ? 1u : fv_gi_rate_factor((uint32_t)q->gi.rate);
     spec[FV_SPEC_ID_GI_RATE] = r;
-    uint32_t rate = r == 4u ? 2u : r == 2u ? 1u : 0u;
+    uint32_t rate = r == 8u ? 3u : r == 4u ? 2u : r == 2u ? 1u : 0u;
     return (((uint32_t)(gi - FV_SPEC_GI_ANY) * 2u + (sss ? 1u : 0u)) * 2u + (shadows ? 1u : 0u)) * SHADE_RATES + rate;
 }
 
@@ -235,7 +235,7 @@ static uint32_t shade_details(void *state, fv_pass_detail *out, uint32_t cap)
     if (sh->have_last) {
         n = fv_pass_detail_add(out, n, cap, "compiled_gi_mode_sss_shadows", 3, sh->last_spec[0], sh->last_spec[1],
                                sh->last_spec[2]);
-        /* the GI rate compiled in: 1 the per-pixel gather alone, 2 or 4 the upsample of render/gi_gather */
+        /* the GI rate compiled in: 1 the per-pixel gather alone, 2, 4 or 8 the upsample of render/gi_gather */
         n = fv_pass_detail_add(out, n, cap, "compiled_gi_rate", 1, sh->last_spec[3], 0, 0);
     }
     return fv_pass_detail_add(out, n, cap, "pipelines_made", 1, sh->variants_made, 0, 0);

@@ -168,7 +168,8 @@ typedef enum fv_gi_rate {
     FV_GI_RATE_FULL = 0,    /* "full": every shaded pixel gathers (exact keeps this) */
     FV_GI_RATE_HALF = 1,    /* "half": one gather per 2 x 2 block */
     FV_GI_RATE_QUARTER = 2, /* "quarter": one gather per 4 x 4 block */
-    FV_GI_RATE_LAST = FV_GI_RATE_QUARTER,
+    FV_GI_RATE_EIGHTH = 3,  /* "eighth": one gather per 8 x 8 block */
+    FV_GI_RATE_LAST = FV_GI_RATE_EIGHTH,
 } fv_gi_rate;
 
 /** The one-bounce GI knobs (render/gi/: reflective shadow maps, light quad-tree, Ki & Oh 2007; papers/README.md
@@ -187,7 +188,7 @@ typedef struct fv_quality_gi {
     fv_gi_average average;   /* "gi.average": flux | plain weights of the pyramid's means */
     float refine;            /* "gi.refine": cut mode splits, per pixel, a cluster whose extent over its distance
                               * exceeds this (0: the flat cut alone), 0..1 */
-    fv_gi_rate rate;         /* "gi.rate": full | half | quarter: gather per pixel, or per 2x2 / 4x4 block and
+    fv_gi_rate rate;         /* "gi.rate": full | half | quarter | eighth: per pixel, or per 2x2 / 4x4 / 8x8 block and
                               * upsample (joint bilateral, depth and normal guided; per pixel where incoherent) */
 } fv_quality_gi;
 
