@@ -10,18 +10,13 @@
 #include "gi_gather_interface.h"
 
 #define MOD "gi_gather"
-#define OUTPUTS 3
+#define OUTPUTS 1
 
 _Static_assert(FV_GI_GATHER_BINDING_NORMAL == FV_GI_GATHER_BINDING_DEPTH + 1 &&
                    FV_GI_GATHER_BINDING_ALBEDO == FV_GI_GATHER_BINDING_DEPTH + 2 &&
                    FV_GI_GATHER_BINDING_MATERIAL == FV_GI_GATHER_BINDING_DEPTH + 3,
                "fv_images_bind_gbuffer writes depth, normal, albedo, material in a row");
-_Static_assert(FV_GI_BINDING_LOW_POSITION == FV_GI_BINDING_LOW_IRRADIANCE + 1 &&
-                   FV_GI_BINDING_LOW_NORMAL == FV_GI_BINDING_LOW_IRRADIANCE + 2 &&
-                   FV_GI_GATHER_BINDING_OUT_POS == FV_GI_GATHER_BINDING_OUT_E + 1 &&
-                   FV_GI_GATHER_BINDING_OUT_NORMAL == FV_GI_GATHER_BINDING_OUT_E + 2,
-               "the outputs in the order of the GI image slots");
-_Static_assert(FV_SHADE_INPUTS_SLOT_IMAGES >= OUTPUTS, "the GI slot holds the three images");
+_Static_assert(FV_SHADE_INPUTS_SLOT_IMAGES >= OUTPUTS, "the GI slot holds the image");
 
 typedef struct gi_gather {
     fv_vk *vk;
@@ -99,7 +94,7 @@ static fv_result gi_gather_init(const fv_pass_env *env, void **out_state)
     fv_vk *vk = env->vk;
     fv_result res = fv_images_get_gbuffer(env->images);
     if (res == FV_OK) res = fv_vk_sampler_create(vk, false, false, "gi gather nearest sampler", &g->nearest);
-    static const char *const names[OUTPUTS] = {"gi low irradiance", "gi low position", "gi low normal"};
+    static const char *const names[OUTPUTS] = {"gi low irradiance"};
     for (uint32_t i = 0; res == FV_OK && i < OUTPUTS; i++) {
         fv_vk_image_desc d = {.width = g->low_w, .height = g->low_h, .layers = 2, .array = true,
                               .format = VK_FORMAT_R32G32B32A32_SFLOAT,
@@ -113,8 +108,7 @@ static fv_result gi_gather_init(const fv_pass_env *env, void **out_state)
     VkDescriptorSetLayoutBinding b[FV_GI_GATHER_BINDING_COUNT] = {
         {FV_GI_GATHER_BINDING_DEPTH, cis, 1, cs, NULL},      {FV_GI_GATHER_BINDING_NORMAL, cis, 1, cs, NULL},
         {FV_GI_GATHER_BINDING_ALBEDO, cis, 1, cs, NULL},     {FV_GI_GATHER_BINDING_MATERIAL, cis, 1, cs, NULL},
-        {FV_GI_GATHER_BINDING_OUT_E, sto, 1, cs, NULL},      {FV_GI_GATHER_BINDING_OUT_POS, sto, 1, cs, NULL},
-        {FV_GI_GATHER_BINDING_OUT_NORMAL, sto, 1, cs, NULL},
+        {FV_GI_GATHER_BINDING_OUT_E, sto, 1, cs, NULL},
     };
     /* specialised as the shading pass is: this gather mode only, the rate 1 (the gather alone) */
     uint32_t spec[5] = {0};

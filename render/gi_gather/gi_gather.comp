@@ -1,8 +1,8 @@
 #version 450
 // @brief The reduced-rate GI gather (gi.rate): one invocation per r x r block of each eye's G-buffer gathers the
 // one-bounce indirect irradiance (fv_gi_irradiance, the per-pixel gather of the shading function) at the block's
-// sample pixel (r i + r/2, clamped to the image) and writes it with the sample's position and normal for the
-// shading function's joint-bilateral upsample (fv_gi_upsample). A block whose sample pixel shows nothing is written
+// sample pixel (r i + r/2, clamped to the image) and writes it for the shading function's joint-bilateral upsample
+// (fv_gi_upsample, which reads the sample's position and normal from the G-buffer). A block whose sample pixel shows nothing is written
 // with w = 0 (matches no pixel). The gather's work is counted into the GI stats per invocation (atomics).
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
@@ -22,9 +22,6 @@ FV_SHADE_INPUTS_DECLARE
 #define FV_GBUFFER_BINDING_MATERIAL FV_GI_GATHER_BINDING_MATERIAL
 #include "fv_gbuffer_decode.glsl"
 layout(set = FV_GI_GATHER_SET, binding = FV_GI_GATHER_BINDING_OUT_E, rgba32f) uniform writeonly image2DArray out_e;
-layout(set = FV_GI_GATHER_SET, binding = FV_GI_GATHER_BINDING_OUT_POS, rgba32f) uniform writeonly image2DArray out_pos;
-layout(set = FV_GI_GATHER_SET, binding = FV_GI_GATHER_BINDING_OUT_NORMAL, rgba32f) uniform writeonly image2DArray
-    out_normal;
 layout(push_constant) uniform Push { fv_gi_gather_push pc; };
 
 // The gather alone: this pass writes the images the upsample reads, so it must not declare them.
@@ -46,8 +43,6 @@ void main()
             fv_gi_stats_note(used);
         }
         imageStore(out_e, ivec3(q), e);
-        imageStore(out_pos, ivec3(q), vec4(s.hit ? s.pos_world : vec3(0.0), 0.0));
-        imageStore(out_normal, ivec3(q), vec4(s.hit ? s.normal : vec3(0.0), 0.0));
     }
     fv_gi_stats_flush();
 }

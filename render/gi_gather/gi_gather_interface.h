@@ -12,9 +12,7 @@
 #define FV_GI_GATHER_BINDING_ALBEDO 2
 #define FV_GI_GATHER_BINDING_MATERIAL 3
 #define FV_GI_GATHER_BINDING_OUT_E 4      /* image2DArray rgba32f: irradiance, w 1 = a sample (written) */
-#define FV_GI_GATHER_BINDING_OUT_POS 5    /* image2DArray rgba32f: the sample's world position */
-#define FV_GI_GATHER_BINDING_OUT_NORMAL 6 /* image2DArray rgba32f: the sample's unit normal */
-#define FV_GI_GATHER_BINDING_COUNT 7
+#define FV_GI_GATHER_BINDING_COUNT 5
 
 #define FV_GI_GATHER_GROUP_X 8
 #define FV_GI_GATHER_GROUP_Y 8

@@ -342,8 +342,6 @@ float fv_gi_guide_weight(vec3 x, vec3 n, vec3 ps, vec3 ns)
 
 #ifndef FV_GI_NO_UPSAMPLE
 layout(set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_LOW_IRRADIANCE) uniform sampler2DArray gi_low_e;
-layout(set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_LOW_POSITION) uniform sampler2DArray gi_low_pos;
-layout(set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_LOW_NORMAL) uniform sampler2DArray gi_low_normal;
 
 // The irradiance at pixel s from the 2 x 2 block samples around it (bilinear in the block grid, each tap weighted by
 // fv_gi_guide_weight); false when the matching taps hold less than FV_GI_UP_MIN_COVER of the weight, or the images
@@ -367,8 +365,10 @@ bool fv_gi_upsample(fv_surface s, uint r, out vec3 e)
         ivec3 q = ivec3(clamp(i0 + o, ivec2(0), lo - 1), int(s.pixel.z));
         vec4 es = texelFetch(gi_low_e, q, 0);
         if (!(es.w > 0.5)) continue;
-        float g = fv_gi_guide_weight(s.pos_world, s.normal, texelFetch(gi_low_pos, q, 0).xyz,
-                                     texelFetch(gi_low_normal, q, 0).xyz);
+        // the sample's surface, from the G-buffer at its pixel (fv_gbuffer_decode.glsl)
+        uvec3 sp = uvec3(min(uvec2(q.xy) * r + r / 2u, uvec2(w, h) - 1u), s.pixel.z);
+        vec3 ps = fv_gbuffer_position(sp, texelFetch(g_depth, ivec3(sp), 0).r);
+        float g = fv_gi_guide_weight(s.pos_world, s.normal, ps, fv_oct_decode(texelFetch(g_normal, ivec3(sp), 0).rg));
         float b = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
         sum += (b * g) * max(es.rgb, vec3(0.0));
         wsum += b * g;

@@ -16,13 +16,12 @@
 #define FV_GI_MAX_LEVELS 11       /* log2(FV_GI_MAX_RSM) + 1 */
 #define FV_GI_BINDING_HEADER (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 0) /* fv_gi_header + fv_gi_cluster cut[] */
 #define FV_GI_BINDING_NODES (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 1)  /* fv_gi_node[] */
-/* The reduced-rate gather's images (render/gi_gather; 2D arrays, layer = eye, ceil(W / r) x ceil(H / r) texels for
+/* The reduced-rate gather's image (render/gi_gather; a 2D array, layer = eye, ceil(W / r) x ceil(H / r) texels for
  * the rate r of fv_gi_header.rate.x): one texel per r x r block of the G-buffer, gathered at the block's sample pixel
- * (r * i + r / 2, clamped to the image). The shading function upsamples them (fv_gi_indirect); a 1x1 zero dummy
- * while nothing is bound, which matches no pixel (w = 0), so every pixel gathers itself. */
+ * (r * i + r / 2, clamped to the image), whose position and normal the upsample reads from the G-buffer itself. The
+ * shading function upsamples it (fv_gi_indirect); a 1x1 zero dummy while nothing is bound, which matches no pixel
+ * (w = 0), so every pixel gathers itself. */
 #define FV_GI_BINDING_LOW_IRRADIANCE (FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + 0) /* rgb irradiance (W/m^2), w 1 = a sample */
-#define FV_GI_BINDING_LOW_POSITION (FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + 1)   /* xyz the sample's world position (m) */
-#define FV_GI_BINDING_LOW_NORMAL (FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + 2)     /* xyz its unit normal */
 #define FV_GI_MAX_RATE 8u /* r is 1, 2, 4 or 8 */
 
 /* fv_gi_stats, one per frame in flight */
