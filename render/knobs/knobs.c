@@ -172,7 +172,7 @@ static const fv_knob g_knobs[] = {
      .doc = "gi.mode=cut: a cut cluster whose extent is more than this times its distance from the pixel is "
             "replaced, for that pixel, by its children (recursively; the near field), 0: the flat cut alone"},
     {.name = "gi.rate", .type = FV_KNOB_ENUM, .min = 0, .max = FV_GI_RATE_LAST, .unit = "", .choices = g_gi_rate_names,
-     .choice_count = 4, AT(gi.rate), .fast = I(FV_GI_RATE_QUARTER), .high = I(FV_GI_RATE_HALF),
+     .choice_count = 4, AT(gi.rate), .fast = I(FV_GI_RATE_EIGHTH), .high = I(FV_GI_RATE_QUARTER),
      .exact = I(FV_GI_RATE_FULL),
      .doc = "where the indirect light is gathered: full (every shaded pixel), half, quarter or eighth (once per "
             "2x2, 4x4 or 8x8 block of the G-buffer, then a joint-bilateral upsample guided by depth and normal; a pixel no block "
