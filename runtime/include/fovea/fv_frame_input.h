@@ -284,7 +284,7 @@ static inline fv_quality fv_quality_default(void)
                            .bound_fraction = 0.01f,
                            .average = FV_GI_AVERAGE_FLUX,
                            .refine = 0.0f,
-                           .rate = FV_GI_RATE_QUARTER},
+                           .rate = FV_GI_RATE_EIGHTH},
                     .sss = {.enabled = true,
                             .map_size_px = 128,
                             .start_level = 0,
