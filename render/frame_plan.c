@@ -12,6 +12,7 @@
 #include "gbuffer.h"
 #include "overlay.h"
 #include "gi.h"
+#include "gi_gather.h"
 #include "interp.h"
 #include "present.h"
 #include "shade.h"
@@ -54,7 +55,7 @@ static const fv_pass motion_entry = {.id = "motion", .plan = motion_plan};
 
 /* Frame order. A new pass: its folder under render/, and one line here. */
 static const fv_pass *const table[] = {
-    &fv_gbuffer_pass, &motion_entry, &fv_shadow_pass, &fv_gi_pass,        &fv_sss_pass,
+    &fv_gbuffer_pass, &motion_entry, &fv_shadow_pass, &fv_gi_pass, &fv_gi_gather_pass, &fv_sss_pass,
     &fv_fovea_pass,   &fv_compact_pass, &fv_interp_pass,  &fv_shade_pass,     &fv_interp_fill_pass, &fv_temporal_pass,
     &fv_reconstruct_pass, &fv_debug_pass, &fv_present_pass, &fv_overlay_pass, &fv_distort_pass,
 };

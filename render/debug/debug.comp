@@ -69,8 +69,7 @@ void main()
         } else if (VIEW == FV_GPU_DEBUG_VIEW_SHADOW) {
             c = vec3(frame.counts.x > 0u ? fv_hook_visibility(0u, s) : 1.0);
         } else if (VIEW == FV_GPU_DEBUG_VIEW_GI) {
-            uint clusters;
-            c = fv_brdf_lambert(s.albedo) * fv_gi_irradiance(s.pos_world, s.normal, clusters);
+            c = fv_brdf_lambert(s.albedo) * fv_gi_indirect(s); // at the frame's gather rate (gi.rate)
         } else if (VIEW == FV_GPU_DEBUG_VIEW_SSS) {
             c = fv_hook_subsurface_radiance(s); // the subsurface term alone (render/sss)
         } else if (VIEW == FV_GPU_DEBUG_VIEW_CASCADE) {

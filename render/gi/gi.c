@@ -472,6 +472,8 @@ static void gi_prepare(void *state, const fv_pass_frame *f)
     memcpy(&refine_bits, &refine2, sizeof refine_bits);
     h->opts = (fv_gpu_uvec4){q->samples ? q->samples : 1, g->nodes_per_light, 0, refine_bits};
     h->params = (fv_gpu_vec4){q->depth_threshold, q->normal_threshold, q->bound_fraction, (float)g->n * 1.41421356f};
+    /* the gather rate (render/gi_gather): 1, 2 or 4 as its pass; anything else gathers per pixel */
+    h->rate = (fv_gpu_uvec4){fv_gi_rate_factor((uint32_t)q->rate), 0, 0, 0};
     for (uint32_t l = 0; l < g->lights; l++) {
         light_view(&k.light[l], g->kind[l], g->n, k.bmin, k.bmax, &g->push[l]);
         g->push[l].ids.z = g->light_index[l];

@@ -311,6 +311,97 @@ vec3 fv_gi_irradiance(vec3 x, vec3 n, out uint used)
     return max(e, vec3(0.0));
 }
 
+// ---- the reduced-rate gather's upsample (gi.rate; render/gi_gather writes the low-rate images) -------------------
+//
+// The rate a pipeline has compiled in (fv_gpu.h FV_SPEC_ID_GI_RATE): 0 the header's (run time), 1 the per-pixel
+// gather alone (the upsample's code is not in the pipeline), 2, 4 or 8.
+layout(constant_id = FV_SPEC_ID_GI_RATE) const int FV_SPEC_GI_RATE = 0;
+
+// Joint-bilateral weights: a block sample counts for a pixel as far as it lies on the pixel's surface. Irradiance
+// here is a function of position and normal alone (no visibility in the gather, no albedo), smooth along a surface;
+// it jumps only where the position jumps (a depth discontinuity) or the normal turns (a crease). So the guides are
+// geometric: the sample's distance off the pixel's tangent plane (and the pixel's off the sample's), relative to the
+// distance between them (a scale-free angle: 0 on one plane whatever the view; ~1 across a depth step), and the
+// angle between the normals. Material is not a guide: the albedo multiplies the irradiance afterwards.
+#define FV_GI_UP_PLANE 0.08      // off-plane slope at which the plane weight reaches 0 (~4.6 degrees)
+#define FV_GI_UP_NORMAL_POW 16.0 // normal weight dot(n, n_s)^16: 0.85 at 10 degrees, 0.19 at 25
+#define FV_GI_UP_MIN_COVER 0.5 // the matching taps' share of the bilinear weight (each times its guide weight) below
+                               // which the pixel gathers itself: interpolate, never extrapolate far across an edge
+
+// How much sample (position ps, normal ns) stands for the surface at x (unit normal n): 1 on the same plane with the
+// same normal, falling to 0 off it.
+float fv_gi_guide_weight(vec3 x, vec3 n, vec3 ps, vec3 ns)
+{
+    vec3 d = ps - x;
+    float dist = length(d);
+    float off = max(abs(dot(n, d)), abs(dot(ns, d)));
+    float wp = dist > 1e-7 ? clamp(1.0 - off / (FV_GI_UP_PLANE * dist), 0.0, 1.0) : 1.0;
+    float wn = pow(max(dot(n, ns), 0.0), FV_GI_UP_NORMAL_POW);
+    return wp * wp * wn;
+}
+
+#ifndef FV_GI_NO_UPSAMPLE
+layout(set = FV_SHADE_INPUTS_SET, binding = FV_GI_BINDING_LOW_IRRADIANCE) uniform sampler2DArray gi_low_e;
+
+// The irradiance at pixel s from the 2 x 2 block samples around it (bilinear in the block grid, each tap weighted by
+// fv_gi_guide_weight); false when the matching taps hold less than FV_GI_UP_MIN_COVER of the weight, or the images
+// bound are not this frame's grid (the dummy, whose w = 0, matches nothing).
+bool fv_gi_upsample(fv_surface s, uint r, out vec3 e)
+{
+    e = vec3(0.0);
+    uint w = frame.counts.y, h = frame.counts.z;
+    ivec2 lo = ivec2((w + r - 1u) / r, (h + r - 1u) / r);
+    ivec3 size = textureSize(gi_low_e, 0);
+    if (size.x != lo.x || size.y != lo.y || int(s.pixel.z) >= size.z) return false;
+    // Sample i sits at pixel r i + r/2: pixel p lies at (p - r/2) / r in sample units.
+    vec2 u = (vec2(s.pixel.xy) - float(r / 2u)) / float(r);
+    vec2 f0 = floor(u);
+    vec2 t = u - f0;
+    ivec2 i0 = ivec2(f0);
+    vec3 sum = vec3(0.0);
+    float wsum = 0.0;
+    for (int k = 0; k < 4; k++) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec3 q = ivec3(clamp(i0 + o, ivec2(0), lo - 1), int(s.pixel.z));
+        vec4 es = texelFetch(gi_low_e, q, 0);
+        if (!(es.w > 0.5)) continue;
+        // the sample's surface, from the G-buffer at its pixel (fv_gbuffer_decode.glsl)
+        uvec3 sp = uvec3(min(uvec2(q.xy) * r + r / 2u, uvec2(w, h) - 1u), s.pixel.z);
+        vec3 ps = fv_gbuffer_position(sp, texelFetch(g_depth, ivec3(sp), 0).r);
+        float g = fv_gi_guide_weight(s.pos_world, s.normal, ps, fv_oct_decode(texelFetch(g_normal, ivec3(sp), 0).rg));
+        float b = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
+        sum += (b * g) * max(es.rgb, vec3(0.0));
+        wsum += b * g;
+    }
+    if (!(wsum >= FV_GI_UP_MIN_COVER)) return false;
+    e = sum / wsum;
+    return !(any(isnan(e)) || any(isinf(e)));
+}
+
+// Indirect irradiance at a decoded surface at the frame's gather rate: upsampled from the block samples where they
+// match it, else gathered here (fv_gi_irradiance: `gathered` true, `used` what it summed).
+vec3 fv_gi_indirect(fv_surface s, out uint used, out bool gathered)
+{
+    used = 0u;
+    gathered = true;
+    if (FV_SPEC_GI_MODE == FV_SPEC_GI_OFF || FV_SPEC_GI_RATE == 1) return fv_gi_irradiance(s.pos_world, s.normal, used);
+    uint r = FV_SPEC_GI_RATE > 1 ? uint(FV_SPEC_GI_RATE) : gi.rate.x;
+    vec3 e;
+    if (gi.counts.x != 0u && r > 1u && r <= FV_GI_MAX_RATE && fv_gi_upsample(s, r, e)) {
+        gathered = false;
+        return e;
+    }
+    return fv_gi_irradiance(s.pos_world, s.normal, used);
+}
+
+vec3 fv_gi_indirect(fv_surface s)
+{
+    uint used;
+    bool gathered;
+    return fv_gi_indirect(s, used, gathered);
+}
+#endif
+
 // The clusters view: light 0's RSM at uv in [0,1]^2, each texel coloured by the level of the cut node that holds it
 // (levels from the limit, red, to coarser: yellow, green, cyan, blue, magenta), with
 // a checkerboard of the cut nodes so neighbouring clusters stay apart. Black: no geometry or no light.

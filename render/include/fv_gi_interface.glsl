@@ -16,6 +16,14 @@
 #define FV_GI_MAX_LEVELS 11       /* log2(FV_GI_MAX_RSM) + 1 */
 #define FV_GI_BINDING_HEADER (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 0) /* fv_gi_header + fv_gi_cluster cut[] */
 #define FV_GI_BINDING_NODES (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + 1)  /* fv_gi_node[] */
+/* The reduced-rate gather's image (render/gi_gather; a 2D array, layer = eye, ceil(W / r) x ceil(H / r) texels for
+ * the rate r of fv_gi_header.rate.x): one texel per r x r block of the G-buffer, gathered at the block's sample pixel
+ * (r * i + r / 2, clamped to the image), whose position and normal the upsample reads from the G-buffer itself. The
+ * shading function upsamples it (fv_gi_indirect); a 1x1 zero dummy while nothing is bound, which matches no pixel
+ * (w = 0), so every pixel gathers itself. */
+#define FV_GI_BINDING_LOW_IRRADIANCE (FV_SHADE_INPUTS_BINDING_GI_IMAGE0 + 0) /* rgb irradiance (W/m^2), w 1 = a sample */
+#define FV_GI_MAX_RATE 8u /* r is 1, 2, 4 or 8 */
+
 /* fv_gi_stats, one per frame in flight */
 #define FV_GI_BINDING_STATS (FV_SHADE_INPUTS_BINDING_GI_BUFFER0 + FV_SHADE_INPUTS_SLOT_STATS)
 
@@ -75,6 +83,7 @@ struct fv_gi_header {
                       * bits of the float gi.refine^2 (cut mode: split a cluster whose extent^2 exceeds it times d^2;
                       * 0 = never) */
     FV_VEC4 params;  /* x depth threshold, y normal threshold, z bound fraction, w sampling radius in texels */
+    FV_UVEC4 rate;   /* x the gather rate r (gi.rate: 1 per pixel, 2, 4 or 8: per r x r block, upsampled); y, z, w 0 */
 #ifdef FV_GLSL
     fv_gi_light light[FV_GI_MAX_LIGHTS];
 #else
@@ -91,6 +100,10 @@ struct fv_gi_stats {
 };
 
 #ifndef FV_GLSL
+/** The block side r of a gi.rate knob value (fv_gi_rate: full 0 -> 1, half 1 -> 2, quarter 2 -> 4, eighth 3 -> 8;
+ *  out of range: 1, the per-pixel gather): the one mapping the GI pass's header, the reduced-rate gather and shading
+ *  use. */
+static inline uint32_t fv_gi_rate_factor(uint32_t rate) { return rate <= 3u ? 1u << rate : 1u; }
 typedef struct fv_gi_stats fv_gi_stats;
 _Static_assert(sizeof(fv_gi_stats) == 16, "fv_gi_stats layout");
 typedef struct fv_gi_node fv_gi_node;
@@ -100,7 +113,7 @@ _Static_assert(sizeof(fv_gi_node) == 64, "fv_gi_node layout");
 _Static_assert(sizeof(fv_gi_light) == 80, "fv_gi_light layout");
 typedef struct fv_gi_cluster fv_gi_cluster;
 _Static_assert(sizeof(fv_gi_cluster) == 48, "fv_gi_cluster layout");
-_Static_assert(sizeof(fv_gi_header) == 64 + 80 * FV_GI_MAX_LIGHTS, "fv_gi_header layout");
+_Static_assert(sizeof(fv_gi_header) == 80 + 80 * FV_GI_MAX_LIGHTS, "fv_gi_header layout");
 #endif
 
 #endif

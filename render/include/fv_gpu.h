@@ -56,6 +56,7 @@ struct fv_gpu_frame {
 #define FV_SPEC_ID_GI_MODE 1 /* int: -2 any (run time), -1 GI off, else the one gi.mode compiled in */
 #define FV_SPEC_ID_SSS 2     /* bool: the subsurface term compiled in */
 #define FV_SPEC_ID_SHADOWS 3 /* bool: shadow-map lookups compiled in */
+#define FV_SPEC_ID_GI_RATE 4 /* int: 0 the GI header's rate (run time), 1 per-pixel gather only, 2, 4, 8 upsampled */
 #define FV_SPEC_GI_ANY (-2)
 #define FV_SPEC_GI_OFF (-1)
 

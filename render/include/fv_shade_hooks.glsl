@@ -73,8 +73,9 @@ float fv_hook_visibility(uint light, fv_surface s)
 vec3 fv_hook_indirect_irradiance(fv_surface s)
 {
     uint clusters;
-    vec3 e = fv_gi_irradiance(s.pos_world, s.normal, clusters);
-    fv_gi_stats_note(clusters);
+    bool gathered;
+    vec3 e = fv_gi_indirect(s, clusters, gathered); // at the frame's gather rate (gi.rate): upsampled or gathered
+    if (gathered) fv_gi_stats_note(clusters);
     return e;
 }
 

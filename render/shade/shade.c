@@ -7,6 +7,7 @@
 
 #include "shade_atomic_comp.spv.h"
 #include "shade_comp.spv.h"
+#include "fv_gi_interface.glsl"
 #include "shade_interface.h"
 
 #define MOD "shade"
@@ -17,9 +18,12 @@ _Static_assert(FV_SHADE_BINDING_NORMAL == FV_SHADE_BINDING_DEPTH + 1 && FV_SHADE
                    FV_SHADE_BINDING_MATERIAL == FV_SHADE_BINDING_DEPTH + 3,
                "fv_images_bind_gbuffer writes depth, normal, albedo, material in a row");
 
-/* Pipelines specialised per feature set (fv_gpu.h FV_SPEC_ID_*): GI mode or off, SSS, shadows. */
+/* Pipelines specialised per feature set (fv_gpu.h FV_SPEC_ID_*): GI mode or off, SSS, shadows, the GI rate. */
 #define SHADE_GI_KEYS (FV_GI_EXACT + 3) /* any, off, and each mode */
-#define SHADE_VARIANTS (SHADE_GI_KEYS * 2 * 2)
+#define SHADE_RATES 4                   /* per pixel, 2, 4, 8 (render/gi_gather) */
+#define SHADE_SPECS 5                   /* constant ids 0..FV_SPEC_ID_GI_RATE */
+#define SHADE_VARIANTS (SHADE_GI_KEYS * 2 * 2 * SHADE_RATES)
+_Static_assert(FV_SPEC_ID_GI_RATE == SHADE_SPECS - 1, "spec[] holds every id");
 
 typedef struct shade {
     fv_vk *vk;
@@ -30,7 +34,7 @@ typedef struct shade {
     VkPipeline variant[SHADE_VARIANTS];
     bool variant_failed[SHADE_VARIANTS];
     uint32_t variants_made;
-    int32_t last_spec[3]; /* what the last recorded frame's pipeline has compiled in: GI mode, SSS, shadows */
+    int32_t last_spec[4]; /* what the last recorded frame's pipeline has compiled in: GI mode, SSS, shadows, rate */
     bool have_last;
     bool translucent; /* the scene has a translucent material that a drawn mesh uses: the dipole may be needed */
     VkSampler nearest;
@@ -171,7 +175,7 @@ static fv_result shade_init(const fv_pass_env *env, void **out_state)
 /* The feature set a frame's quality leaves on, as the specialisation constants' values (constant id i = spec[i]; id 0
  * unused here) and an index into the variants. Off is decided from the knobs only: a technique that is on but finds
  * nothing to do (GI without a spot light) keeps its code and returns early from its header, as before. */
-static uint32_t variant_of(const fv_quality *q, bool translucent, uint32_t spec[4])
+static uint32_t variant_of(const fv_quality *q, bool translucent, uint32_t spec[SHADE_SPECS])
 {
     int32_t gi = !q->gi.enabled ? FV_SPEC_GI_OFF : (uint32_t)q->gi.mode <= FV_GI_EXACT ? (int32_t)q->gi.mode
                                                                                            : FV_SPEC_GI_ANY;
@@ -180,30 +184,34 @@ static uint32_t variant_of(const fv_quality *q, bool translucent, uint32_t spec[
     spec[FV_SPEC_ID_GI_MODE] = (uint32_t)gi;
     spec[FV_SPEC_ID_SSS] = sss;
     spec[FV_SPEC_ID_SHADOWS] = shadows;
-    return ((uint32_t)(gi - FV_SPEC_GI_ANY) * 2u + (sss ? 1u : 0u)) * 2u + (shadows ? 1u : 0u);
+    /* the upsample of the reduced-rate gather only where GI is on at a reduced rate: else not in the pipeline */
+    uint32_t r = gi == FV_SPEC_GI_OFF ? 1u : fv_gi_rate_factor((uint32_t)q->gi.rate);
+    spec[FV_SPEC_ID_GI_RATE] = r;
+    uint32_t rate = r == 8u ? 3u : r == 4u ? 2u : r == 2u ? 1u : 0u;
+    return (((uint32_t)(gi - FV_SPEC_GI_ANY) * 2u + (sss ? 1u : 0u)) * 2u + (shadows ? 1u : 0u)) * SHADE_RATES + rate;
 }
 
 const char *fv_shade_variant_name(const fv_quality *q, bool translucent, char *buf, size_t size)
 {
-    uint32_t spec[4];
+    uint32_t spec[SHADE_SPECS];
     (void)variant_of(q, translucent, spec);
     int32_t gi = (int32_t)spec[FV_SPEC_ID_GI_MODE];
-    snprintf(buf, size, "gi=%s sss=%s shadows=%s",
+    snprintf(buf, size, "gi=%s sss=%s shadows=%s gi_rate=%u",
              gi == FV_SPEC_GI_OFF ? "off" : gi == FV_SPEC_GI_ANY ? "any" : (const char *[]){"cut", "traverse", "bound", "rsm_sampling", "exact"}[gi],
-             spec[FV_SPEC_ID_SSS] ? "on" : "off", spec[FV_SPEC_ID_SHADOWS] ? "on" : "off");
+             spec[FV_SPEC_ID_SSS] ? "on" : "off", spec[FV_SPEC_ID_SHADOWS] ? "on" : "off", spec[FV_SPEC_ID_GI_RATE]);
     return buf;
 }
 
 /* The pipeline of the frame's feature set, made on first use; VK_NULL_HANDLE after a failure (logged once). */
 static VkPipeline pipeline_for(shade *sh, const fv_quality *q)
 {
-    uint32_t spec[4];
+    uint32_t spec[SHADE_SPECS];
     uint32_t v = variant_of(q, sh->translucent, spec);
     if (v >= SHADE_VARIANTS) return VK_NULL_HANDLE;
     if (!sh->variant[v] && !sh->variant_failed[v]) {
-        char name[96], what[64];
+        char name[112], what[80];
         snprintf(name, sizeof name, "shade (%s)", fv_shade_variant_name(q, sh->translucent, what, sizeof what));
-        if (FV_FAILED(fv_vk_compute_pipeline(sh->vk, sh->code, sh->code_size, sh->cs.layout, spec, 4, name,
+        if (FV_FAILED(fv_vk_compute_pipeline(sh->vk, sh->code, sh->code_size, sh->cs.layout, spec, SHADE_SPECS, name,
                                              &sh->variant[v]))) {
             FV_ERROR(MOD, "%s: the pipeline could not be made; those frames stay unshaded", name);
             sh->variant_failed[v] = true;
@@ -214,6 +222,7 @@ static VkPipeline pipeline_for(shade *sh, const fv_quality *q)
     sh->last_spec[0] = (int32_t)spec[FV_SPEC_ID_GI_MODE];
     sh->last_spec[1] = (int32_t)spec[FV_SPEC_ID_SSS];
     sh->last_spec[2] = (int32_t)spec[FV_SPEC_ID_SHADOWS];
+    sh->last_spec[3] = (int32_t)spec[FV_SPEC_ID_GI_RATE];
     sh->have_last = true;
     return sh->variant[v];
 }
@@ -223,9 +232,12 @@ static uint32_t shade_details(void *state, fv_pass_detail *out, uint32_t cap)
     shade *sh = state;
     uint32_t n = 0;
     /* what the running pipeline has compiled in (-1 GI off, -2 every mode chosen at run time, else the mode) */
-    if (sh->have_last)
+    if (sh->have_last) {
         n = fv_pass_detail_add(out, n, cap, "compiled_gi_mode_sss_shadows", 3, sh->last_spec[0], sh->last_spec[1],
                                sh->last_spec[2]);
+        /* the GI rate compiled in: 1 the per-pixel gather alone, 2, 4 or 8 the upsample of render/gi_gather */
+        n = fv_pass_detail_add(out, n, cap, "compiled_gi_rate", 1, sh->last_spec[3], 0, 0);
+    }
     return fv_pass_detail_add(out, n, cap, "pipelines_made", 1, sh->variants_made, 0, 0);
 }
 

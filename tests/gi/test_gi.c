@@ -34,6 +34,7 @@ static fv_quality gi_quality(uint32_t rsm, fv_gi_mode mode, fv_gi_limit limit)
     q.gi.rsm_size = rsm;
     q.gi.mode = mode;
     q.gi.limit_level = limit;
+    q.gi.rate = FV_GI_RATE_FULL; /* the per-pixel gather (the reduced rate has its own tests: test_gi_rate) */
     return q;
 }
 

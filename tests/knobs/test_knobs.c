@@ -33,8 +33,8 @@ static void table_rows_are_well_formed(void **state)
     const fv_knob *k = fv_knobs(&n);
     size_t gi = 0;
     for (size_t i = 0; i < n; i++) gi += strncmp(k[i].name, "gi.", 3) == 0;
-    assert_int_equal(gi, 11); /* gi.*: enabled, mode, rsm_size, start_level, limit_level, two thresholds, samples,
-                               * bound_fraction, average, refine */
+    assert_int_equal(gi, 12); /* gi.*: enabled, mode, rsm_size, start_level, limit_level, two thresholds, samples,
+                               * bound_fraction, average, refine, rate */
     for (size_t i = 0; i < n; i++) {
         const fv_knob *r = &k[i];
         if (!r->name || !strchr(r->name, '.') || !r->doc || !*r->doc || strchr(r->doc, '\n') || !r->unit)

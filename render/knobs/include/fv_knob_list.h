@@ -168,7 +168,12 @@
     X(gi, refine, refine, FLOAT, float, 0, 1, false, "", (), \
       0.0f, 0.0f, 0.0f, 0.0f, \
       "gi.mode=cut: a cut cluster whose extent is more than this times its distance from the pixel is " \
-      "replaced, for that pixel, by its children (recursively; the near field), 0: the flat cut alone", NULL)
+      "replaced, for that pixel, by its children (recursively; the near field), 0: the flat cut alone", NULL) \
+    X(gi, rate, rate, ENUM, fv_gi_rate, 0, FV_GI_RATE_LAST, false, "", ("full", "half", "quarter", "eighth"), \
+      FV_GI_RATE_EIGHTH, FV_GI_RATE_QUARTER, FV_GI_RATE_QUARTER, FV_GI_RATE_FULL, \
+      "where the indirect light is gathered: full (every shaded pixel), half, quarter or eighth (once per 2x2, 4x4 " \
+      "or 8x8 block of the G-buffer, then a joint-bilateral upsample guided by depth and normal; a pixel no block " \
+      "sample matches gathers itself)", NULL)
 
 /* sss.*: subsurface scattering, dipole diffusion over a quad-tree of light-view samples (render/sss; Ki & Oh,
  * ../shared/papers/README.md section 4). Levels count from the root (level k: 2^k x 2^k clusters). */

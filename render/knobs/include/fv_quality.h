@@ -100,6 +100,16 @@ typedef enum fv_gi_average {
     FV_GI_AVERAGE_PLAIN = 1, /* "plain": every child with geometry counts equally (the paper's mip-map mean) */
 } fv_gi_average;
 
+/** The rate the one-bounce GI is gathered at (fv_quality.gi.rate, knob `gi.rate`): per pixel, or once per r x r
+ *  block of the G-buffer, joint-bilaterally upsampled where the G-buffer is coherent (render/gi_gather). */
+typedef enum fv_gi_rate {
+    FV_GI_RATE_FULL = 0,    /* "full": every shaded pixel gathers (exact keeps this) */
+    FV_GI_RATE_HALF = 1,    /* "half": one gather per 2 x 2 block */
+    FV_GI_RATE_QUARTER = 2, /* "quarter": one gather per 4 x 4 block */
+    FV_GI_RATE_EIGHTH = 3,  /* "eighth": one gather per 8 x 8 block */
+    FV_GI_RATE_LAST = FV_GI_RATE_EIGHTH,
+} fv_gi_rate;
+
 /** How subsurface light is summed (fv_quality.sss.mode, knob `sss.mode`). */
 typedef enum fv_sss_mode {
     FV_SSS_MODE_HIERARCHY = 0, /* "hierarchy": a per-pixel cut through the quad-tree of light-view samples */
