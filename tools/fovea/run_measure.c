@@ -292,6 +292,8 @@ void fv_measure_add_gi_json(const fv_measure *mc, const fv_renderer *r, cJSON *j
     add_ms_or_null(js, "pyramid", gi_detail(r, "pyramid_ms", 0));
     add_ms_or_null(js, "cut", gi_detail(r, "cut_ms", 0));
     add_ms_or_null(js, "gather_in_shade", pass_median(m, "shade"));
+    /* gi.rate below full: the per-block gather is its own pass (null when it did not run) */
+    add_ms_or_null(js, "gather_pass", pass_median(m, "gi_gather"));
 }
 
 void fv_measure_print_gi(const fv_measure *mc, const fv_renderer *r, FILE *f)
@@ -309,8 +311,12 @@ void fv_measure_print_gi(const fv_measure *mc, const fv_renderer *r, FILE *f)
         fprintf(f, "  gi: %.1f clusters per pixel (mean), %.0f (max), measured over the last frame's %.0f gathering "
                    "pixels;", mean, max, pixels);
     else fprintf(f, "  gi: clusters per pixel not measured (no frame read back);");
-    fprintf(f, " cut %.0f of %.0f lit VPLs; last rebuild (GPU ms): rsm %.3f, pyramid %.3f, cut %.3f; gather inside "
-               "shade (median %.3f ms)\n",
+    fprintf(f, " cut %.0f of %.0f lit VPLs; last rebuild (GPU ms): rsm %.3f, pyramid %.3f, cut %.3f; ",
             gi_detail(r, "cut_clusters", 0), gi_detail(r, "lit_vpls", 0), gi_detail(r, "rsm_ms", 0),
-            gi_detail(r, "pyramid_ms", 0), gi_detail(r, "cut_ms", 0), pass_median(m, "shade"));
+            gi_detail(r, "pyramid_ms", 0), gi_detail(r, "cut_ms", 0));
+    double block_pass = pass_median(m, "gi_gather");
+    if (isfinite(block_pass))
+        fprintf(f, "gathered per block by gi_gather (median %.3f ms), upsampled inside shade (median %.3f ms)\n",
+                block_pass, pass_median(m, "shade"));
+    else fprintf(f, "gathered per pixel inside shade (median %.3f ms)\n", pass_median(m, "shade"));
 }
