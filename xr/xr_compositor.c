@@ -1158,6 +1158,17 @@ void fv_xr_compositor_drain(fv_xr_compositor *c)
     pthread_mutex_unlock(&c->mu);
 }
 
+void fv_xr_compositor_wait_queue_free(fv_xr_compositor *c)
+{
+    if (!c) return;
+    int64_t end = fv_xr_now_ns() + (int64_t)FV_XR_FENCE_TIMEOUT_NS;
+    struct timespec ts = {(time_t)(end / 1000000000), (long)(end % 1000000000)};
+    pthread_mutex_lock(&c->mu);
+    while (c->has_pending && c->active && pthread_cond_timedwait(&c->cv, &c->mu, &ts) != ETIMEDOUT) {
+    }
+    pthread_mutex_unlock(&c->mu);
+}
+
 bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, int64_t timeout_ns)
 {
     if (!c || !sc->images) return true;

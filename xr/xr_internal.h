@@ -333,6 +333,9 @@ bool fv_xr_compositor_inline(const fv_xr_compositor *c);
 void fv_xr_compositor_run_pending(fv_xr_compositor *c);
 /** Wait until every queued frame is composited (before images go, the session ends, statistics are read). */
 void fv_xr_compositor_drain(fv_xr_compositor *c);
+/** xrWaitFrame's back-pressure: wait (up to 5 s) until the compositor has begun the frame queued last, so an app
+ *  faster than the compositor is paced by it instead of having its frames replaced. No lock held by the caller. */
+void fv_xr_compositor_wait_queue_free(fv_xr_compositor *c);
 /** Wait (up to timeout_ns; < 0: the compositor's own 5 s) until no queued or running frame reads this image:
  *  false on timeout. Never holds the instance lock's callers' other locks. */
 bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, int64_t timeout_ns);

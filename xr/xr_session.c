@@ -466,6 +466,9 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     bool stopped = !s->running || s->loss_pending;
     pthread_mutex_unlock(&s->frame_lock);
     if (stopped) return s->loss_pending ? XR_ERROR_SESSION_LOST : XR_ERROR_SESSION_NOT_RUNNING;
+    /* the compositor has begun the last frame handed to it (it composites one while the app renders the next) */
+    if (!s->headless) fv_xr_compositor_wait_queue_free(s->inst->comp);
+    t_enter = fv_xr_now_ns(); /* the runtime's own time from here (blocking is not overhead) */
 
     /* Plan the vsync: the app needs app_ms for its frame, the compositor comp_ms, and the display's latch margin;
      * the first vsync after all that (never the one the previous frame aimed at) is the frame's. */
