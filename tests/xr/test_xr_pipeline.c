@@ -208,17 +208,17 @@ static double stats_number(const char *key)
     return v;
 }
 
-/* (a) xrEndFrame does not composite: 40 frames of a projection layer at FOVEA_XR_SCALE 0.25; the mean xrEndFrame
+/* (a) xrEndFrame does not composite: 20 frames of a projection layer at FOVEA_XR_SCALE 0.1; the mean xrEndFrame
  * time against the compositor's mean CPU time per frame (same process, same load). */
 static void end_frame_hands_over_and_returns(void **state)
 {
     (void)state;
     papp a;
-    open_app(&a, "0.25");
+    open_app(&a, "0.1");
     const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
     frame(&a, NULL);
     int64_t sum = 0;
-    const int n = 40;
+    const int n = 20;
     for (int i = 0; i < n; i++) sum += frame(&a, grey);
     close_app(&a);
     double end_ms = (double)sum / n * 1e-6, comp_ms = stats_number("composite_ms_mean");
@@ -250,7 +250,7 @@ static void released_image_stays_the_compositors_until_read(void **state)
     setenv("FOVEA_XR_OUT_ALL", "1", 1);
     setenv("FOVEA_XR_DISTORT", "0", 1);
     papp a;
-    open_app(&a, "0.5");
+    open_app(&a, "0.1");
     unsetenv("FOVEA_XR_OUT");
     unsetenv("FOVEA_XR_OUT_ALL");
     unsetenv("FOVEA_XR_DISTORT");
