@@ -77,7 +77,8 @@ struct fv_xr_compositor {
     fv_target *target;
     fv_xr_present *present;      /* a window when there is a display (xr_present.h), else headless */
     char out_dir[1024];
-    fv_vk_compute cs;
+    fv_vk_compute cs;            /* the compose pass's layout and sets; its pipelines are made per source count */
+    VkPipeline compose[FV_XR_COMPOSE_MAX_SOURCES]; /* [n - 1]: specialised for n sources (compose.comp's NSRC) */
     VkSampler sampler;
     fv_vk_buffer block;          /* fv_xr_compose_block, host-visible */
     VkCommandBuffer cmd;
@@ -249,7 +250,6 @@ uint32_t fv_xr_compositor_formats(fv_xr_compositor *c, int64_t *out, uint32_t ca
 }
 
 _Static_assert(FV_XR_COMPOSE_MAX_LAYERS >= 2 * FV_XR_MAX_LAYERS, "every layer of a frame, each with its inset");
-_Static_assert(FV_XR_COMPOSE_MAX_SOURCES == 16, "compose.comp's fetch() has a case per source");
 
 /* ---- swapchain images ------------------------------------------------------------------------------------------ */
 static VkImageUsageFlags usage_of(XrSwapchainUsageFlags u, bool depth)
@@ -623,7 +623,8 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
                              .code_size = sizeof fv_spv_compose_comp,
                              .bindings = g_bindings,
                              .binding_count = 3,
-                             .set_count = 1};
+                             .set_count = 1,
+                             .lazy = true};
     if (res == FV_OK) res = fv_vk_compute_init(c->vk, &cd, &c->cs);
     if (res == FV_OK) res = fv_vk_sampler_create(c->vk, true, false, "xr compose sampler (linear, clamp)", &c->sampler);
     if (res == FV_OK)
@@ -725,6 +726,10 @@ void fv_xr_compositor_session_end(fv_xr_compositor *c)
     c->timer_ready = false;
     if (c->sampler) vkDestroySampler(c->vk->device, c->sampler, NULL);
     c->sampler = VK_NULL_HANDLE;
+    for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
+        if (c->compose[i]) vkDestroyPipeline(c->vk->device, c->compose[i], NULL);
+        c->compose[i] = VK_NULL_HANDLE;
+    }
     fv_vk_compute_fini(c->vk, &c->cs);
     if (c->images_ready) fv_images_fini(&c->images);
     c->images_ready = false;
@@ -964,6 +969,14 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     }
     *out_app_wait_ms = (double)(fv_xr_now_ns() - t_wait) * 1e-6;
     if (nsrc == 0) return FV_OK; /* nothing to show (no located layer) */
+    if (!c->compose[nsrc - 1]) { /* the compose pass for this many sources, on first use */
+        uint32_t spec = nsrc;
+        char name[48];
+        snprintf(name, sizeof name, "xr compose (%u sources)", nsrc);
+        fv_result pr = fv_vk_compute_pipeline(vk, fv_spv_compose_comp, sizeof fv_spv_compose_comp, c->cs.layout, &spec,
+                                              1, name, &c->compose[nsrc - 1]);
+        if (pr != FV_OK) return pr;
+    }
     memcpy(c->block.mapped, &j->blk, sizeof j->blk); /* the previous frame's GPU work finished (its fence) */
     fv_result res = fv_vk_buffer_flush(vk, &c->block);
     if (res != FV_OK) return res;
@@ -1010,7 +1023,7 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     fv_images_use(&c->images, cmd, FV_IMAGE_DISPLAY,
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                                     VK_ACCESS_SHADER_WRITE_BIT});
-    fv_vk_compute_bind(&c->cs, cmd, 0, NULL, 0, 0, NULL);
+    fv_vk_compute_bind_pipeline(&c->cs, cmd, c->compose[nsrc - 1], NULL, 0, 0, NULL);
     vkCmdDispatch(cmd, (c->width + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP,
                   (c->height + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP, 2);
     fv_vk_timer_end(&c->timer, cmd, 0, tp_compose);
