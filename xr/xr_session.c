@@ -300,7 +300,7 @@ FV_XR_DECL(xrBeginSession)(XrSession session, const XrSessionBeginInfo *info)
     if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
     else if (s->running) r = XR_ERROR_SESSION_RUNNING;
     else if (s->state != XR_SESSION_STATE_READY) r = XR_ERROR_SESSION_NOT_READY;
-    else if (s->headless) r = XR_SUCCESS; /* a headless session has no views (XR_MND_headless) */
+    /* headless too (it has no views to show, but the type is the system's or unsupported: the CTS's SessionState) */
     else r = fv_xr_check_view_config(s->inst, info->primaryViewConfigurationType, &views);
     if (r == XR_SUCCESS) {
         s->running = true;
