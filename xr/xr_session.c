@@ -620,6 +620,9 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     else if (!s->running) r = XR_ERROR_SESSION_NOT_RUNNING;
     else if (!s->frame_open) r = XR_ERROR_CALL_ORDER_INVALID; /* no xrBeginFrame */
     else r = check_layers(s, info);
+    /* what the compositor did with the frames before this one (a failure of theirs is this call's: the frame stays
+     * open, as for any other error) */
+    if (r == XR_SUCCESS && !s->headless) r = take_compositor(s);
     if (r != XR_SUCCESS) {
         pthread_mutex_unlock(&s->inst->lock);
         return r;
@@ -635,14 +638,6 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     st->app_ms_ema = ema(st->app_ms_ema, (double)(t0 - app_start) * MS_PER_NS, st->ended);
     /* a headless session (XR_MND_headless) may run a frame loop for its timing; it has nothing to show */
     bool shown = (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED) && !s->headless;
-    /* what the compositor did with the frames before this one (a failure of theirs is this call's) */
-    if (!s->headless) {
-        r = take_compositor(s);
-        if (r != XR_SUCCESS) {
-            pthread_mutex_unlock(&s->inst->lock);
-            return r;
-        }
-    }
     if (shown && fv_xr_present_lost(fv_xr_compositor_present(s->inst->comp))) {
         lose_display(s, "the window's X server went away");
         shown = false;
