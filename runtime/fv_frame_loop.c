@@ -15,23 +15,19 @@
 struct fv_frame_loop {
     fv_frame_loop_desc desc;
     fv_eye_in_head eyes[2]; /* the eyes' poses in the head: how the head-frame gaze reaches each eye's view */
-    int64_t stall_timeout_ns, margin_ns, initial_estimate_ns;
+    int64_t margin_ns, initial_estimate_ns;
     int64_t cost_ns[COST_WINDOW];
     size_t cost_count, cost_next;
     uint64_t frame_id;
     int64_t t_start_ns;
     bool have_shown;
     fv_vsync last_shown;
-    /* gaze */
-    bool have_sample;
-    fv_gaze_sample newest;
-    fv_gaze_sample newest_head; /* the newest accepted sample with FV_GAZE_HEAD_VALID (have_head) */
-    bool have_head;
-    int64_t newest_received_ns; /* receipt time used for the newest sample */
-    int64_t last_new_sample_ns; /* when the loop last drained a new sample */
-    uint64_t newest_serial, latched_serial;
-    bool lost_reported;
-    bool warned_future_receipt, warned_push, warned_times;
+    uint32_t warmup_frames;   /* frames whose cost stays out of the estimate once a later frame was measured */
+    /* gaze: the one drain (fv_gaze_drain.h), the loop's own or the caller's (desc.drain) */
+    fv_gaze_drain own_drain;
+    fv_gaze_drain *drain;     /* NULL without gaze */
+    uint64_t latched_serial;
+    bool warned_times;
     fv_gaze_prediction last_prediction;
 };
 
@@ -41,6 +37,10 @@ fv_result fv_frame_loop_create(const fv_frame_loop_desc *desc, fv_frame_loop **o
     *out = NULL;
     if (!desc || !desc->clock || !desc->display || !desc->render) {
         FV_ERROR("frame", "frame loop: clock, display and render callback are required");
+        return FV_ERR_INVALID_ARG;
+    }
+    if (desc->drain && (!desc->drain->source || !desc->drain->pipeline)) {
+        FV_ERROR("frame", "frame loop: a drain needs its gaze source and pipeline");
         return FV_ERR_INVALID_ARG;
     }
     if (desc->gaze && !desc->pipeline) {
@@ -64,12 +64,19 @@ fv_result fv_frame_loop_create(const fv_frame_loop_desc *desc, fv_frame_loop **o
     }
     l->desc = *desc;
     fv_eyes_in_head(desc->ipd_mm > 0.0f ? desc->ipd_mm : FV_DEFAULT_IPD_MM, l->eyes);
-    l->stall_timeout_ns = desc->stall_timeout_ns ? desc->stall_timeout_ns : 100 * FV_NS_PER_MS;
     l->margin_ns = desc->safety_margin_ns == 0 ? FV_NS_PER_MS : (desc->safety_margin_ns < 0 ? 0 : desc->safety_margin_ns);
     l->initial_estimate_ns =
         desc->initial_render_estimate_ns ? desc->initial_render_estimate_ns : desc->display->period_ns / 2;
+    l->warmup_frames = desc->warmup_frames < 0 ? 0u : desc->warmup_frames == 0 ? 2u : (uint32_t)desc->warmup_frames;
     l->t_start_ns = fv_clock_now_ns(desc->clock);
-    l->last_new_sample_ns = l->t_start_ns;
+    if (desc->drain) {
+        l->drain = desc->drain;
+        l->desc.gaze = desc->drain->source;
+        l->desc.pipeline = desc->drain->pipeline;
+    } else if (desc->gaze) {
+        fv_gaze_drain_init(&l->own_drain, desc->gaze, desc->pipeline, desc->stall_timeout_ns, l->t_start_ns);
+        l->drain = &l->own_drain;
+    }
     *out = l;
     return FV_OK;
 }
@@ -88,8 +95,9 @@ void fv_frame_loop_last_prediction(const fv_frame_loop *loop, fv_gaze_prediction
 
 bool fv_frame_loop_newest_head(const fv_frame_loop *loop, fv_gaze_sample *out_sample)
 {
-    if (loop->have_head && out_sample) *out_sample = loop->newest_head;
-    return loop->have_head;
+    if (!loop->drain || !loop->drain->have_head) return false;
+    if (out_sample) *out_sample = loop->drain->newest_head;
+    return true;
 }
 
 static int64_t now_ns(const fv_frame_loop *l) { return fv_clock_now_ns(l->desc.clock); }
@@ -108,69 +116,17 @@ static int64_t render_estimate(const fv_frame_loop *l)
     return m;
 }
 
+/* A frame's cost enters the estimate. The warm-up frames (shader compiles, first uploads: their cost says nothing
+ * about the frames that follow) count only until the first frame after them was measured, which replaces them. */
 static void remember_cost(fv_frame_loop *l, int64_t cost_ns)
 {
+    if (l->frame_id == l->warmup_frames && l->warmup_frames > 0) { /* the first steady frame: forget the warm-up */
+        l->cost_count = 0;
+        l->cost_next = 0;
+    }
     l->cost_ns[l->cost_next] = cost_ns < 0 ? 0 : cost_ns;
     l->cost_next = (l->cost_next + 1) % COST_WINDOW;
     if (l->cost_count < COST_WINDOW) l->cost_count++;
-}
-
-/* Drain the device ring into the pipeline (bounded by the ring's size, so a flooding device cannot hold the loop
- * here) and keep the newest accepted sample. */
-static void drain_gaze(fv_frame_loop *l, int64_t t_now)
-{
-    fv_gaze_source *src = l->desc.gaze;
-    fv_gaze_source_poll(src); /* inline sources read here; threaded ones already filled the ring */
-    fv_gaze_source_status st;
-    fv_gaze_source_get_status(src, &st);
-    fv_gaze_sample s;
-    for (size_t i = 0; i < st.ring_capacity && fv_gaze_source_pop(src, &s) == FV_OK; i++) {
-        fv_result r = fv_gaze_pipeline_push(l->desc.pipeline, &s);
-        if (r != FV_OK) {
-            if (FV_FAILED(r) && !l->warned_push) {
-                FV_WARN("frame", "%s: the gaze pipeline refused sample %llu (%s); further refusals are not logged",
-                        fv_gaze_source_uri(src), (unsigned long long)s.seq, fv_result_str(r));
-                l->warned_push = true;
-            }
-            continue; /* duplicates and out-of-order samples are not "newest" */
-        }
-        int64_t received = (s.flags & FV_GAZE_HOST_TIME_VALID) ? s.t_host_ns : t_now;
-        if (received > t_now) {
-            if (!l->warned_future_receipt) {
-                FV_WARN("frame", "%s: sample received at %lld ns, after the loop's now %lld ns (another clock?); "
-                        "using the drain time", fv_gaze_source_uri(src), (long long)received, (long long)t_now);
-                l->warned_future_receipt = true;
-            }
-            received = t_now;
-        }
-        l->newest = s;
-        if (s.flags & FV_GAZE_HEAD_VALID) {
-            l->newest_head = s;
-            l->have_head = true;
-        }
-        l->newest_received_ns = received;
-        l->have_sample = true;
-        l->newest_serial++;
-        l->last_new_sample_ns = t_now;
-    }
-}
-
-static void update_lost(fv_frame_loop *l, int64_t t_now, bool *out_lost)
-{
-    fv_gaze_source_status st;
-    fv_gaze_source_get_status(l->desc.gaze, &st);
-    bool lost = st.state != FV_GAZE_SOURCE_CONNECTED || t_now - l->last_new_sample_ns > l->stall_timeout_ns;
-    if (lost != l->lost_reported) {
-        if (lost)
-            FV_WARN("frame", "%s: no gaze (%s%s); widening the uncertainty", fv_gaze_source_uri(l->desc.gaze),
-                    fv_gaze_source_state_str(st.state),
-                    st.state == FV_GAZE_SOURCE_CONNECTED ? ", stalled" : "");
-        else
-            FV_WARN("frame", "%s: gaze back", fv_gaze_source_uri(l->desc.gaze)); /* pairs with the warning above */
-        fv_gaze_pipeline_set_device_lost(l->desc.pipeline, lost, t_now);
-        l->lost_reported = lost;
-    }
-    *out_lost = lost;
 }
 
 /* The prediction (head frame) as each eye's gaze in its view space: through the eyes' poses in the head only, so the
@@ -185,6 +141,22 @@ static void fill_gaze(const fv_frame_loop *l, const fv_gaze_prediction *p, fv_fr
                            : fv_eye_gaze_from_head(&l->eyes[e], fv_v3(NAN, NAN, NAN), 180.0f);
     }
     in->pupil_mm = isfinite(p->pupil_mm) ? p->pupil_mm : NAN;
+}
+
+void fv_frame_times_from_fence(int64_t t_cpu_begin, int64_t t_returned, int64_t t_fence, int64_t gpu_ns,
+                               fv_frame_render_times *out)
+{
+    if (t_returned < t_cpu_begin) t_returned = t_cpu_begin;
+    if (t_fence < t_returned) t_fence = t_returned;
+    out->t_gpu_end_ns = t_fence;
+    int64_t begin = gpu_ns > 0 ? fv_i64_sub_sat(t_fence, gpu_ns) : t_returned;
+    if (begin >= t_returned) { /* the GPU ran after the draw returned (waiting in its queue counts as GPU time) */
+        out->t_submit_ns = t_returned;
+        out->t_gpu_begin_ns = begin;
+    } else { /* the draw returned after the GPU began: it was submitted when the GPU began */
+        out->t_submit_ns = begin > t_cpu_begin ? begin : t_cpu_begin;
+        out->t_gpu_begin_ns = out->t_submit_ns;
+    }
 }
 
 /* Clamp what the renderer reported into cpu_begin <= submit <= gpu_begin <= gpu_end. */
@@ -228,23 +200,20 @@ fv_result fv_frame_loop_step(fv_frame_loop *l, fv_latency_record *out_record)
     rec.target_vsync = target.index;
 
     /* 2. latch the newest gaze */
-    bool lost = false;
-    if (l->desc.gaze) {
-        drain_gaze(l, rec.t_wake_ns);
-        update_lost(l, now_ns(l), &lost);
-    }
+    bool lost = l->drain ? fv_gaze_drain_step(l->drain, rec.t_wake_ns) : false;
     rec.t_latch_ns = now_ns(l);
     rec.device_lost = lost;
-    if (l->have_sample) {
+    if (l->drain && l->drain->have_sample) {
+        const fv_gaze_drain *d = l->drain;
         /* a stale sample from a lost device says nothing about this frame's latency: kept for diagnostics, but
          * not counted as gaze */
         rec.has_gaze = !lost;
-        rec.fresh_gaze = l->newest_serial != l->latched_serial;
-        l->latched_serial = l->newest_serial;
-        rec.sample_seq = l->newest.seq;
-        rec.t_sample_device_ns = l->newest.t_device_ns;
-        rec.t_sample_received_ns = l->newest_received_ns;
-        rec.t_sample_capture_ns = fv_i64_sub_sat(l->newest_received_ns, l->desc.tracker_latency_ns);
+        rec.fresh_gaze = d->serial != l->latched_serial;
+        l->latched_serial = d->serial;
+        rec.sample_seq = d->newest.seq;
+        rec.t_sample_device_ns = d->newest.t_device_ns;
+        rec.t_sample_received_ns = d->newest_received_ns;
+        rec.t_sample_capture_ns = fv_i64_sub_sat(d->newest_received_ns, l->desc.tracker_latency_ns);
     }
 
     /* 3. predict to the photon time of the target refresh */

@@ -17,6 +17,7 @@
 
 #include "fovea/fv_display.h"
 #include "fovea/fv_frame_input.h"
+#include "fv_gaze_drain.h"
 #include "fv_gaze_pipeline.h"
 #include "fv_gaze_source.h"
 #include "fv_latency.h"
@@ -28,6 +29,15 @@ typedef struct fv_frame_render_times {
     int64_t t_gpu_begin_ns; /* GPU started this frame's work */
     int64_t t_gpu_end_ns;   /* GPU finished (the frame may be presented from then on) */
 } fv_frame_render_times;
+
+/** A frame's times from what a renderer observes on the host: the callback began at t_cpu_begin_ns, its draw call
+ *  returned at t_returned_ns, the frame's fence was seen signalled at t_fence_ns (>= t_returned_ns), and the GPU's
+ *  own timestamps span gpu_ns from the frame's first command to its last. The GPU's interval ends at the fence and
+ *  lasts gpu_ns. When it began before the draw returned (a draw that waited for the GPU inside it: a software
+ *  device's present or image acquire, which would otherwise book the GPU's time as CPU time), the work was submitted
+ *  when the GPU began: the CPU stage ends there. gpu_ns <= 0 (unknown): the GPU from the return to the fence. */
+void fv_frame_times_from_fence(int64_t t_cpu_begin_ns, int64_t t_returned_ns, int64_t t_fence_ns, int64_t gpu_ns,
+                               fv_frame_render_times *out);
 
 /** Render one frame. The loop fills the time, the gaze (already in each eye's view space, from the head-frame
  *  prediction through the eyes' poses in the head: fv_eye_gaze_from_head) and pupil; the callback places the head
@@ -41,13 +51,18 @@ typedef struct fv_frame_loop_desc {
     fv_display *display;            /* required; borrowed */
     fv_frame_render_fn render;      /* required */
     void *render_user;
-    fv_gaze_source *gaze;           /* optional; borrowed. Without it every frame has no gaze */
+    fv_gaze_source *gaze;           /* optional; borrowed. Without it (and without drain) every frame has no gaze */
     fv_gaze_pipeline *pipeline;     /* required with gaze; borrowed */
+    fv_gaze_drain *drain;           /* optional, instead of gaze + pipeline: the caller's drain (the application
+                                       layer's tracker, fv_app_tracker.h), borrowed; its stall timeout applies */
     int64_t tracker_latency_ns;     /* the tracker's capture → host receipt latency, if known (0: counted as 0) */
     int64_t stall_timeout_ns;       /* no new sample for this long: treated as lost; 0 = 100 ms */
     int64_t safety_margin_ns;       /* slack added to the expected render time; 0 = 1 ms; negative = none */
     int64_t initial_render_estimate_ns; /* expected render time before any frame ran; 0 = half a period */
     float ipd_mm;                   /* the eyes' distance in the head (in->head.ipd_mm); 0 = 63 */
+    int32_t warmup_frames;          /* the first frames (shader compiles, first uploads) whose render cost leaves the
+                                       estimate as soon as a later frame was measured, so that their stall does not
+                                       pace the next frames (and widen the prediction horizon); 0 = 2, < 0 = none */
 } fv_frame_loop_desc;
 
 typedef struct fv_frame_loop fv_frame_loop;

@@ -1,43 +1,23 @@
-/* @brief Eye gaze for XR_EXT_eye_gaze_interaction: fovea's gaze source (a reader thread per device, re-opened with
- * backoff when lost) on the URI in FOVEA_XR_GAZE, opened through the device registry of fovea's drivers (hid, usb,
- * pupil, trace, fixed, mouse, sim), feeding fovea's gaze pipeline (filter, saccade detection, prediction). A pose
- * located at time T is the pipeline's prediction to T; a blink or a lost device reads as not tracked. */
+/* @brief Eye gaze for XR_EXT_eye_gaze_interaction: the application layer's gaze tracker (runtime/app: a reader thread
+ * per device, re-opened with backoff when lost, the one drain, fovea's gaze pipeline) on the URI in FOVEA_XR_GAZE,
+ * opened through the one driver list that `fovea run --gaze` opens (fv_app_drivers.h: hid, usb, pupil, trace, fixed,
+ * mouse, sim and FOVEA_DRIVERS plug-ins). A pose located at time T is the pipeline's prediction to T; a blink or a
+ * lost device reads as not tracked. And the frame budget of the session's frames (fv_app_budget.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "fv_app_budget.h"
+#include "fv_app_tracker.h"
 #include "fv_clock.h"
-#include "fv_fixed_driver.h"
-#include "fv_gaze_pipeline.h"
-#include "fv_gaze_source.h"
-#include "fv_head_follow.h"
-#include "fv_hid_driver.h"
-#include "fv_mouse_driver.h"
-#include "fv_pupil_driver.h"
-#include "fv_registry.h"
-#include "fv_sim_driver.h"
 #include "fv_stats.h"
-#include "fv_trace_driver.h"
-#include "fv_usb_driver.h"
 #include "xr_internal.h"
-
-/* Hardware first; the recorded and simulated drivers last (the registry's order). */
-static const fv_driver *const g_drivers[] = {
-    &fv_hid_driver, &fv_usb_driver, &fv_pupil_driver, &fv_trace_driver, &fv_fixed_driver, &fv_mouse_driver,
-    &fv_sim_driver, NULL,
-};
 
 struct fv_xr_gaze {
     pthread_mutex_t lock;
-    fv_registry registry;
-    fv_gaze_source *source;
-    fv_gaze_pipeline *pipeline;
+    fv_app_tracker *tracker;
     bool lost;
     fv_xr_gaze_stats stats;
-    fv_head_follow head;     /* the tracker's recorded head pose, relative to its first (fv_head_follow.h) */
-    bool have_head;
-    fv_quat head_dq;         /* the newest head sample's pose relative to the first */
-    fv_vec3 head_dp_m;
 };
 
 fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out)
@@ -45,15 +25,9 @@ fv_result fv_xr_gaze_create(const char *uri, fv_xr_gaze **out)
     fv_xr_gaze *g = calloc(1, sizeof *g);
     if (!g) return FV_ERR_NO_MEMORY;
     pthread_mutex_init(&g->lock, NULL);
-    fv_result res = fv_registry_init(&g->registry, g_drivers);
-    fv_gaze_source_desc sd = {.uri = uri,
-                              .open = fv_registry_open_fn,
-                              .open_user = &g->registry,
-                              .open_desc = {.clock = fv_clock_monotonic()},
-                              .mode = FV_GAZE_SOURCE_THREAD};
-    if (res == FV_OK) res = fv_gaze_source_create(&sd, &g->source);
-    fv_gaze_pipeline_desc pd = {0};
-    if (res == FV_OK) res = fv_gaze_pipeline_create(&pd, &g->pipeline);
+    fv_app_tracker_desc td = {.uri = uri, .mode = FV_GAZE_SOURCE_THREAD, .clock = fv_clock_monotonic(),
+                              .who = FV_XR_LOG};
+    fv_result res = fv_app_tracker_open(&td, &g->tracker);
     if (res != FV_OK) {
         fv_xr_gaze_destroy(&g);
         return res;
@@ -66,39 +40,25 @@ void fv_xr_gaze_destroy(fv_xr_gaze **pg)
 {
     if (!pg || !*pg) return;
     fv_xr_gaze *g = *pg;
-    fv_gaze_source_destroy(&g->source);
-    fv_gaze_pipeline_destroy(&g->pipeline);
+    fv_app_tracker_close(&g->tracker);
     pthread_mutex_destroy(&g->lock);
     free(g);
     *pg = NULL;
 }
 
-/* Drain the source into the pipeline. Lock held. */
-static void drain(fv_xr_gaze *g)
-{
-    fv_gaze_sample s;
-    while (fv_gaze_source_pop(g->source, &s) == FV_OK) {
-        fv_result r = fv_gaze_pipeline_push(g->pipeline, &s);
-        (void)r; /* duplicates and out-of-order samples are the pipeline's to drop (FV_NO_NEW_DATA) */
-        if (fv_head_follow_delta(&g->head, &s, &g->head_dq, &g->head_dp_m)) g->have_head = true;
-    }
-    fv_gaze_source_status st;
-    fv_gaze_source_get_status(g->source, &st);
-    bool lost = st.state != FV_GAZE_SOURCE_CONNECTED;
-    if (lost != g->lost) {
-        fv_gaze_pipeline_set_device_lost(g->pipeline, lost, fv_xr_now_ns());
-        g->lost = lost;
-    }
-}
+/* Drain the source into the pipeline (the application layer's one drain). Lock held. */
+static void drain(fv_xr_gaze *g) { g->lost = fv_app_tracker_drain(g->tracker); }
 
 bool fv_xr_gaze_head(fv_xr_gaze *g, float out_q[4], float out_p_m[3])
 {
     pthread_mutex_lock(&g->lock);
     drain(g);
-    bool have = g->have_head;
+    fv_quat dq;
+    fv_vec3 dp;
+    bool have = fv_app_tracker_head(g->tracker, &dq, &dp);
     if (have) {
-        out_q[0] = g->head_dq.x, out_q[1] = g->head_dq.y, out_q[2] = g->head_dq.z, out_q[3] = g->head_dq.w;
-        out_p_m[0] = g->head_dp_m.x, out_p_m[1] = g->head_dp_m.y, out_p_m[2] = g->head_dp_m.z;
+        out_q[0] = dq.x, out_q[1] = dq.y, out_q[2] = dq.z, out_q[3] = dq.w;
+        out_p_m[0] = dp.x, out_p_m[1] = dp.y, out_p_m[2] = dp.z;
     }
     pthread_mutex_unlock(&g->lock);
     return have;
@@ -114,7 +74,7 @@ void fv_xr_gaze_update(fv_xr_gaze *g)
 bool fv_xr_gaze_present(fv_xr_gaze *g)
 {
     fv_gaze_source_status st;
-    fv_gaze_source_get_status(g->source, &st);
+    fv_gaze_source_get_status(fv_app_tracker_source(g->tracker), &st);
     return st.state == FV_GAZE_SOURCE_CONNECTED || st.state == FV_GAZE_SOURCE_LOST;
 }
 
@@ -122,9 +82,9 @@ static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float ou
                     float *out_uncertainty_deg)
 {
     pthread_mutex_lock(&g->lock);
-    drain(g);
     fv_gaze_prediction p;
-    fv_gaze_pipeline_predict(g->pipeline, t_ns, &p);
+    fv_app_tracker_predict(g->tracker, t_ns, &p);
+    g->lost = fv_app_tracker_drain_state(g->tracker)->lost;
     bool tracked = p.combined_valid && !g->lost && p.event != FV_GAZE_EVENT_BLINK && p.event != FV_GAZE_EVENT_LOST &&
                    p.event != FV_GAZE_EVENT_NONE;
     double horizon_ms = (double)fv_i64_sub_sat(t_ns, p.t_sample_ns) * 1e-6; /* t_ns: any XrTime an app passes */
@@ -152,9 +112,8 @@ static bool predict(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float ou
 int64_t fv_xr_gaze_newest_sample_ns(fv_xr_gaze *g)
 {
     pthread_mutex_lock(&g->lock);
-    drain(g);
     fv_gaze_prediction p;
-    fv_gaze_pipeline_predict(g->pipeline, fv_xr_now_ns(), &p);
+    fv_app_tracker_predict(g->tracker, fv_xr_now_ns(), &p);
     pthread_mutex_unlock(&g->lock);
     return p.combined_valid ? p.t_sample_ns : 0;
 }
@@ -181,4 +140,69 @@ bool fv_xr_gaze_tracked(fv_xr_gaze *g, int64_t t_ns)
 {
     float o[3], d[3];
     return predict(g, t_ns, o, d, false, NULL);
+}
+
+/* ---- the frame budget of a session (the application layer's, as `fovea run --budget auto` has it) ---------------- */
+
+struct fv_xr_budget {
+    fv_app_budget b;
+    fv_quality q;     /* the level's quality: what the foveated insets are sized from */
+    uint64_t frames;
+};
+
+/* The knobs the runtime's own work reads: the insets' MAR model (fv_xr_quad_inset_radius_deg). The ladder's other
+ * rungs would save nothing here. */
+static const char *const g_xr_knobs[] = {"fovea.mar_slope", "fovea.mar_w0_deg", NULL};
+
+fv_xr_budget *fv_xr_budget_create(double refresh_hz)
+{
+    const char *env = getenv("FOVEA_XR_BUDGET");
+    if (env && !strcmp(env, "off")) return NULL;
+    double scale = 1.0;
+    if (env && *env && strcmp(env, "auto") != 0) {
+        char *end;
+        scale = strtod(env, &end);
+        if (end == env || *end || !(scale >= 0.01 && scale <= 1000)) {
+            FV_ERROR(FV_XR_LOG, "FOVEA_XR_BUDGET='%s': expected auto, off or a period scale in 0.01..1000; using auto",
+                     env);
+            scale = 1.0;
+        }
+    }
+    fv_xr_budget *xb = calloc(1, sizeof *xb);
+    if (!xb) return NULL;
+    xb->q = fv_quality_default();
+    if (fv_app_budget_start(&xb->b, FV_XR_LOG, &xb->q, "balanced", refresh_hz, scale, NULL) != FV_OK ||
+        fv_app_budget_keep_knobs(&xb->b, g_xr_knobs) != FV_OK) {
+        free(xb);
+        return NULL;
+    }
+    return xb;
+}
+
+void fv_xr_budget_destroy(fv_xr_budget **pb)
+{
+    if (!pb || !*pb) return;
+    free(*pb);
+    *pb = NULL;
+}
+
+void fv_xr_budget_frame(fv_xr_budget *xb, double frame_ms)
+{
+    if (!xb) return;
+    xb->frames++;
+    (void)fv_app_budget_push(&xb->b, xb->frames, frame_ms, &xb->q);
+}
+
+void fv_xr_budget_quality(const fv_xr_budget *xb, fv_quality *out) { *out = xb ? xb->q : fv_quality_default(); }
+
+void fv_xr_budget_write_stats(const fv_xr_budget *xb, FILE *f)
+{
+    if (!xb) {
+        fprintf(f, "  \"budget\": null,\n");
+        return;
+    }
+    fprintf(f, "  \"budget\": {\"budget_ms\": %.4f, \"level\": %u, \"rungs\": %zu, \"changes\": %llu, "
+               "\"frames\": %llu, \"misses\": %llu},\n", fv_app_budget_target_ms(&xb->b), xb->b.ctl.level,
+            xb->b.rung_count, (unsigned long long)xb->b.changes, (unsigned long long)xb->b.ctl.frames,
+            (unsigned long long)xb->b.ctl.misses);
 }

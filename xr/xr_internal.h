@@ -10,11 +10,13 @@
 #include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "fv_openxr.h"
 #include "fv_hmd.h"
 #include "fv_log.h"
 #include "fovea/fv_display.h"
+#include "fovea/fv_frame_input.h"
 
 #if FV_XR_HAVE_INPUT
 #include "fv_xr_input.h"
@@ -36,6 +38,7 @@
 
 typedef struct fv_xr_compositor fv_xr_compositor;
 typedef struct fv_xr_gaze fv_xr_gaze;
+typedef struct fv_xr_budget fv_xr_budget;
 
 enum { FV_XR_MAGIC_INSTANCE = 0x78696e73, FV_XR_MAGIC_SESSION = 0x78736573, FV_XR_MAGIC_SPACE = 0x78737063,
        FV_XR_MAGIC_SWAPCHAIN = 0x78737763 };
@@ -127,6 +130,7 @@ struct XrSession_T {
     uint64_t target_vsync;         /* the vsync the last xrWaitFrame planned for */
     int64_t predicted_ns;          /* its predictedDisplayTime */
     fv_xr_frame_stats stats;
+    fv_xr_budget *budget;          /* the frame budget (xr_gaze.c); NULL: FOVEA_XR_BUDGET=off */
     uint32_t visible_after;        /* frames ended before the session becomes VISIBLE/FOCUSED */
     uint64_t exit_after_frames;    /* FOVEA_XR_FRAMES: the runtime ends the session after this many frames (0 = never) */
     uint64_t lose_after_frames;    /* FOVEA_XR_LOSE_DISPLAY_AFTER: the simulated display goes away (0 = never) */
@@ -399,6 +403,15 @@ typedef struct fv_xr_gaze_stats {
     double sum_ms, max_ms;
 } fv_xr_gaze_stats;
 void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out);
+/* xr_gaze.c: the session's frame budget (runtime/app's fv_app_budget over foveation's knobs; FOVEA_XR_BUDGET=off,
+ * auto (default) or a period scale). NULL when off; every call accepts NULL. Instance lock held. */
+fv_xr_budget *fv_xr_budget_create(double refresh_hz);
+void fv_xr_budget_destroy(fv_xr_budget **b);
+/** One ended frame's time (ms: the app's frame and the composite). */
+void fv_xr_budget_frame(fv_xr_budget *b, double frame_ms);
+/** The quality at the budget's level (fv_quality_default() without a budget). */
+void fv_xr_budget_quality(const fv_xr_budget *b, fv_quality *out);
+void fv_xr_budget_write_stats(const fv_xr_budget *b, FILE *f);
 /** fv_xr_gaze_predict, and the pipeline's uncertainty radius of that prediction (deg, finite). */
 bool fv_xr_gaze_predict_uncertainty(fv_xr_gaze *g, int64_t t_ns, float out_origin_m[3], float out_dir[3],
                                     float *out_uncertainty_deg);

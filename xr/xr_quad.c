@@ -37,7 +37,8 @@ static double centre_pixel_deg(const fv_hmd_profile *h)
 
 double fv_xr_quad_inset_radius_deg(const struct XrInstance_T *inst, double uncertainty_deg)
 {
-    fv_quality q = fv_quality_default();
+    fv_quality q; /* foveation's knobs at the frame budget's level (xr_gaze.c) */
+    fv_xr_budget_quality(inst->session ? inst->session->budget : NULL, &q);
     double m = q.fovea.mar_slope > 1e-4f ? (double)q.fovea.mar_slope : 1e-4;
     double w0 = (double)q.fovea.mar_w0_deg;
     double w_wide = centre_pixel_deg(&inst->hmd) / FV_XR_QUAD_WIDE_DENSITY;

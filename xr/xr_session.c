@@ -126,6 +126,7 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
         r = XR_ERROR_RUNTIME_FAILURE;
         goto fail;
     }
+    s->budget = fv_xr_budget_create(s->display->refresh_hz); /* the application layer's frame budget (xr_gaze.c) */
     if (vkb) {
         s->vk.instance = vkb->instance;
         s->vk.phys = vkb->physicalDevice;
@@ -166,6 +167,7 @@ fail:
     if (s) {
         if (s->vk.pool) vkDestroyCommandPool(s->vk.device, s->vk.pool, NULL);
         fv_xr_egl_session_destroy(&s->egl);
+        fv_xr_budget_destroy(&s->budget);
         fv_display_destroy(&s->display);
         pthread_cond_destroy(&s->frame_cond);
         pthread_mutex_destroy(&s->frame_lock);
@@ -237,6 +239,7 @@ static void write_stats(struct XrSession_T *s)
     fprintf(f, "  \"gaze_locates\": %llu,\n", (unsigned long long)gs.count);
     fprintf(f, "  \"gaze_horizon_ms_mean\": %.4f,\n", gs.count ? gs.sum_ms / (double)gs.count : 0.0);
     fprintf(f, "  \"gaze_horizon_ms_max\": %.4f,\n", gs.max_ms);
+    fv_xr_budget_write_stats(s->budget, f);
     fprintf(f, "  \"states\": \"%s\"\n}\n", g_history);
     fclose(f);
 }
@@ -260,6 +263,7 @@ FV_XR_DECL(xrDestroySession)(XrSession session)
     }
     fv_xr_egl_session_destroy(&s->egl);
     write_stats(s);
+    fv_xr_budget_destroy(&s->budget);
     fv_display_destroy(&s->display);
     /* events of this session still queued would name a dead handle: drop them */
     XrEventDataBuffer keep[FV_XR_EVENT_CAP];
@@ -647,6 +651,8 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     bool composite = shown && info->layerCount > 0 && !s->loss_pending;
     if (composite) fv_xr_compositor_submit(s->inst->comp, s, info);
     int64_t t_done = fv_xr_now_ns();
+    /* the budget's frame: the app's frame and the compositor's (its own thread's time per frame; both must fit) */
+    fv_xr_budget_frame(s->budget, (double)(t0 - app_start) * MS_PER_NS + st->composite_ms_ema);
     /* nothing to composite: shown (as nothing) at once, on the display clock */
     if (!composite) {
         fv_xr_stats_present(st, s->display, t_done, s->target_vsync, s->predicted_ns, 0);

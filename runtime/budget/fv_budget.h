@@ -4,7 +4,7 @@
  * hysteresis: only after a run of frames with slack, only when the cost measured at the better level predicts that
  * it fits, and with a hold that doubles each time a step up had to be taken back (so an oscillating cost cannot make
  * the quality oscillate). Pure and deterministic: no clock, no allocation, no knowledge of what a rung changes (the
- * ladder is built from the knob table above it, in tools/fovea/run_budget.c, and passed in as a count). One owner. */
+ * ladder is built from the knob table above it, in runtime/app (fv_app_budget.h), and passed in as a count). One owner. */
 #ifndef FV_BUDGET_H
 #define FV_BUDGET_H
 

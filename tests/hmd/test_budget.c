@@ -1,7 +1,7 @@
 /* @brief The frame-budget controller (runtime/budget) on the simulated display (sim/display, a simulated clock) with
  * synthetic GPU costs: a cost spike, a slow ramp, an oscillating cost and an overload no rung can fix — quality never
  * oscillates (bounded reversals, settled at the end), misses stay bounded and it returns to full quality when the
- * cost does; and its ladder from the knob table (tools/fovea/run_ladder.c): each rung one knob one preset cheaper, in
+ * cost does; and its ladder from the knob table (runtime/app/app_ladder.c): each rung one knob one preset cheaper, in
  * preset steps, least noticeable first, bounded by the presets, never the lens. */
 #include <math.h>
 #include <stdio.h>
@@ -10,7 +10,7 @@
 #include "fv_budget.h"
 #include "fv_sim_display.h"
 #include "fv_test.h"
-#include "run_ladder.h"
+#include "fv_app_ladder.h"
 
 #define HZ 90.0
 #define RUNGS 6u
@@ -169,8 +169,8 @@ static void ladder_steps_one_preset_at_a_time_within_the_presets(void **state)
         char err[256];
         assert_int_equal(fv_quality_preset(presets[p], &base, err, sizeof err), FV_OK);
         assert_int_equal(fv_quality_preset("fast", &fast, err, sizeof err), FV_OK);
-        run_rung rungs[RUN_LADDER_MAX];
-        size_t n = run_ladder_build(&base, presets[p], rungs, RUN_LADDER_MAX);
+        fv_app_rung rungs[FV_APP_LADDER_MAX];
+        size_t n = fv_app_ladder_build(&base, presets[p], rungs, FV_APP_LADDER_MAX);
         print_message("from %s: %zu rungs:", presets[p], n);
         for (size_t i = 0; i < n; i++) print_message(" %s", rungs[i].text);
         print_message("\n");
@@ -194,7 +194,7 @@ static void ladder_steps_one_preset_at_a_time_within_the_presets(void **state)
         size_t count;
         const fv_knob *knobs = fv_knobs(&count);
         fv_quality all;
-        run_ladder_apply(&base, rungs, n, &all);
+        fv_app_ladder_apply(&base, rungs, n, &all);
         for (size_t i = 0; i < count; i++) {
             const fv_knob *k = &knobs[i];
             char a[48], f[48];
@@ -226,8 +226,8 @@ static void ladder_puts_the_least_noticeable_knobs_first(void **state)
     fv_quality base;
     char err[256];
     assert_int_equal(fv_quality_preset("high", &base, err, sizeof err), FV_OK);
-    run_rung rungs[RUN_LADDER_MAX];
-    size_t n = run_ladder_build(&base, "high", rungs, RUN_LADDER_MAX);
+    fv_app_rung rungs[FV_APP_LADDER_MAX];
+    size_t n = fv_app_ladder_build(&base, "high", rungs, FV_APP_LADDER_MAX);
     assert_true(n >= 3);
     /* high -> balanced: shadow resolution before its filter; then balanced -> fast, with fewer splits after both */
     assert_string_equal(rungs[0].text, "shadow.resolution=2048");
@@ -241,19 +241,19 @@ static void ladder_puts_the_least_noticeable_knobs_first(void **state)
     /* a knob of an effect that is off is no rung (foveation turned off); turned on (as in the presets), it is */
     fv_quality no_fovea = base;
     assert_int_equal(fv_quality_set(&no_fovea, "fovea.enabled=off", err, sizeof err), FV_OK);
-    size_t nf = run_ladder_build(&no_fovea, "high", rungs, RUN_LADDER_MAX);
+    size_t nf = fv_app_ladder_build(&no_fovea, "high", rungs, FV_APP_LADDER_MAX);
     for (size_t i = 0; i < nf; i++) assert_true(strncmp(rungs[i].knob->name, "fovea.", 6) != 0);
     assert_int_equal(fv_quality_set(&base, "fovea.enabled=on", err, sizeof err), FV_OK);
-    size_t m = run_ladder_build(&base, "high", rungs, RUN_LADDER_MAX);
+    size_t m = fv_app_ladder_build(&base, "high", rungs, FV_APP_LADDER_MAX);
     bool fovea = false;
     for (size_t i = 0; i < m; i++) fovea |= strncmp(rungs[i].knob->name, "fovea.", 6) == 0;
     assert_true(fovea);
     /* the knobs of a pass the plan turned off are no rungs */
     const char *off[] = {"shadow", NULL};
-    size_t k = run_ladder_build_for(&base, "high", off, rungs, RUN_LADDER_MAX);
+    size_t k = fv_app_ladder_build_for(&base, "high", off, rungs, FV_APP_LADDER_MAX);
     for (size_t i = 0; i < k; i++) assert_true(strncmp(rungs[i].knob->name, "shadow.", 7) != 0);
     /* the capacity is respected */
-    assert_int_equal(run_ladder_build(&base, "high", rungs, 2), 2);
+    assert_int_equal(fv_app_ladder_build(&base, "high", rungs, 2), 2);
 }
 
 int main(void)

@@ -3,7 +3,9 @@
  * - a render that fits: gaze-to-photon p99 <= two refresh periods + tracker latency, no missed refreshes;
  * - a render over budget: frames are reported missed, latency stays bounded and does not grow (no queueing);
  * - a tracker that stalls, one that disappears and comes back, and one whose read hangs: the loop keeps its pace,
- *   reports the device lost (wider uncertainty) and picks the gaze up again when it returns. */
+ *   reports the device lost (wider uncertainty) and picks the gaze up again when it returns;
+ * - a first frame that stalls (shader compiles: a software device's first frame) does not pace the frames after the
+ *   warm-up: their prediction horizon and the gaze's uncertainty are those of the steady frames, not of the stall. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,6 +72,20 @@ static void rig_init(rig *r, int64_t render_ns, size_t max_frames, bool threaded
     assert_non_null(r->rec);
     assert_non_null(r->in_photon_ns);
     assert_non_null(r->in_gaze_valid);
+}
+
+/* A render whose first frame stalls (the warm-up: shader compiles) and whose later frames fit the period. */
+static fv_result stall_render(void *user, fv_frame_input *in, fv_frame_render_times *out)
+{
+    rig *r = user;
+    r->in_photon_ns[in->frame_id] = in->t_photon_ns;
+    int64_t cost = in->frame_id == 0 ? 800 * FV_NS_PER_MS : 4 * FV_NS_PER_MS;
+    int64_t begin = fv_clock_now_ns(&r->clk);
+    out->t_submit_ns = begin + cost / 4;
+    out->t_gpu_begin_ns = out->t_submit_ns;
+    out->t_gpu_end_ns = begin + cost;
+    fv_clock_sim_advance(&r->clk, cost / 4);
+    return FV_OK;
 }
 
 static void rig_run(rig *r, size_t frames)
@@ -281,6 +297,40 @@ static void hung_tracker_read_never_blocks_the_frame_loop(void **state)
     rig_fini(&r);
 }
 
+static void warmup_stall_does_not_pace_or_widen_later_frames(void **state)
+{
+    (void)state;
+    rig r;
+    rig_init(&r, 4 * FV_NS_PER_MS, 64, false);
+    fv_frame_loop_destroy(&r.loop);
+    fv_frame_loop_desc ld = {.clock = &r.clk, .display = r.display, .render = stall_render, .render_user = &r,
+                             .gaze = r.source, .pipeline = r.pipeline, .tracker_latency_ns = TRACKER_LATENCY_NS};
+    assert_int_equal(fv_frame_loop_create(&ld, &r.loop), FV_OK);
+    rig_run(&r, 12);
+    /* frame 0 stalled 800 ms; from the third frame (the default two warm-up frames measured) the loop paces by the
+     * steady 4 ms frames: the gaze latched is predicted at most a few periods ahead, not past the stall */
+    for (size_t i = 3; i < 12; i++) {
+        double horizon_ms = (double)(r.rec[i].t_photon_ns - r.rec[i].t_latch_ns) / 1e6;
+        print_message("frame %zu: latch to photon %.2f ms, uncertainty %.2f deg, event %d\n", i, horizon_ms,
+                      (double)r.rec[i].uncertainty_deg, r.rec[i].gaze_event);
+        assert_true(horizon_ms < 4 * period_ms());
+        assert_true(r.rec[i].has_gaze);
+        assert_true(r.rec[i].uncertainty_deg < 5.0f); /* not the lost gaze's 30 deg cap */
+        assert_int_not_equal(r.rec[i].gaze_event, FV_GAZE_EVENT_LOST);
+    }
+    /* warm-up frames counted in (-1 = none): the stall paces the frames that follow it for the cost window */
+    rig_fini(&r);
+    rig_init(&r, 4 * FV_NS_PER_MS, 64, false);
+    fv_frame_loop_destroy(&r.loop);
+    ld = (fv_frame_loop_desc){.clock = &r.clk, .display = r.display, .render = stall_render, .render_user = &r,
+                              .gaze = r.source, .pipeline = r.pipeline, .tracker_latency_ns = TRACKER_LATENCY_NS,
+                              .warmup_frames = -1};
+    assert_int_equal(fv_frame_loop_create(&ld, &r.loop), FV_OK);
+    rig_run(&r, 6);
+    assert_true((double)(r.rec[4].t_photon_ns - r.rec[4].t_latch_ns) / 1e6 > 500.0);
+    rig_fini(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -290,6 +340,7 @@ int main(void)
         cmocka_unit_test(stalled_tracker_is_reported_lost_without_slowing_the_loop),
         cmocka_unit_test(tracker_that_disappears_is_reopened_and_the_loop_keeps_going),
         cmocka_unit_test(hung_tracker_read_never_blocks_the_frame_loop),
+        cmocka_unit_test(warmup_stall_does_not_pace_or_widen_later_frames),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,8 +5,10 @@
  *  - sim: the pose is fovea's prediction to the requested time (later times are further along the eye's motion);
  *    blinks clear the TRACKED bits;
  *  - trace: a real recording replayed: gaze at each frame's predicted display time of a headless frame loop;
- *  - no FOVEA_XR_GAZE: supportsEyeGazeInteraction is false and the action space is not located.
- * argv[1] = the runtime manifest. */
+ *  - no FOVEA_XR_GAZE: supportsEyeGazeInteraction is false and the action space is not located;
+ *  - a driver plugged into the one driver list (FOVEA_DRIVERS: the test-only probe plug-in) gives eye gaze as
+ *    `fovea run --gaze` sees it (tests/runtime/test_cli_app.c runs the same plug-in through `fovea run`).
+ * argv[1] = the runtime manifest, argv[2] = the probe plug-in. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -21,6 +23,7 @@
 #include "xr_app.h"
 
 static const char *g_manifest;
+static const char *g_plugin;
 
 #define CHECK_XR(call) assert_int_equal((int)(call), (int)XR_SUCCESS)
 #define ALL_BITS XR_APP_ALL_BITS
@@ -230,13 +233,37 @@ static void a_recorded_head_moves_the_views_not_the_gaze_in_them(void **state)
     xr_app_close(&a);
 }
 
+/* The application layer's one driver list: a plug-in's scheme opens in the OpenXR runtime as in `fovea run`. */
+static void plugged_in_driver_gives_eye_gaze(void **state)
+{
+    (void)state;
+    xr_app a;
+    xr_app_open(&a, g_manifest, "probe:yaw_deg=-8,pitch_deg=3,rate_hz=250");
+    assert_true(a.supports_gaze);
+    double dir[3];
+    XrSpaceLocationFlags f = 0;
+    for (int i = 0; i < 200 && (f & ALL_BITS) != ALL_BITS; i++) {
+        usleep(10000);
+        f = xr_app_locate(&a, xr_app_now(), dir);
+    }
+    assert_int_equal(f & ALL_BITS, ALL_BITS);
+    double y = -8 * M_PI / 180, p = 3 * M_PI / 180;
+    double want[3] = {sin(y) * cos(p), sin(p), -cos(y) * cos(p)};
+    double err = xr_app_angle_deg(dir, want);
+    print_message("probe plug-in: error %.5f deg\n", err);
+    assert_true(err < 0.01);
+    xr_app_close(&a);
+}
+
 int main(int argc, char **argv)
 {
-    if (argc < 2) {
-        fprintf(stderr, "usage: %s MANIFEST\n", argv[0]);
+    if (argc < 3) {
+        fprintf(stderr, "usage: %s MANIFEST PROBE_PLUGIN\n", argv[0]);
         return 2;
     }
     g_manifest = argv[1];
+    g_plugin = argv[2];
+    setenv("FOVEA_DRIVERS", g_plugin, 1); /* the runtime builds its driver list once, at its first use */
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(fixed_gaze_comes_back_as_the_same_pose),
         cmocka_unit_test(sim_gaze_is_predicted_to_the_requested_time),
@@ -244,6 +271,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(replayed_recording_gives_predicted_gaze_per_frame),
         cmocka_unit_test(no_gaze_source_no_eye_gaze),
         cmocka_unit_test(a_recorded_head_moves_the_views_not_the_gaze_in_them),
+        cmocka_unit_test(plugged_in_driver_gives_eye_gaze),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

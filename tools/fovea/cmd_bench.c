@@ -14,6 +14,7 @@
 #include "bench_sweep.h"
 #include "cli.h"
 #include "cli_interrupt.h"
+#include "cli_progress.h"
 #include "tool_image.h"
 #include "fv_clock.h"
 #include "fv_log.h"
@@ -238,6 +239,8 @@ typedef struct bench_state {
     float *rgba;          /* one eye's read-back */
     bool tty;
     int64_t t_start_ns;
+    fv_progress *prog;    /* the progress line (cli_progress.h) */
+    double gpu_ms;        /* GPU time of the points' timed frames so far */
 } bench_state;
 
 /* Median and p95 of a finished series (sorted in place). */
@@ -276,6 +279,7 @@ static fv_result bench_point(bench_state *st, const fv_quality *q, fv_bench_poin
         out->frame = summarise(m.frame_gpu_ms, m.measured);
         out->frames_timed = m.measured;
     }
+    st->gpu_ms += fv_measure_gpu_ms_sum(&m);
     fv_measure_fini(&m);
     for (int e = 0; e < 2; e++) out->sampled_fraction[e] = out->cache_hit_fraction[e] = NAN;
     fv_pass_detail d[8];
@@ -336,14 +340,13 @@ static fv_result render_reference(const bench_opts *o, const fv_scene *scene, co
 
 static void progress(bench_state *st, size_t i, size_t n, const fv_bench_plan *plan, const fv_bench_point *p)
 {
-    if (!st->tty) return;
     char line[512];
-    int len = snprintf(line, sizeof line, "fovea bench: point %zu/%zu", i + 1, n);
+    int len = snprintf(line, sizeof line, "point %zu/%zu", i + 1, n);
     for (size_t s = 0; s < plan->sweep_count && len > 0 && (size_t)len < sizeof line; s++)
         len += snprintf(line + len, sizeof line - (size_t)len, " %s=%s", plan->sweeps[s].name,
                         plan->sweeps[s].values[p->value_index[s]]);
-    double t = (double)(fv_time_monotonic_ns() - st->t_start_ns) / 1e9;
-    fprintf(stderr, "\r%-100.100s %6.1f s", line, t);
+    fv_progress_detail(st->prog, line);
+    fv_progress_update(st->prog, -1, (int64_t)i, st->gpu_ms);
 }
 
 /* ---- output -------------------------------------------------------------------------------------------------- */
@@ -587,6 +590,7 @@ int fv_cmd_bench(int argc, char **argv)
     if (res.has_exact && res.has_reference &&
         FV_FAILED(fv_metrics_compare(&exact_img, &ref_img, &md, &res.exact.vs_reference)))
         goto done;
+    st.prog = fv_progress_start("fovea bench", "point", (int64_t)n);
     for (size_t i = 0; i < n; i++) {
         fv_bench_point *p = &points[i];
         fv_bench_point_values(&o.plan, i, p->value_index);
@@ -613,7 +617,8 @@ int fv_cmd_bench(int argc, char **argv)
         md.name_b = "reference";
         if (res.has_reference && FV_FAILED(fv_metrics_compare(&img, &ref_img, &md, &p->vs_reference))) goto done;
     }
-    if (st.tty) fprintf(stderr, "\r%*s\r", 110, "");
+    fv_progress_update(st.prog, -1, (int64_t)res.point_count, st.gpu_ms);
+    fv_progress_stop(&st.prog);
     if (res.point_count < n)
         fprintf(stderr, "fovea bench: interrupted (Ctrl-C) after %zu of %zu points; the report has those\n",
                 res.point_count, n);
@@ -648,6 +653,7 @@ interrupted_early:
     fprintf(stderr, "fovea bench: interrupted (Ctrl-C) before the first of %zu points; no report written\n", n);
     exit_code = FV_EXIT_INTERRUPTED;
 done:
+    fv_progress_stop(&st.prog);
     fv_renderer_destroy(&r);
     fv_scene_destroy(&scene);
     fv_rgb_image_fini(&exact_img);

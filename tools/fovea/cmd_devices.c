@@ -7,7 +7,7 @@
 
 #include "cli.h"
 #include "fv_registry.h"
-#include "tool_devices.h"
+#include "fv_app_drivers.h"
 
 static const char *g_usage = "usage: fovea devices [--json]\n"
                              "  Probe every driver (hid, usb, then trace and sim) and list what each one sees.\n"
@@ -84,7 +84,7 @@ int fv_cmd_devices(int argc, char **argv)
         }
     }
     fv_registry reg;
-    if (FV_FAILED(fv_registry_init(&reg, fv_tool_drivers()))) return FV_EXIT_FAIL; /* logged */
+    if (FV_FAILED(fv_registry_init(&reg, fv_app_drivers()))) return FV_EXIT_FAIL; /* logged */
     fv_registry_listing listing;
     fv_result r = fv_registry_probe(&reg, &listing);
     if (FV_FAILED(r)) {

@@ -16,7 +16,7 @@
 #include "fv_log.h"
 #include "fv_sim_eval.h"
 #include "fv_trace_driver.h"
-#include "tool_devices.h"
+#include "fv_app_drivers.h"
 
 static const char g_usage[] =
     "usage: fovea gaze eval --gaze URI [--seconds S] [--json] [--plot DIR] [--bench] [--accuracy-deg D]\n"
@@ -373,7 +373,7 @@ static int cmd_eval(int argc, char **argv)
     fv_clock_sim_init(&clock, FV_NS_PER_S);
     fv_device_open_desc od = {.clock = &clock};
     fv_device *dev = NULL;
-    fv_result r = fv_tool_device_open(uri, &od, &dev);
+    fv_result r = fv_app_device_open(uri, &od, &dev);
     if (r != FV_OK) {
         fprintf(stderr, "fovea gaze: cannot open '%s': %s\n", uri, fv_result_str(r));
         return FV_EXIT_FAIL;

@@ -15,6 +15,7 @@
 
 #include "cli.h"
 #include "cli_interrupt.h"
+#include "cli_progress.h"
 #include "tool_image.h"
 #include "fv_knobs.h"
 #include "fv_clock.h"
@@ -155,25 +156,12 @@ static int parse_args(int argc, char **argv, ref_opts *o)
     return 0;
 }
 
-/* ---- progress (stderr, on a terminal) ------------------------------------------------------------------------ */
+/* ---- progress (cli_progress.h: at a terminal after 2 s, or FOVEA_PROGRESS) ---------------------------------- */
 
-typedef struct progress {
-    int64_t t_start_ns, t_last_ns;
-    bool shown;
-} progress;
-
-/* At most five lines a second, none in the first half second. */
 static void on_progress(void *user, uint64_t done, uint64_t total)
 {
-    progress *p = user;
-    int64_t now = fv_time_monotonic_ns();
-    if (now - p->t_start_ns < 500 * FV_NS_PER_MS || now - p->t_last_ns < 200 * FV_NS_PER_MS) return;
-    p->t_last_ns = now;
-    int pct = total ? (int)(100 * done / total) : 100;
-    double s = (double)(now - p->t_start_ns) / 1e9;
-    double left = done ? s * (double)(total - done) / (double)done : 0;
-    fprintf(stderr, "\rfovea reference: %3d%% (%.1f s, about %.0f s left)   ", pct, s, left);
-    p->shown = true;
+    fv_progress_set_total(user, (int64_t)total);
+    fv_progress_update(user, -1, (int64_t)done, -1.0); /* the CPU's work: no GPU time */
 }
 
 /* ---- the cache key: the scene's content and every setting (FNV-1a, 64 bit) ----------------------------------- */
@@ -361,10 +349,10 @@ int fv_cmd_reference(int argc, char **argv)
                  (unsigned long long)cache_key(scene, &o, &in));
         cached = cache_load(cache_path, w, h, left, right);
     }
-    progress prog = {.t_start_ns = fv_time_monotonic_ns()};
-    if (isatty(STDERR_FILENO)) {
+    fv_progress *prog = cached ? NULL : fv_progress_start("fovea reference", "tile", 0);
+    if (prog) {
         o.desc.progress = on_progress;
-        o.desc.progress_user = &prog;
+        o.desc.progress_user = prog;
     }
     fv_reference_stats st;
     memset(&st, 0, sizeof st);
@@ -372,7 +360,7 @@ int fv_cmd_reference(int argc, char **argv)
     o.desc.cancelled = fv_cli_interrupted; /* Ctrl-C (cli_interrupt.h) stops the workers between tiles */
     if (!cached) {
         fv_result res = fv_reference_render(scene, &in, &o.desc, left, right, &st);
-        if (prog.shown) fprintf(stderr, "\r%*s\r", 60, "");
+        fv_progress_stop(&prog);
         if (res == FV_ERR_CANCELLED) {
             printf("fovea reference: interrupted (Ctrl-C) after %.2f s and %.3g rays; no image written\n",
                    (double)(fv_time_monotonic_ns() - t0) / 1e9, (double)st.rays);

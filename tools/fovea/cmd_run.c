@@ -13,6 +13,9 @@
 
 #include "cli.h"
 #include "cli_interrupt.h"
+#include "cli_progress.h"
+#include "fv_app_interactive.h"
+#include "fv_vk.h"
 #include "fv_clock.h"
 #include "fv_log.h"
 #include "fv_mouse_driver.h"
@@ -111,6 +114,9 @@ static const char *usage_text(void)
 
 typedef enum { SAVE_LAST, SAVE_EVERY, SAVE_NONE } save_mode;
 
+/* Head samples after which a --head trace run whose head never moved says so. */
+#define RUN_HEAD_CHECK_SAMPLES 64
+
 /* A window run without --frames runs until the window is closed, for at most this many frames (30 min at 60 Hz). */
 #define RUN_WINDOW_MAX_FRAMES 108000
 
@@ -131,6 +137,7 @@ typedef struct run_opts {
     bool no_predict, predict_given; /* --predict off: the latest filtered sample, no prediction (geometry alone) */
     run_head_mode head;       /* --head */
     bool head_given, hz_given, save_given; /* to refuse options that would have no effect */
+    bool size_given;          /* --eye-size (a software device's interactive start keeps it) */
 } run_opts;
 
 static int parse_args(int argc, char **argv, run_opts *o)
@@ -213,6 +220,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         if ((r = OPT("--frame-log")) == -2) return FV_EXIT_USAGE;
         else if (r) { o->frame_log = v; continue; }
 #undef OPT
+        if (!strcmp(a, "--eye-size") || !strncmp(a, "--eye-size=", 11)) o->size_given = true;
         if ((r = fv_tool_image_option(&o->img, argc, argv, &i, "run", USAGE)) == FV_EXIT_USAGE) return r;
         else if (r) continue;
         if (strcmp(a, "--explain") == 0) { o->explain = true; continue; }
@@ -279,6 +287,7 @@ typedef struct run_state {
     const fv_scene *scene;
     run_frame_row *rows;      /* --frame-log: one per frame drawn */
     run_hmd *hmd;             /* the options' HMD profile and frame budget */
+    bool head_warned;         /* check_head_moves said it */
     size_t rows_n, rows_cap;
 } run_state;
 
@@ -343,14 +352,18 @@ static void window_title(fv_window *w, const run_state *st, double fps)
  * With times (a frame-loop frame), wait for the GPU so that its end is known on the host clock. */
 static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, fv_frame_render_times *times)
 {
+    int64_t t_entry = fv_time_monotonic_ns();
     fv_frame_input base;
     double time_s = (double)in->frame_id / (st->o->hz > 0 ? st->o->hz : 90.0); /* scene time at the refresh rate */
     fv_head head = st->scene_head;
     const fv_head *hp = NULL;
     if (keep_gaze && st->gaze && st->gaze->loop) { /* --head: the scene's, or moved by the tracker's pose */
-        fv_gaze_sample hs;
+        fv_gaze_sample hs; /* the newest head sample (its sequence number for the frame log) */
         bool have = fv_frame_loop_newest_head(st->gaze->loop, &hs);
-        run_head_apply(&st->head, have ? &hs : NULL, &st->scene_head, &head);
+        fv_quat dq;
+        fv_vec3 dp;
+        bool moved = fv_app_tracker_head(st->gaze->tracker, &dq, &dp); /* the application layer's head pose */
+        run_head_apply(&st->head, moved ? &dq : NULL, &dp, have ? hs.seq : 0, &st->scene_head, &head);
         hp = &head;
     }
     fv_tool_image_frame_input(&st->o->img, st->scene, hp, in->frame_id, time_s, &base);
@@ -383,14 +396,14 @@ static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, f
         return res;
     }
     if (times) {
-        times->t_submit_ns = fv_time_monotonic_ns();
+        int64_t t_returned = fv_time_monotonic_ns();
         FV_TRY(fv_renderer_finish(st->r));
         int64_t t_end = fv_time_monotonic_ns();
         if (!fv_measure_take(&st->m, st->r)) return FV_ERR_NO_MEMORY;
-        /* The GPU ran this frame's work for frame_gpu_ms before the fence was seen signalled. */
-        int64_t gpu_ns = (int64_t)(st->m.last_stats.frame_gpu_ms * 1e6);
-        times->t_gpu_end_ns = t_end;
-        times->t_gpu_begin_ns = t_end - gpu_ns > times->t_submit_ns ? t_end - gpu_ns : times->t_submit_ns;
+        /* The GPU ran this frame's work for frame_gpu_ms before the fence was seen signalled; a draw that waited for
+         * the GPU inside it (a software device's present) returned after the GPU began (fv_frame_loop.h). */
+        double gpu_ms = st->m.last_stats.frame_gpu_ms;
+        fv_frame_times_from_fence(t_entry, t_returned, t_end, isfinite(gpu_ms) ? (int64_t)(gpu_ms * 1e6) : 0, times);
         return FV_OK;
     }
     return fv_measure_take(&st->m, st->r) ? FV_OK : FV_ERR_NO_MEMORY;
@@ -488,6 +501,57 @@ static fv_result write_frame_log(run_state *st, const run_gaze *gaze, const char
     return run_frame_log_write(path, st->rows, st->rows_n);
 }
 
+/* A window or a --gaze run on a software (CPU) Vulkan device starts where it stays interactive, unless the user chose
+ * the size or the budget (fv_app_interactive.h); one line says so and how to override it. */
+static void software_start(run_opts *o)
+{
+    if (!o->window && !o->gaze_uri) return;
+    if (o->size_given || o->img.hmd.budget_given) return;
+    fv_vk_device_info devs[16];
+    uint32_t n = 0;
+    int chosen = -1;
+    char why[256];
+    if (FV_FAILED(fv_vk_list_devices(NULL, devs, 16, &n, &chosen, why, sizeof why)) || chosen < 0 ||
+        (uint32_t)chosen >= n)
+        return; /* the renderer says why when it is made */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    double hz = o->gaze_uri && !o->window ? o->hz : o->img.hmd.have ? (double)o->img.hmd.profile.refresh_hz : 90.0;
+    fv_app_interactive_in in = {.software = devs[chosen].type == VK_PHYSICAL_DEVICE_TYPE_CPU, .interactive = true,
+                                .eye_w = o->img.eye_w, .eye_h = o->img.eye_h, .hz = hz,
+                                .cpu_cores = cores > 0 ? (uint32_t)cores : 1};
+    fv_app_interactive st;
+    fv_app_interactive_start(&in, &st);
+    if (!st.applied) return;
+    o->img.eye_w = st.eye_w;
+    o->img.eye_h = st.eye_h;
+    o->img.hmd.budget = st.budget;
+    o->img.hmd.budget_scale = st.budget_scale;
+    fprintf(stderr, "fovea run: %s is %s\n", devs[chosen].name, st.line);
+}
+
+/* --head trace (the default) with a recording whose head pose never moves: say so once. A recording with no usable
+ * head pose (the trace readers drop all-zero poses: a logger without head tracking writes zeros) or one that stays
+ * the same follows nothing, and without a word the user cannot tell it from a head held still. */
+static void check_head_moves(run_state *st, bool at_end)
+{
+    if (st->head_warned || st->head.mode != RUN_HEAD_TRACE || !st->gaze || !st->gaze->tracker ||
+        strncmp(st->gaze->uri, "trace:", 6) != 0)
+        return;
+    fv_app_head_report hr;
+    fv_app_tracker_head_report(st->gaze->tracker, &hr);
+    fv_gaze_source_status ss;
+    fv_gaze_source_get_status(fv_app_tracker_source(st->gaze->tracker), &ss);
+    if (hr.moved > 0 || ss.delivered == 0 || (!at_end && ss.delivered < RUN_HEAD_CHECK_SAMPLES)) return;
+    if (hr.usable == 0)
+        FV_WARN("run", "--head trace: '%s' has no head pose in its %llu samples (its head columns are empty or all "
+                "zero): the head does not move; --head scene uses the scene's head without following",
+                st->gaze->uri, (unsigned long long)ss.delivered);
+    else
+        FV_WARN("run", "--head trace: the %llu head poses of '%s' are all the same: the head does not move",
+                (unsigned long long)hr.usable, st->gaze->uri);
+    st->head_warned = true;
+}
+
 int fv_cmd_run(int argc, char **argv)
 {
     run_opts o;
@@ -515,6 +579,7 @@ int fv_cmd_run(int argc, char **argv)
     st.head.mode = o.head;
     char out_created[4096] = ""; /* the directory --out made, removed again if no frame is drawn */
     bool interrupted = false;
+    fv_progress *progress = NULL;
     if (o.frame_log) {
         st.rows_cap = (size_t)o.frames;
         st.rows = calloc(st.rows_cap, sizeof *st.rows);
@@ -527,6 +592,14 @@ int fv_cmd_run(int argc, char **argv)
         free(st.rows);
         return FV_EXIT_FAIL;
     }
+    /* The tracker first: a source that is not there fails the run before any rendering work. Only the mouse, a gaze
+     * source made of the window's cursor, opens once the window is there. */
+    bool gaze_after_window = o.gaze_uri && !strncmp(o.gaze_uri, "mouse:", 6);
+    if (o.gaze_uri && !gaze_after_window) {
+        gaze_open = true;
+        if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.no_predict))) goto done; /* one line said why */
+    }
+    software_start(&o);
     if (FV_FAILED(fv_measure_init(&st.m, (size_t)o.frames))) {
         FV_ERROR("run", "out of memory for %lld frames", (long long)o.frames);
         free(st.rows);
@@ -597,18 +670,21 @@ int fv_cmd_run(int argc, char **argv)
         }
         fv_mouse_pointer_attach(&mouse_views);
     }
-    if (o.gaze_uri) {
+    if (gaze_after_window) {
         gaze_open = true;
+        if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.no_predict))) goto done; /* one line said why */
+    }
+    if (o.gaze_uri) {
         fv_display *shown_on = window ? fv_window_display(window) : NULL; /* NULL: a simulated display */
-        if (FV_FAILED(run_gaze_open_on(&gaze, o.gaze_uri, shown_on, o.hz, (size_t)o.frames, render_cb, &st,
-                                       scene->head.ipd_mm, o.no_predict))) {
-            fprintf(stderr, "fovea run: cannot open gaze source '%s' (see the messages above)\n", o.gaze_uri);
+        if (FV_FAILED(run_gaze_start(&gaze, shown_on, o.hz, (size_t)o.frames, render_cb, &st, scene->head.ipd_mm))) {
+            fprintf(stderr, "fovea run: cannot start the frame loop of gaze source '%s' (see the messages above)\n",
+                    o.gaze_uri);
             goto done;
         }
     }
 
-    bool tty = isatty(STDERR_FILENO);
-    int64_t t_start = fv_time_monotonic_ns(), t_last_progress = t_start;
+    int64_t t_start = fv_time_monotonic_ns();
+    progress = fv_progress_start("fovea run", "frame", o.frames == RUN_WINDOW_MAX_FRAMES && !o.frames_given ? 0 : o.frames);
     int64_t t_title = t_start, title_frames = 0;
     for (int64_t f = 0; f < o.frames; f++) {
         if (fv_cli_interrupted() && f > 0) { /* Ctrl-C (cli_interrupt.h); one during start-up: the first frame */
@@ -646,21 +722,21 @@ int fv_cmd_run(int argc, char **argv)
         }
         fv_measure_wall(&st.m, (double)(fv_time_monotonic_ns() - t0) / 1e6);
         frames_done = f + 1;
-        if (tty && fv_time_monotonic_ns() - t_start > FV_NS_PER_S &&
-            fv_time_monotonic_ns() - t_last_progress > 200 * FV_NS_PER_MS) {
-            t_last_progress = fv_time_monotonic_ns();
-            fprintf(stderr, "\rfovea run: frame %lld/%lld", (long long)f + 1, (long long)o.frames);
-        }
+        fv_progress_update(progress, frames_done, (int64_t)st.m.measured, fv_measure_gpu_ms_sum(&st.m));
+        check_head_moves(&st, false);
     }
     if (fv_cli_interrupted()) interrupted = true; /* during the last frame */
     if (interrupted)
         fprintf(stderr, "fovea run: interrupted (Ctrl-C) after %lld of %lld frames\n", (long long)frames_done,
                 (long long)o.frames);
     if (FV_FAILED(fv_renderer_finish(r)) || !fv_measure_take(&st.m, r)) goto done;
+    fv_measure_run_wall(&st.m, (double)(fv_time_monotonic_ns() - t_start) / 1e6, (size_t)frames_done);
+    fv_progress_update(progress, frames_done, (int64_t)st.m.measured, fv_measure_gpu_ms_sum(&st.m));
+    fv_progress_stop(&progress);
+    check_head_moves(&st, true);
     if (o.frame_log && FV_FAILED(write_frame_log(&st, o.gaze_uri ? &gaze : NULL, o.frame_log))) goto done;
     if (files && o.save == SAVE_LAST && FV_FAILED(fv_target_files_flush(files))) goto done;
     if (files) write_image_settings(&o, frames_done);
-    if (tty && fv_time_monotonic_ns() - t_start > FV_NS_PER_S) fprintf(stderr, "\r%*s\r", 40, "");
     double wall_s = (double)(fv_time_monotonic_ns() - t_start) / 1e9;
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
@@ -769,6 +845,7 @@ int fv_cmd_run(int argc, char **argv)
     }
     exit_code = interrupted ? FV_EXIT_INTERRUPTED : FV_EXIT_OK; /* 128 + SIGINT, as a shell reports it */
 done:
+    fv_progress_stop(&progress);
     if (exit_code != FV_EXIT_OK && exit_code != FV_EXIT_INTERRUPTED && frames_done == 0 && out_created[0])
         remove_created_dirs(o.out_dir, out_created);
     free(st.rows);

@@ -12,7 +12,7 @@
 #include "fv_file.h"
 #include "fv_log.h"
 #include "fv_trace.h"
-#include "tool_devices.h"
+#include "fv_app_drivers.h"
 
 static const char *const g_usage =
     "usage: fovea trace info FILE [--format NAME] [--blinks PATH|none] [--min-confidence C] [--json] [--bench]\n"
@@ -327,7 +327,7 @@ static int cmd_record(int argc, char **argv)
     fv_device_open_desc od = {.clock = clock};
     fv_device *dev = NULL;
     fv_trace_writer *w = NULL;
-    fv_result res = fv_tool_device_open(uri, &od, &dev);
+    fv_result res = fv_app_device_open(uri, &od, &dev);
     if (res != FV_OK) goto fail;
     fv_trace_writer_desc wd = {.source = uri, .rate_hz = dev->nominal_rate_hz, .gzip = gzip};
     res = fv_trace_writer_create(out, &wd, &w);

@@ -9,20 +9,18 @@
 #include "cli.h"
 #include "fv_log.h"
 #include "fv_sim_display.h"
-#include "fv_usb_hotplug.h"
-#include "tool_devices.h"
 
-static fv_result open_uri(void *user, const char *uri, const fv_device_open_desc *desc, fv_device **out)
-{
-    (void)user;
-    return fv_tool_device_open(uri, desc, out);
-}
-
-fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, double refresh_hz, size_t frames,
-                           fv_frame_render_fn render, void *render_user, float ipd_mm, bool no_predict)
+fv_result run_gaze_open(run_gaze *g, const char *uri, bool no_predict)
 {
     memset(g, 0, sizeof *g);
     snprintf(g->uri, sizeof g->uri, "%s", uri);
+    fv_app_tracker_desc td = {.uri = uri, .mode = FV_GAZE_SOURCE_THREAD, .no_predict = no_predict, .who = "run"};
+    return fv_app_tracker_open(&td, &g->tracker);
+}
+
+fv_result run_gaze_start(run_gaze *g, fv_display *display, double refresh_hz, size_t frames, fv_frame_render_fn render,
+                         void *render_user, float ipd_mm)
+{
     g->refresh_hz = refresh_hz;
     g->records = calloc(frames ? frames : 1, sizeof *g->records);
     if (!g->records) return FV_ERR_NO_MEMORY;
@@ -38,31 +36,13 @@ fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, do
         FV_TRY(fv_sim_display_create(&dd, &g->display));
         snprintf(g->clock, sizeof g->clock, "simulated display");
     }
-    fv_gaze_source_desc sd = {
-        .uri = uri,
-        .open = open_uri,
-        .open_desc = {.clock = clock},
-        .mode = FV_GAZE_SOURCE_THREAD,
-    };
-    FV_TRY(fv_gaze_source_create(&sd, &g->source));
-    fv_gaze_pipeline_desc pd = {.disable_prediction = no_predict};
-    FV_TRY(fv_gaze_pipeline_create(&pd, &g->pipeline));
-    /* A hardware tracker that is unplugged and plugged back is re-opened as soon as it arrives. Without hotplug
-     * support (no udev, no permission) the source still re-opens on its backoff. */
-    if (strncmp(uri, "hid:", 4) == 0 || strncmp(uri, "usb:", 4) == 0) {
-        if (FV_FAILED(fv_usb_hotplug_start(&g->hotplug)))
-            FV_INFO("run", "%s: no USB hotplug events; a lost tracker is re-opened on a backoff", uri);
-    }
-    double tracker_ms = 0.0; /* what the URI declares (a sim: eye's latency_ms), as `fovea latency` counts it */
-    FV_TRY(fv_tool_declared_latency_ms(uri, &tracker_ms));
     fv_frame_loop_desc ld = {
-        .tracker_latency_ns = (int64_t)llround(tracker_ms * 1e6),
+        .tracker_latency_ns = fv_app_tracker_latency_ns(g->tracker), /* as `fovea latency` counts it */
         .clock = clock,
         .display = g->display,
         .render = render,
         .render_user = render_user,
-        .gaze = g->source,
-        .pipeline = g->pipeline,
+        .drain = fv_app_tracker_drain_state(g->tracker),
         .ipd_mm = ipd_mm,
     };
     return fv_frame_loop_create(&ld, &g->loop);
@@ -71,10 +51,7 @@ fv_result run_gaze_open_on(run_gaze *g, const char *uri, fv_display *display, do
 fv_result run_gaze_step(run_gaze *g)
 {
     if (g->count >= g->cap) return FV_ERR_STATE;
-    if (g->hotplug && fv_usb_hotplug_take_reprobe(g->hotplug)) {
-        g->reprobes++;
-        fv_gaze_source_reprobe(g->source);
-    }
+    fv_app_tracker_hotplug(g->tracker); /* a tracker that came back is re-opened; the loop drains at its latch */
     FV_TRY(fv_frame_loop_step(g->loop, &g->records[g->count]));
     g->count++;
     return FV_OK;
@@ -83,7 +60,7 @@ fv_result run_gaze_step(run_gaze *g)
 static void summarize(const run_gaze *g, fv_latency_summary *s, fv_gaze_source_status *st)
 {
     if (FV_FAILED(fv_latency_summarize(g->records, g->count, s))) memset(s, 0, sizeof *s);
-    fv_gaze_source_get_status(g->source, st);
+    fv_gaze_source_get_status(fv_app_tracker_source(g->tracker), st);
 }
 
 void run_gaze_print(const run_gaze *g, FILE *f)
@@ -136,10 +113,8 @@ void run_gaze_add_json(const run_gaze *g, cJSON *obj)
 
 void run_gaze_close(run_gaze *g)
 {
-    fv_usb_hotplug_stop(&g->hotplug);
     fv_frame_loop_destroy(&g->loop);
-    fv_gaze_pipeline_destroy(&g->pipeline);
-    fv_gaze_source_destroy(&g->source);
+    fv_app_tracker_close(&g->tracker);
     if (!g->display_borrowed) fv_display_destroy(&g->display);
     g->display = NULL;
     free(g->records);

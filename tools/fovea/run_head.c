@@ -21,13 +21,14 @@ const char *run_head_mode_name(run_head_mode m)
     return m == RUN_HEAD_SCENE ? "scene" : m == RUN_HEAD_FIXED ? "fixed" : "trace";
 }
 
-void run_head_apply(run_head *h, const fv_gaze_sample *s, const fv_head *scene, fv_head *out)
+void run_head_apply(run_head *h, const fv_quat *pdq, const fv_vec3 *pdp_m, uint64_t seq, const fv_head *scene,
+                    fv_head *out)
 {
     *out = *scene;
     h->applied = false;
-    fv_quat dq;
-    fv_vec3 dp_m;
-    if (h->mode != RUN_HEAD_TRACE || !fv_head_follow_delta(&h->follow, s, &dq, &dp_m)) return;
+    if (h->mode != RUN_HEAD_TRACE || !pdq || !pdp_m) return;
+    fv_quat dq = *pdq;
+    fv_vec3 dp_m = *pdp_m;
     /* applied to the scene's head: in its frame */
     out->position_m = fv_v3_add(scene->position_m, fv_quat_rotate(scene->orientation, dp_m));
     out->orientation = fv_quat_normalize(fv_quat_mul(scene->orientation, dq));
@@ -36,6 +37,6 @@ void run_head_apply(run_head *h, const fv_gaze_sample *s, const fv_head *scene, 
         return;
     }
     h->applied = true;
-    h->seq = s->seq;
+    h->seq = seq;
     h->frames_moved++;
 }

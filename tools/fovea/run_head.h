@@ -8,15 +8,13 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "fovea/fv_gaze_sample.h"
-#include "fv_head_follow.h"
+#include "fv_math.h"
 #include "fv_scene.h"
 
 typedef enum run_head_mode { RUN_HEAD_TRACE = 0, RUN_HEAD_SCENE, RUN_HEAD_FIXED } run_head_mode;
 
 typedef struct run_head {
     run_head_mode mode;
-    fv_head_follow follow; /* the recorded pose relative to the first one (runtime/fv_head_follow.h) */
     bool applied;         /* the last run_head_apply used a recorded pose */
     uint64_t seq;         /* and this sample's sequence number */
     uint64_t frames_moved;
@@ -25,8 +23,10 @@ typedef struct run_head {
 /** "trace", "scene", "fixed"; false for anything else. */
 bool run_head_mode_parse(const char *s, run_head_mode *out);
 const char *run_head_mode_name(run_head_mode m);
-/** The head of a frame: `scene` moved by sample s (NULL or without FV_GAZE_HEAD_VALID: the scene's head) relative to
- *  the first recorded pose, in trace mode; `scene` as is otherwise. Finite for any input. */
-void run_head_apply(run_head *h, const fv_gaze_sample *s, const fv_head *scene, fv_head *out);
+/** The head of a frame: `scene` moved by the tracker's recorded pose relative to its first (dq, dp_m: the application
+ *  layer's fv_app_tracker_head; dq NULL: none yet, the scene's head), in trace mode; `scene` as is otherwise. seq:
+ *  the head sample's sequence number, for the frame log. Finite for any input. */
+void run_head_apply(run_head *h, const fv_quat *dq, const fv_vec3 *dp_m, uint64_t seq, const fv_head *scene,
+                    fv_head *out);
 
 #endif

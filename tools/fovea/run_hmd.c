@@ -25,6 +25,7 @@ int run_hmd_option(run_hmd *h, int argc, char **argv, int *i, const char *usage)
         if (strcmp(v, "auto") && strcmp(v, "off"))
             return fv_cli_usage_error("run", usage, "--budget: '%s' is not one of auto, off", v);
         h->budget = strcmp(v, "auto") == 0;
+        h->budget_given = true;
         return 1;
     }
     r = fv_cli_option(argc, argv, i, "--budget-scale", &v);
@@ -34,6 +35,7 @@ int run_hmd_option(run_hmd *h, int argc, char **argv, int *i, const char *usage)
         if (!fv_cli_parse_f64(v, 0.01, 1000, &x))
             return fv_cli_usage_error("run", usage, "--budget-scale: '%s' is not a number in 0.01..1000", v);
         h->budget_scale = x;
+        h->budget_given = true;
         return 1;
     }
     return 0;
@@ -85,22 +87,15 @@ void run_hmd_views(const run_hmd *h, fv_frame_input *in)
 int run_hmd_budget_start(run_hmd *h, const fv_quality *base, const char *preset, double hz,
                          const fv_frame_plan *plan)
 {
-    h->base = *base;
-    h->preset = preset;
-    h->hz = hz;
     if (!h->budget) return 0;
     const char *off[FV_MAX_PASSES + 1] = {NULL};
     for (uint32_t i = 0, n = 0; plan && i < plan->count; i++)
         if (!plan->entries[i].enabled) off[n++] = plan->entries[i].pass;
-    h->rung_count = run_ladder_build_for(base, preset, off, h->rungs, RUN_LADDER_MAX);
-    double scale = h->budget_scale > 0 ? h->budget_scale : 1.0;
-    fv_budget_desc d = {.period_ns = (int64_t)(1e9 / hz * scale), .rungs = (uint32_t)h->rung_count};
-    if (fv_budget_init(&h->ctl, &d) != FV_OK) {
-        fprintf(stderr, "fovea run: --budget: a period of %g ms cannot be budgeted\n", 1e3 / hz * scale);
+    if (FV_FAILED(fv_app_budget_start(&h->bud, "run", base, preset, hz, h->budget_scale, off))) {
+        fprintf(stderr, "fovea run: --budget: a period of %g ms cannot be budgeted\n",
+                1e3 / hz * (h->budget_scale > 0 ? h->budget_scale : 1.0));
         return FV_EXIT_FAIL;
     }
-    FV_INFO(MOD, "budget: %.3f ms per frame (%g Hz%s), %zu rung%s from %s towards fast", fv_budget_target_ns(&h->ctl) / 1e6,
-            hz, scale != 1.0 ? ", scaled" : "", h->rung_count, h->rung_count == 1 ? "" : "s", preset);
     return 0;
 }
 
@@ -108,35 +103,7 @@ void run_hmd_budget_update(run_hmd *h, const fv_measure *m, uint64_t frame_id, f
 {
     if (!h->budget) return;
     size_t n = m->measured < m->cap ? m->measured : m->cap;
-    bool changed = false;
-    for (; h->pushed < n; h->pushed++) {
-        double ms = m->frame_gpu_ms[h->pushed];
-        fv_budget_step s = fv_budget_push(&h->ctl, isfinite(ms) ? (int64_t)(ms * 1e6) : 0);
-        if (s == FV_BUDGET_KEEP) continue;
-        changed = true;
-        h->changes++;
-        bool down = s == FV_BUDGET_DOWN;
-        if (h->log_n < RUN_BUDGET_LOG_MAX) {
-            h->log[h->log_n].frame = frame_id;
-            h->log[h->log_n].level = h->ctl.level;
-            h->log[h->log_n].down = down;
-            h->log[h->log_n].gpu_ms = ms;
-            h->log_n++;
-        }
-        const char *rung = h->rungs[down ? h->ctl.level - 1 : h->ctl.level].text;
-        FV_INFO(MOD, "budget: frame %llu: %s to level %u/%zu (%s %s; GPU %.2f ms, budget %.2f ms)",
-                (unsigned long long)frame_id, down ? "down" : "up", h->ctl.level, h->rung_count,
-                down ? "applied" : "took back", rung, ms, fv_budget_target_ns(&h->ctl) / 1e6);
-    }
-    if (changed) {
-        fv_quality next;
-        run_ladder_apply(&h->base, h->rungs, h->ctl.level, &next);
-        /* the view settings and the lens are the run's, whatever the ladder did */
-        next.exposure = q->exposure;
-        next.debug_view = q->debug_view;
-        next.distort.lens = q->distort.lens;
-        *q = next;
-    }
+    for (; h->pushed < n; h->pushed++) (void)fv_app_budget_push(&h->bud, frame_id, m->frame_gpu_ms[h->pushed], q);
 }
 
 static double mask_fraction(const fv_renderer *r, int eye)
@@ -170,27 +137,28 @@ void run_hmd_add_json(const run_hmd *h, const fv_renderer *r, cJSON *j)
     cJSON *jb = cJSON_AddObjectToObject(j, "budget");
     fv_cli_json_add_string(jb, "mode", h->budget ? "auto" : "off");
     if (!h->budget) return;
-    fv_cli_json_number(jb, "hz", h->hz);
-    fv_cli_json_number(jb, "scale", h->budget_scale > 0 ? h->budget_scale : 1.0);
-    fv_cli_json_number(jb, "budget_ms", fv_budget_target_ns(&h->ctl) / 1e6);
-    fv_cli_json_number(jb, "level", h->ctl.level);
-    fv_cli_json_number(jb, "changes", (double)h->changes);
-    fv_cli_json_number(jb, "downs", (double)h->ctl.downs);
-    fv_cli_json_number(jb, "ups", (double)h->ctl.ups);
-    fv_cli_json_number(jb, "reversals", (double)h->ctl.reversals);
-    fv_cli_json_number(jb, "frames", (double)h->ctl.frames);
-    fv_cli_json_number(jb, "misses", (double)h->ctl.misses);
+    const fv_app_budget *b = &h->bud;
+    fv_cli_json_number(jb, "hz", b->hz);
+    fv_cli_json_number(jb, "scale", b->scale);
+    fv_cli_json_number(jb, "budget_ms", fv_app_budget_target_ms(b));
+    fv_cli_json_number(jb, "level", b->ctl.level);
+    fv_cli_json_number(jb, "changes", (double)b->changes);
+    fv_cli_json_number(jb, "downs", (double)b->ctl.downs);
+    fv_cli_json_number(jb, "ups", (double)b->ctl.ups);
+    fv_cli_json_number(jb, "reversals", (double)b->ctl.reversals);
+    fv_cli_json_number(jb, "frames", (double)b->ctl.frames);
+    fv_cli_json_number(jb, "misses", (double)b->ctl.misses);
     cJSON *rungs = cJSON_AddArrayToObject(jb, "rungs");
-    for (size_t i = 0; i < h->rung_count; i++) cJSON_AddItemToArray(rungs, fv_cli_json_string(h->rungs[i].text));
+    for (size_t i = 0; i < b->rung_count; i++) cJSON_AddItemToArray(rungs, fv_cli_json_string(b->rungs[i].text));
     cJSON *applied = cJSON_AddArrayToObject(jb, "applied");
-    for (size_t i = 0; i < h->ctl.level; i++) cJSON_AddItemToArray(applied, fv_cli_json_string(h->rungs[i].text));
+    for (size_t i = 0; i < b->ctl.level; i++) cJSON_AddItemToArray(applied, fv_cli_json_string(b->rungs[i].text));
     cJSON *log = cJSON_AddArrayToObject(jb, "log");
-    for (size_t i = 0; i < h->log_n; i++) {
+    for (size_t i = 0; i < b->log_n; i++) {
         cJSON *e = cJSON_CreateObject();
-        fv_cli_json_number(e, "frame", (double)h->log[i].frame);
-        fv_cli_json_add_string(e, "step", h->log[i].down ? "down" : "up");
-        fv_cli_json_number(e, "level", h->log[i].level);
-        fv_cli_json_number(e, "gpu_ms", h->log[i].gpu_ms);
+        fv_cli_json_number(e, "frame", (double)b->log[i].frame);
+        fv_cli_json_add_string(e, "step", b->log[i].down ? "down" : "up");
+        fv_cli_json_number(e, "level", b->log[i].level);
+        fv_cli_json_number(e, "gpu_ms", b->log[i].gpu_ms);
         cJSON_AddItemToArray(log, e);
     }
 }
@@ -207,10 +175,10 @@ void run_hmd_print(const run_hmd *h, const fv_renderer *r, FILE *f)
         fprintf(f, "  hmd: none (undistorted)\n");
     }
     if (!h->budget) return;
+    const fv_app_budget *b = &h->bud;
     fprintf(f, "  budget: %.2f ms per frame (%g Hz x %g), level %u of %zu after %llu change%s (%llu down, %llu up), "
-            "%llu of %llu frames over the period\n", fv_budget_target_ns(&h->ctl) / 1e6, h->hz,
-            h->budget_scale > 0 ? h->budget_scale : 1.0, h->ctl.level, h->rung_count, (unsigned long long)h->changes,
-            h->changes == 1 ? "" : "s", (unsigned long long)h->ctl.downs, (unsigned long long)h->ctl.ups,
-            (unsigned long long)h->ctl.misses, (unsigned long long)h->ctl.frames);
-    for (size_t i = 0; i < h->ctl.level; i++) fprintf(f, "    rung %zu: %s\n", i + 1, h->rungs[i].text);
+            "%llu of %llu frames over the period\n", fv_app_budget_target_ms(b), b->hz, b->scale, b->ctl.level,
+            b->rung_count, (unsigned long long)b->changes, b->changes == 1 ? "" : "s", (unsigned long long)b->ctl.downs,
+            (unsigned long long)b->ctl.ups, (unsigned long long)b->ctl.misses, (unsigned long long)b->ctl.frames);
+    for (size_t i = 0; i < b->ctl.level; i++) fprintf(f, "    rung %zu: %s\n", i + 1, b->rungs[i].text);
 }

@@ -12,12 +12,9 @@
 
 #include <cjson/cJSON.h>
 
-#include "fv_budget.h"
+#include "fv_app_budget.h"
 #include "fv_hmd.h"
-#include "run_ladder.h"
 #include "run_measure.h"
-
-#define RUN_BUDGET_LOG_MAX 256
 
 /** The lines of `fovea run --help` for the options here. */
 #define RUN_HMD_USAGE                                                                                                  \
@@ -27,7 +24,8 @@
     "              frusta; none: no HMD, undistorted (also --set distort.enabled=off)\n"                             \
     "  --budget    auto: keep each frame's GPU time within the refresh period (the --hz display's with --gaze,\n"    \
     "              else the HMD's) by stepping knobs down one preset at a time, least noticeable first, and back\n"  \
-    "              up when there is slack; each change is logged and counted in the summary (default off)\n"        \
+    "              up when there is slack; each change is one line on stderr and counted in the summary (default off;\n"\
+    "              auto, at 100 ms per frame, on a software device's window and --gaze runs)\n"        \
     "  --budget-scale  multiply the budget's period by X (e.g. 10 on a software rasteriser; default 1)\n"
 
 typedef struct run_hmd {
@@ -37,17 +35,10 @@ typedef struct run_hmd {
     fv_hmd_profile profile;
     /* --budget */
     bool budget;           /* auto */
+    bool budget_given;     /* --budget or --budget-scale was given (a software device's interactive start keeps it) */
     double budget_scale;   /* --budget-scale: the period x this (a stand-in for a slower GPU); 0 = 1 */
-    fv_budget ctl;
-    fv_quality base;       /* the run's own quality (level 0) */
-    const char *preset;
-    run_rung rungs[RUN_LADDER_MAX];
-    size_t rung_count;
-    double hz;             /* the budget's refresh rate */
+    fv_app_budget bud;     /* the application layer's budget (runtime/app) */
     size_t pushed;         /* measured frames given to the controller */
-    struct { uint64_t frame; uint32_t level; bool down; double gpu_ms; } log[RUN_BUDGET_LOG_MAX];
-    size_t log_n;
-    uint64_t changes;
 } run_hmd;
 
 /** Take --hmd, --budget or --budget-scale at argv[*i]: 0 when it is none of them, 1 when taken, FV_EXIT_USAGE after

@@ -30,6 +30,8 @@ typedef struct fv_measure {
     fv_pass_series passes[FV_MAX_PASSES];
     uint32_t pass_count;
     fv_render_stats last_stats;
+    double run_wall_ms;   /* fv_measure_run_wall: from the first frame's start to the last frame done (0: not set) */
+    size_t run_frames;
 } fv_measure;
 
 /** Room for `frames` frames. FV_ERR_NO_MEMORY when it does not fit. */
@@ -40,6 +42,11 @@ int64_t fv_measure_thread_cpu_ns(void);
 /** One frame's CPU / wall time (ignored past the capacity). */
 void fv_measure_cpu(fv_measure *m, double ms);
 void fv_measure_wall(fv_measure *m, double ms);
+/** The whole run: its elapsed time until the last frame was done, and its frames (the completed frames' wall time per
+ *  frame, beside the loop's per-frame time, which does not wait for the GPU when frames overlap). */
+void fv_measure_run_wall(fv_measure *m, double ms, size_t frames);
+/** The GPU time of the frames taken so far, ms. */
+double fv_measure_gpu_ms_sum(const fv_measure *m);
 /** Take the GPU timings of every frame that completed since the last call, each once (frames complete in order;
  *  at most FV_RENDERER_STATS_HISTORY are kept by the renderer). false when out of memory. */
 bool fv_measure_take(fv_measure *m, const fv_renderer *r);

@@ -1,5 +1,5 @@
-/* @brief The frame-budget ladder from the knob table (see run_ladder.h). */
-#include "run_ladder.h"
+/* @brief The frame-budget ladder from the knob table (see fv_app_ladder.h). */
+#include "fv_app_ladder.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -46,12 +46,12 @@ static bool pass_off(const fv_knob *k, const char *const *off)
     return false;
 }
 
-size_t run_ladder_build(const fv_quality *base, const char *preset, run_rung *out, size_t cap)
+size_t fv_app_ladder_build(const fv_quality *base, const char *preset, fv_app_rung *out, size_t cap)
 {
-    return run_ladder_build_for(base, preset, NULL, out, cap);
+    return fv_app_ladder_build_for(base, preset, NULL, out, cap);
 }
 
-size_t run_ladder_build_for(const fv_quality *base, const char *preset, const char *const *off_passes, run_rung *out,
+size_t fv_app_ladder_build_for(const fv_quality *base, const char *preset, const char *const *off_passes, fv_app_rung *out,
                             size_t cap)
 {
     /* the presets cheaper than the run's, in order towards fast */
@@ -93,7 +93,7 @@ size_t run_ladder_build_for(const fv_quality *base, const char *preset, const ch
             if (best < 0 || n >= cap) break;
             used[best] = true;
             const fv_knob *k = &knobs[best];
-            run_rung *g = &out[n++];
+            fv_app_rung *g = &out[n++];
             memset(g, 0, sizeof *g);
             g->knob = k;
             g->value = fv_knob_get(k, &step);
@@ -108,7 +108,7 @@ size_t run_ladder_build_for(const fv_quality *base, const char *preset, const ch
     return n;
 }
 
-void run_ladder_apply(const fv_quality *base, const run_rung *rungs, size_t level, fv_quality *out)
+void fv_app_ladder_apply(const fv_quality *base, const fv_app_rung *rungs, size_t level, fv_quality *out)
 {
     *out = *base;
     for (size_t i = 0; i < level; i++) {
