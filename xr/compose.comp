@@ -9,27 +9,30 @@ layout(set = 0, binding = FV_XR_COMPOSE_BINDING_SOURCES) uniform sampler2DArray 
 layout(set = 0, binding = FV_XR_COMPOSE_BINDING_DISPLAY, rgba8) uniform writeonly image2DArray display;
 layout(set = 0, binding = FV_XR_COMPOSE_BINDING_LAYERS, std140) uniform Block { fv_xr_compose_block b; };
 
-// constant indices only (no dynamic indexing of sampler arrays needed)
+// The frame's source count, specialised (a pipeline per count, made on first use): sampler arrays are indexed by
+// constants only (lavapipe has no shaderSampledImageArrayDynamicIndexing), and a source the frame does not bind is
+// no branch at all. Every branch is run by every invocation on lavapipe (masked), so a switch over all 16 sources
+// cost 16 samples per layer and pixel (10x the pass's time for the usual 1 or 2 sources).
+layout(constant_id = 0) const uint NSRC = FV_XR_COMPOSE_MAX_SOURCES;
+
 vec4 fetch(uint i, vec3 uvl)
 {
-    switch (i) {
-    case 0u: return textureLod(sources[0], uvl, 0.0);
-    case 1u: return textureLod(sources[1], uvl, 0.0);
-    case 2u: return textureLod(sources[2], uvl, 0.0);
-    case 3u: return textureLod(sources[3], uvl, 0.0);
-    case 4u: return textureLod(sources[4], uvl, 0.0);
-    case 5u: return textureLod(sources[5], uvl, 0.0);
-    case 6u: return textureLod(sources[6], uvl, 0.0);
-    case 7u: return textureLod(sources[7], uvl, 0.0);
-    case 8u: return textureLod(sources[8], uvl, 0.0);
-    case 9u: return textureLod(sources[9], uvl, 0.0);
-    case 10u: return textureLod(sources[10], uvl, 0.0);
-    case 11u: return textureLod(sources[11], uvl, 0.0);
-    case 12u: return textureLod(sources[12], uvl, 0.0);
-    case 13u: return textureLod(sources[13], uvl, 0.0);
-    case 14u: return textureLod(sources[14], uvl, 0.0);
-    default: return textureLod(sources[15], uvl, 0.0);
-    }
+    if (NSRC <= 1u || i == 0u) return textureLod(sources[0], uvl, 0.0);
+    if (NSRC <= 2u || i == 1u) return textureLod(sources[1], uvl, 0.0);
+    if (NSRC <= 3u || i == 2u) return textureLod(sources[2], uvl, 0.0);
+    if (NSRC <= 4u || i == 3u) return textureLod(sources[3], uvl, 0.0);
+    if (NSRC <= 5u || i == 4u) return textureLod(sources[4], uvl, 0.0);
+    if (NSRC <= 6u || i == 5u) return textureLod(sources[5], uvl, 0.0);
+    if (NSRC <= 7u || i == 6u) return textureLod(sources[6], uvl, 0.0);
+    if (NSRC <= 8u || i == 7u) return textureLod(sources[7], uvl, 0.0);
+    if (NSRC <= 9u || i == 8u) return textureLod(sources[8], uvl, 0.0);
+    if (NSRC <= 10u || i == 9u) return textureLod(sources[9], uvl, 0.0);
+    if (NSRC <= 11u || i == 10u) return textureLod(sources[10], uvl, 0.0);
+    if (NSRC <= 12u || i == 11u) return textureLod(sources[11], uvl, 0.0);
+    if (NSRC <= 13u || i == 12u) return textureLod(sources[12], uvl, 0.0);
+    if (NSRC <= 14u || i == 13u) return textureLod(sources[13], uvl, 0.0);
+    if (NSRC <= 15u || i == 14u) return textureLod(sources[14], uvl, 0.0);
+    return textureLod(sources[15], uvl, 0.0);
 }
 
 vec3 srgb_encode(vec3 c)

@@ -5,7 +5,9 @@
  * fenced on its queue before the compositor's submit reads the image. A frame: the compose pass maps every layer onto
  * the display image (fovea's FV_IMAGE_DISPLAY, sRGB-encoded), fovea's lens-distortion pass pre-distorts it for the
  * HMD's lens, and a target shows it (headless; PNG files with FOVEA_XR_OUT). */
+#include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,7 +42,26 @@ struct fv_xr_swapchain_image {
     image_owner owner;
     VkImageLayout ext_old, ext_new; /* the layouts of the release in flight (OWNER_EXTERNAL) */
     VkImageLayout layout;        /* the current layout on the owning side */
+    uint32_t comp_refs;          /* queued or running frames that read it (c->mu): the app may not take it back */
 };
+
+typedef struct source_ref {
+    struct XrSwapchain_T *sc;
+    uint32_t index;
+} source_ref;
+
+/* One frame for the compositor: the layers mapped onto the display eyes (xrEndFrame, instance lock held), the
+ * released images they read, and what its presentation is measured against. */
+typedef struct comp_job {
+    fv_xr_compose_block blk;
+    source_ref src[FV_XR_COMPOSE_MAX_SOURCES];
+    uint32_t nsrc;
+    VkDevice app_device;         /* the app's fences of the releases */
+    XrTime display_time;
+    fv_display *display;
+    uint64_t target_vsync;
+    int64_t predicted_ns, gaze_sample_ns;
+} comp_job;
 
 struct fv_xr_compositor {
     fv_vk *vk;
@@ -56,7 +77,8 @@ struct fv_xr_compositor {
     fv_target *target;
     fv_xr_present *present;      /* a window when there is a display (xr_present.h), else headless */
     char out_dir[1024];
-    fv_vk_compute cs;
+    fv_vk_compute cs;            /* the compose pass's layout and sets; its pipelines are made per source count */
+    VkPipeline compose[FV_XR_COMPOSE_MAX_SOURCES]; /* [n - 1]: specialised for n sources (compose.comp's NSRC) */
     VkSampler sampler;
     fv_vk_buffer block;          /* fv_xr_compose_block, host-visible */
     VkCommandBuffer cmd;
@@ -68,7 +90,22 @@ struct fv_xr_compositor {
     bool timer_ready;
     double gpu_ms_sum[2];        /* compose, distort: summed over frames */
     uint64_t gpu_frames;
+    /* the frame queue: xrEndFrame queues (submit), the compositor thread (or, in a window, the app's thread) runs */
+    pthread_mutex_t mu;          /* the queue, images' comp_refs, the results; never held with the instance lock
+                                  * taken after it (the instance lock may be held when taking it) */
+    pthread_cond_t cv;           /* CLOCK_MONOTONIC */
+    pthread_mutex_t gpu_mu;      /* the device's command pool and queue (the thread's frame, EGL's hand-overs) */
+    pthread_t thread;
+    bool threaded, stop;
+    bool has_pending, busy;      /* a frame queued; a frame being composited */
+    comp_job pending, running;
+    fv_xr_frame_stats acc;       /* results since the last fv_xr_compositor_take */
+    fv_result error;             /* the first failure since then */
+    double cpu_ms_ema;
+    uint64_t cpu_frames;
 };
+
+static void *comp_thread(void *arg);
 
 /* ---- device ------------------------------------------------------------------------------------------------ */
 static const char *const g_optional_exts[] = {VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME};
@@ -103,6 +140,13 @@ fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **
     VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &id};
     vkGetPhysicalDeviceProperties2(c->vk->phys, &p2);
     memcpy(c->uuid, id.deviceUUID, VK_UUID_SIZE);
+    pthread_condattr_t ca;
+    pthread_condattr_init(&ca);
+    pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
+    pthread_cond_init(&c->cv, &ca);
+    pthread_condattr_destroy(&ca);
+    pthread_mutex_init(&c->mu, NULL);
+    pthread_mutex_init(&c->gpu_mu, NULL);
     c->input.quality = fv_quality_default();
     c->input.quality.distort.lens = inst->hmd.lens;
     const char *dist = getenv("FOVEA_XR_DISTORT");
@@ -128,6 +172,9 @@ void fv_xr_compositor_destroy(fv_xr_compositor **pc)
     fv_xr_present_detach(c->present, c->vk); /* the window's swapchain goes before the device, the window after */
     fv_vk_destroy(&c->vk);
     fv_xr_present_destroy(&c->present);
+    pthread_cond_destroy(&c->cv);
+    pthread_mutex_destroy(&c->mu);
+    pthread_mutex_destroy(&c->gpu_mu);
     free(c);
     *pc = NULL;
 }
@@ -203,7 +250,6 @@ uint32_t fv_xr_compositor_formats(fv_xr_compositor *c, int64_t *out, uint32_t ca
 }
 
 _Static_assert(FV_XR_COMPOSE_MAX_LAYERS >= 2 * FV_XR_MAX_LAYERS, "every layer of a frame, each with its inset");
-_Static_assert(FV_XR_COMPOSE_MAX_SOURCES == 16, "compose.comp's fetch() has a case per source");
 
 /* ---- swapchain images ------------------------------------------------------------------------------------------ */
 static VkImageUsageFlags usage_of(XrSwapchainUsageFlags u, bool depth)
@@ -421,7 +467,10 @@ XrResult fv_xr_swapchain_images_create(fv_xr_compositor *c, struct XrSwapchain_T
 void fv_xr_swapchain_images_destroy(fv_xr_compositor *c, struct XrSwapchain_T *sc)
 {
     if (!sc->images) return;
-    vkDeviceWaitIdle(c->vk->device); /* nothing of the compositor may still read them */
+    fv_xr_compositor_drain(c); /* nothing queued or running may still read them */
+    pthread_mutex_lock(&c->gpu_mu);
+    vkDeviceWaitIdle(c->vk->device);
+    pthread_mutex_unlock(&c->gpu_mu);
     for (uint32_t i = 0; i < sc->image_count; i++) image_fini(c, sc->session, &sc->images[i]);
     free(sc->images);
     sc->images = NULL;
@@ -574,7 +623,8 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
                              .code_size = sizeof fv_spv_compose_comp,
                              .bindings = g_bindings,
                              .binding_count = 3,
-                             .set_count = 1};
+                             .set_count = 1,
+                             .lazy = true};
     if (res == FV_OK) res = fv_vk_compute_init(c->vk, &cd, &c->cs);
     if (res == FV_OK) res = fv_vk_sampler_create(c->vk, true, false, "xr compose sampler (linear, clamp)", &c->sampler);
     if (res == FV_OK)
@@ -636,12 +686,30 @@ done:
     }
     c->active = true;
     c->frame_id = 0;
+    /* frames are composited on the compositor's own thread; a window's on the app's thread (GLFW's rule) */
+    c->stop = c->has_pending = c->busy = false;
+    c->threaded = !fv_xr_present_windowed(c->present);
+    if (c->threaded && pthread_create(&c->thread, NULL, comp_thread, c) != 0) {
+        FV_ERROR(FV_XR_LOG, "the compositor thread could not be started");
+        c->threaded = false;
+        fv_xr_compositor_session_end(c);
+        return FV_ERR_NO_MEMORY;
+    }
     return FV_OK;
 }
 
 void fv_xr_compositor_session_end(fv_xr_compositor *c)
 {
     if (!c || !c->active) return;
+    if (c->threaded) { /* the thread composites what is queued, then ends */
+        pthread_mutex_lock(&c->mu);
+        c->stop = true;
+        pthread_cond_broadcast(&c->cv);
+        pthread_mutex_unlock(&c->mu);
+        pthread_join(c->thread, NULL);
+        c->threaded = false;
+    }
+    fv_xr_compositor_drain(c);
     vkDeviceWaitIdle(c->vk->device);
     fv_target_destroy(&c->target);
     if (c->distort) fv_distort_pass.fini(c->distort);
@@ -658,6 +726,10 @@ void fv_xr_compositor_session_end(fv_xr_compositor *c)
     c->timer_ready = false;
     if (c->sampler) vkDestroySampler(c->vk->device, c->sampler, NULL);
     c->sampler = VK_NULL_HANDLE;
+    for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
+        if (c->compose[i]) vkDestroyPipeline(c->vk->device, c->compose[i], NULL);
+        c->compose[i] = VK_NULL_HANDLE;
+    }
     fv_vk_compute_fini(c->vk, &c->cs);
     if (c->images_ready) fv_images_fini(&c->images);
     c->images_ready = false;
@@ -666,7 +738,9 @@ void fv_xr_compositor_session_end(fv_xr_compositor *c)
 
 void fv_xr_compositor_flush(fv_xr_compositor *c)
 {
-    if (!c || !c->active || !c->target || c->frame_id == 0 || !fv_target_files_dir(c->target)) return;
+    if (!c || !c->active) return;
+    fv_xr_compositor_drain(c);
+    if (!c->target || c->frame_id == 0 || !fv_target_files_dir(c->target)) return;
     if (fv_target_files_flush(c->target) != FV_OK) FV_ERROR(FV_XR_LOG, "FOVEA_XR_OUT: the last frame was not written");
 }
 
@@ -748,11 +822,6 @@ static XrPosef pose_mul(XrPosef a, XrPosef b)
     return (XrPosef){{q.x, q.y, q.z, q.w}, {p.x, p.y, p.z}};
 }
 
-typedef struct source_ref {
-    struct XrSwapchain_T *sc;
-    uint32_t index;
-} source_ref;
-
 /* The source slot of a swapchain's released image in this frame's binding array (added on first use). */
 static int source_slot(source_ref *src, uint32_t *count, struct XrSwapchain_T *sc)
 {
@@ -781,16 +850,20 @@ static void set_layer(fv_xr_compose_layer *l, const mat3 *h, const XrSwapchainSu
     l->info = (fv_xr_uvec4){slot, si->imageArrayIndex, f, 0};
 }
 
-fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info,
-                                 double *out_app_wait_ms)
+/* Map the layers onto the display eyes for the head at the frame's display time (instance lock held: the spaces). */
+static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info, comp_job *j)
 {
-    *out_app_wait_ms = 0.0;
-    if (!c->active) return FV_ERR_STATE;
-    fv_vk *vk = c->vk;
-    fv_xr_compose_block *blk = c->block.mapped;
+    fv_xr_compose_block *blk = &j->blk;
     memset(blk, 0, sizeof *blk);
     blk->counts.z = c->width;
     blk->counts.w = c->height;
+    j->nsrc = 0;
+    j->app_device = s->vk.device;
+    j->display_time = info->displayTime;
+    j->display = s->display;
+    j->target_vsync = s->target_vsync;
+    j->predicted_ns = s->predicted_ns;
+    j->gaze_sample_ns = s->stats.gaze_sample_ns;
     /* the display eyes in LOCAL at the frame's display time */
     XrPosef head;
     fv_xr_head_pose(s->inst, info->displayTime, &head);
@@ -801,7 +874,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
         XrPosef off = {{0, 0, 0, 1}, {(e == 0 ? -0.5f : 0.5f) * 0.063f, 0, 0}};
         eye_local[e] = pose_mul(head, off);
     }
-    source_ref src[FV_XR_COMPOSE_MAX_SOURCES];
+    source_ref *src = j->src;
     uint32_t nsrc = 0;
     uint32_t nl[2] = {0, 0};
     for (uint32_t i = 0; i < info->layerCount; i++) {
@@ -848,25 +921,70 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     }
     blk->counts.x = nl[0];
     blk->counts.y = nl[1];
-    fv_result res = fv_vk_buffer_flush(vk, &c->block);
-    if (res != FV_OK) return res;
+    j->nsrc = nsrc;
+}
+
+/* The images a job reads are held (+1) or let go (-1). c->mu held. */
+static void job_hold(comp_job *j, int d)
+{
+    for (uint32_t i = 0; i < j->nsrc; i++) j->src[i].sc->images[j->src[i].index].comp_refs += (uint32_t)d;
+}
+
+void fv_xr_compositor_submit(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info)
+{
+    comp_job j;
+    job_build(c, s, info, &j);
+    pthread_mutex_lock(&c->mu);
+    if (c->has_pending) { /* the compositor has not begun the previous frame: this one replaces it */
+        job_hold(&c->pending, -1);
+        c->acc.replaced++;
+        pthread_cond_broadcast(&c->cv);
+    }
+    c->pending = j;
+    job_hold(&c->pending, +1);
+    c->has_pending = true;
+    pthread_cond_broadcast(&c->cv);
+    pthread_mutex_unlock(&c->mu);
+}
+
+/* Composite a job: wait for the app's releases, record the compose and distortion passes and the target's
+ * hand-over, submit, wait. The compositor's own thread (or a window's app thread), c->gpu_mu held. */
+static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_ms)
+{
+    *out_app_wait_ms = 0.0;
+    if (!c->active) return FV_ERR_STATE;
+    fv_vk *vk = c->vk;
+    source_ref *src = j->src;
+    uint32_t nsrc = j->nsrc;
     /* the app's releases must have run before fovea's device reads the images */
     int64_t t_wait = fv_xr_now_ns();
     for (uint32_t i = 0; i < nsrc; i++) {
         fv_xr_swapchain_image *im = &src[i].sc->images[src[i].index];
         if (!im->app_fence) continue; /* an EGL session's copy finished in xrReleaseSwapchainImage */
-        VkResult vr = vkWaitForFences(s->vk.device, 1, &im->app_fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS);
+        VkResult vr = vkWaitForFences(j->app_device, 1, &im->app_fence, VK_TRUE, FV_XR_FENCE_TIMEOUT_NS);
         if (vr != VK_SUCCESS) {
             FV_ERROR(FV_XR_LOG, "the app's queue did not finish a swapchain release: %s", fv_vk_result_str(vr));
             return vr == VK_ERROR_DEVICE_LOST ? FV_ERR_DEVICE_LOST : FV_ERR_VULKAN;
         }
     }
     *out_app_wait_ms = (double)(fv_xr_now_ns() - t_wait) * 1e-6;
+    if (nsrc == 0) return FV_OK; /* nothing to show (no located layer) */
+    if (!c->compose[nsrc - 1]) { /* the compose pass for this many sources, on first use */
+        uint32_t spec = nsrc;
+        char name[48];
+        snprintf(name, sizeof name, "xr compose (%u sources)", nsrc);
+        fv_result pr = fv_vk_compute_pipeline(vk, fv_spv_compose_comp, sizeof fv_spv_compose_comp, c->cs.layout, &spec,
+                                              1, name, &c->compose[nsrc - 1]);
+        if (pr != FV_OK) return pr;
+    }
+    memcpy(c->block.mapped, &j->blk, sizeof j->blk); /* the previous frame's GPU work finished (its fence) */
+    fv_result res = fv_vk_buffer_flush(vk, &c->block);
+    if (res != FV_OK) return res;
     for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
         /* unused slots repeat the first source (every element of the array must be valid) */
-        VkImageView v = nsrc ? src[i < nsrc ? i : 0].sc->images[src[i < nsrc ? i : 0].index].comp_view : VK_NULL_HANDLE;
-        if (!v) break;
-        VkDescriptorImageInfo ii = {c->sampler, v, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        const source_ref *r = &src[i < nsrc ? i : 0];
+        VkDescriptorImageInfo ii = {c->sampler, r->sc->images[r->index].comp_view,
+                                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
         VkWriteDescriptorSet w = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                                   .dstSet = c->cs.sets[0],
                                   .dstBinding = FV_XR_COMPOSE_BINDING_SOURCES,
@@ -876,7 +994,6 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
                                   .pImageInfo = &ii};
         vkUpdateDescriptorSets(vk->device, 1, &w, 0, NULL);
     }
-    if (nsrc == 0) return FV_OK; /* nothing to show (no located layer) */
 
     VkCommandBuffer cmd = c->cmd;
     FV_VK_CHECK(vkResetCommandBuffer(cmd, 0));
@@ -887,7 +1004,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     fv_vk_timer_reset(&c->timer, cmd, 0);
     int tp_compose = fv_vk_timer_begin(&c->timer, cmd, 0, "compose");
     /* acquire every source from the external owner (the app's release), in the layout the pass samples */
-    VkImageMemoryBarrier acq[FV_XR_COMPOSE_MAX_SOURCES], rel[FV_XR_COMPOSE_MAX_SOURCES];
+    VkImageMemoryBarrier acq[2 * FV_XR_COMPOSE_MAX_SOURCES], rel[FV_XR_COMPOSE_MAX_SOURCES]; /* two per source */
     uint32_t nacq = 0;
     for (uint32_t i = 0; i < nsrc; i++) {
         struct XrSwapchain_T *sc = src[i].sc;
@@ -906,7 +1023,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     fv_images_use(&c->images, cmd, FV_IMAGE_DISPLAY,
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                                     VK_ACCESS_SHADER_WRITE_BIT});
-    fv_vk_compute_bind(&c->cs, cmd, 0, NULL, 0, 0, NULL);
+    fv_vk_compute_bind_pipeline(&c->cs, cmd, c->compose[nsrc - 1], NULL, 0, 0, NULL);
     vkCmdDispatch(cmd, (c->width + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP,
                   (c->height + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP, 2);
     fv_vk_timer_end(&c->timer, cmd, 0, tp_compose);
@@ -926,7 +1043,7 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     /* fovea's lens pre-distortion, then the target's hand-over */
     fv_pass_counters counters = {0};
     c->input.frame_id = c->frame_id;
-    c->input.t_photon_ns = info->displayTime;
+    c->input.t_photon_ns = j->display_time;
     fv_pass_frame pf = {.cmd = cmd, .slot = 0, .input = &c->input, .images = &c->images, .counters = &counters};
     if (c->distort) {
         int tp = fv_vk_timer_begin(&c->timer, cmd, 0, "distort");
@@ -972,6 +1089,149 @@ fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, con
     c->frame_id++;
     return FV_OK;
 }
+
+/* Run the job taken from the queue (c->busy set by the caller, c->mu not held) and account for it. */
+static void job_complete(fv_xr_compositor *c, comp_job *j)
+{
+    int64_t t0 = fv_xr_now_ns();
+    double wait_ms = 0.0;
+    pthread_mutex_lock(&c->gpu_mu);
+    fv_result res = job_run(c, j, &wait_ms);
+    pthread_mutex_unlock(&c->gpu_mu);
+    int64_t t_done = fv_xr_now_ns();
+    double ms = (double)(t_done - t0) * 1e-6;
+    pthread_mutex_lock(&c->mu);
+    job_hold(j, -1);
+    if (res == FV_OK) {
+        c->acc.composited++;
+        c->acc.composite_ms_sum += ms;
+        c->acc.app_gpu_wait_ms_sum += wait_ms;
+        c->cpu_ms_ema = c->cpu_frames++ == 0 ? ms : c->cpu_ms_ema + 0.1 * (ms - c->cpu_ms_ema);
+        fv_xr_stats_present(&c->acc, j->display, t_done, j->target_vsync, j->predicted_ns, j->gaze_sample_ns);
+    } else if (c->error == FV_OK) {
+        c->error = res;
+    }
+    c->busy = false;
+    pthread_cond_broadcast(&c->cv);
+    pthread_mutex_unlock(&c->mu);
+}
+
+/* Take the queued job to run. c->mu held; false when none. */
+static bool job_take(fv_xr_compositor *c)
+{
+    if (!c->has_pending || c->busy) return false;
+    c->running = c->pending;
+    c->has_pending = false;
+    c->busy = true;
+    return true;
+}
+
+/* The compositor thread (no window): composites queued frames until told to stop, the last queued one included. */
+static void *comp_thread(void *arg)
+{
+    fv_xr_compositor *c = arg;
+    pthread_mutex_lock(&c->mu);
+    for (;;) {
+        while (!c->has_pending && !c->stop) pthread_cond_wait(&c->cv, &c->mu);
+        if (!job_take(c)) break; /* stopped with nothing queued */
+        pthread_mutex_unlock(&c->mu);
+        job_complete(c, &c->running);
+        pthread_mutex_lock(&c->mu);
+    }
+    pthread_mutex_unlock(&c->mu);
+    return NULL;
+}
+
+bool fv_xr_compositor_inline(const fv_xr_compositor *c) { return !c->threaded; }
+
+void fv_xr_compositor_run_pending(fv_xr_compositor *c)
+{
+    if (!c || c->threaded) return;
+    pthread_mutex_lock(&c->mu);
+    while (c->busy) pthread_cond_wait(&c->cv, &c->mu); /* another thread's frame first (frames keep their order) */
+    bool take = job_take(c);
+    pthread_mutex_unlock(&c->mu);
+    if (take) job_complete(c, &c->running);
+}
+
+void fv_xr_compositor_drain(fv_xr_compositor *c)
+{
+    if (!c) return;
+    pthread_mutex_lock(&c->mu);
+    for (;;) {
+        if (!c->threaded && job_take(c)) { /* a window's frame its thread has not run yet: run it here */
+            pthread_mutex_unlock(&c->mu);
+            job_complete(c, &c->running);
+            pthread_mutex_lock(&c->mu);
+            continue;
+        }
+        if (!c->has_pending && !c->busy) break;
+        pthread_cond_wait(&c->cv, &c->mu);
+    }
+    pthread_mutex_unlock(&c->mu);
+}
+
+void fv_xr_compositor_wait_queue_free(fv_xr_compositor *c)
+{
+    if (!c) return;
+    int64_t end = fv_xr_now_ns() + (int64_t)FV_XR_FENCE_TIMEOUT_NS;
+    struct timespec ts = {(time_t)(end / 1000000000), (long)(end % 1000000000)};
+    pthread_mutex_lock(&c->mu);
+    while (c->has_pending && c->active && pthread_cond_timedwait(&c->cv, &c->mu, &ts) != ETIMEDOUT) {
+    }
+    pthread_mutex_unlock(&c->mu);
+}
+
+bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, int64_t timeout_ns)
+{
+    if (!c || !sc->images) return true;
+    if (timeout_ns < 0 || timeout_ns > (int64_t)FV_XR_FENCE_TIMEOUT_NS) timeout_ns = (int64_t)FV_XR_FENCE_TIMEOUT_NS;
+    int64_t end = fv_xr_now_ns() + timeout_ns;
+    struct timespec ts = {(time_t)(end / 1000000000), (long)(end % 1000000000)};
+    pthread_mutex_lock(&c->mu);
+    bool idle = true;
+    while (sc->images[index].comp_refs > 0) {
+        if (!c->threaded && job_take(c)) { /* a window's queued frame reads it: composite it now */
+            pthread_mutex_unlock(&c->mu);
+            job_complete(c, &c->running);
+            pthread_mutex_lock(&c->mu);
+            continue;
+        }
+        if (pthread_cond_timedwait(&c->cv, &c->mu, &ts) == ETIMEDOUT) {
+            idle = sc->images[index].comp_refs == 0;
+            break;
+        }
+    }
+    pthread_mutex_unlock(&c->mu);
+    return idle;
+}
+
+fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema)
+{
+    pthread_mutex_lock(&c->mu);
+    fv_xr_frame_stats *a = &c->acc;
+    acc->composited += a->composited;
+    acc->replaced += a->replaced;
+    acc->composite_ms_sum += a->composite_ms_sum;
+    acc->app_gpu_wait_ms_sum += a->app_gpu_wait_ms_sum;
+    acc->presented += a->presented;
+    acc->missed += a->missed;
+    acc->predicted_error_ms_sum += a->predicted_error_ms_sum;
+    if (a->predicted_minus_photon_ns_max > acc->predicted_minus_photon_ns_max)
+        acc->predicted_minus_photon_ns_max = a->predicted_minus_photon_ns_max;
+    acc->gaze_photon_frames += a->gaze_photon_frames;
+    acc->gaze_photon_ms_sum += a->gaze_photon_ms_sum;
+    if (a->gaze_photon_ms_max > acc->gaze_photon_ms_max) acc->gaze_photon_ms_max = a->gaze_photon_ms_max;
+    memset(a, 0, sizeof *a);
+    *out_cpu_ms_ema = c->cpu_ms_ema;
+    fv_result e = c->error;
+    c->error = FV_OK;
+    pthread_mutex_unlock(&c->mu);
+    return e;
+}
+
+void fv_xr_compositor_gpu_lock(fv_xr_compositor *c) { pthread_mutex_lock(&c->gpu_mu); }
+void fv_xr_compositor_gpu_unlock(fv_xr_compositor *c) { pthread_mutex_unlock(&c->gpu_mu); }
 
 void fv_xr_compositor_gpu_ms(const fv_xr_compositor *c, double *out_compose_ms, double *out_distort_ms)
 {

@@ -449,9 +449,14 @@ static XrResult comp_barrier(struct XrSwapchain_T *sc, uint32_t index, VkImageLa
                              uint32_t src_family, uint32_t dst_family, VkAccessFlags dst_access,
                              VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage)
 {
-    fv_vk *vk = fv_xr_compositor_vk(sc->session->inst->comp);
+    fv_xr_compositor *c = sc->session->inst->comp;
+    fv_vk *vk = fv_xr_compositor_vk(c);
     VkCommandBuffer cmd;
-    if (fv_vk_oneshot_begin(vk, "xr egl hand-over", &cmd) != FV_OK) return XR_ERROR_RUNTIME_FAILURE;
+    fv_xr_compositor_gpu_lock(c); /* the device's pool and queue, shared with the compositor thread */
+    if (fv_vk_oneshot_begin(vk, "xr egl hand-over", &cmd) != FV_OK) {
+        fv_xr_compositor_gpu_unlock(c);
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
     VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
                               .dstAccessMask = dst_access,
                               .oldLayout = from,
@@ -463,6 +468,7 @@ static XrResult comp_barrier(struct XrSwapchain_T *sc, uint32_t index, VkImageLa
                                                    VK_REMAINING_ARRAY_LAYERS}};
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, NULL, 0, NULL, 1, &b);
     fv_result res = fv_vk_oneshot_end(vk, cmd);
+    fv_xr_compositor_gpu_unlock(c);
     if (res == FV_ERR_DEVICE_LOST) return XR_ERROR_SESSION_LOST;
     return res == FV_OK ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
 }
@@ -619,7 +625,11 @@ XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index)
     fv_vk *vk = fv_xr_compositor_vk(s->inst->comp);
     if (fv_vk_buffer_flush(vk, &g->staging) != FV_OK) return XR_ERROR_RUNTIME_FAILURE;
     VkCommandBuffer cmd;
-    if (fv_vk_oneshot_begin(vk, "xr egl copy", &cmd) != FV_OK) return XR_ERROR_RUNTIME_FAILURE;
+    fv_xr_compositor_gpu_lock(s->inst->comp); /* the device's pool and queue, shared with the compositor thread */
+    if (fv_vk_oneshot_begin(vk, "xr egl copy", &cmd) != FV_OK) {
+        fv_xr_compositor_gpu_unlock(s->inst->comp);
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
     /* mip 0 is overwritten whole: its old contents are discarded (the compositor's last read of it was fenced) */
     fv_vk_image img = {.image = fv_xr_swapchain_comp_image(sc, index), .aspect = VK_IMAGE_ASPECT_COLOR_BIT,
                        .layers = ci->arraySize};
@@ -637,6 +647,7 @@ XrResult fv_xr_egl_release(struct XrSwapchain_T *sc, uint32_t index)
                         (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT});
     fv_result res = fv_vk_oneshot_end(vk, cmd);
+    fv_xr_compositor_gpu_unlock(s->inst->comp);
     if (res == FV_ERR_DEVICE_LOST) return XR_ERROR_SESSION_LOST;
     return res == FV_OK ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
 }
@@ -645,7 +656,8 @@ XrResult fv_xr_egl_acquire(struct XrSwapchain_T *sc, uint32_t index)
 {
     struct fv_xr_egl_swapchain *g = sc->egl;
     if (!g->shared || !g->with_comp[index]) return XR_SUCCESS; /* the copy's textures never leave the app */
-    /* back to the GL side in GENERAL; the compositor's reads of it were fenced (xrEndFrame waits for them) */
+    /* back to the GL side in GENERAL; the compositor's reads of it were fenced (xrWaitSwapchainImage waited for
+     * the frames that read it) */
     XrResult r = comp_barrier(sc, index, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, FAMILY_COMP,
                               VK_QUEUE_FAMILY_EXTERNAL, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                               VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);

@@ -1,6 +1,9 @@
 /* @brief fovea's OpenXR runtime, internal: the handle objects (instance, session, space, swapchain), the event queue,
  * the compositor, and the entry points each file implements. One mutex per instance serialises every call but
- * xrWaitFrame's sleep. XrTime is CLOCK_MONOTONIC in ns (fovea's host clock). */
+ * xrWaitFrame's sleep and xrWaitSwapchainImage's wait for the compositor; frames are composited off it (the
+ * compositor's thread, or in a window the app's thread after xrEndFrame let go of it), so a wait thread paces on the
+ * display clock while the previous frame composites. Lock order: instance lock, then the compositor's queue lock
+ * (never the other way). XrTime is CLOCK_MONOTONIC in ns (fovea's host clock). */
 #ifndef FV_XR_INTERNAL_H
 #define FV_XR_INTERNAL_H
 
@@ -83,9 +86,9 @@ typedef struct fv_xr_vk_binding {
 typedef struct fv_xr_frame_stats {
     uint64_t waited, begun, ended, discarded, composited, missed;
     double app_ms_ema;         /* xrBeginFrame -> xrEndFrame (the app's frame work as the runtime sees it) */
-    double composite_ms_ema;   /* compositing + present, CPU wall time including the GPU wait */
-    double app_gpu_wait_ms_ema; /* of composite_ms: waiting for the app's queue to finish its released images */
-    double composite_ms_sum, app_gpu_wait_ms_sum; /* over composited frames (means in the statistics) */
+    double composite_ms_ema;   /* the compositor's CPU wall time per frame (its thread), including the GPU wait */
+    double composite_ms_sum, app_gpu_wait_ms_sum; /* over composited frames (means in the statistics); of
+                                                    * composite_ms: waiting for the app's queue to finish releases */
     double oversleep_ms_ema;   /* how late xrWaitFrame's sleep wakes (the OS scheduler's share of the pipeline) */
     double overhead_ms_sum;    /* runtime time inside xrWaitFrame (not sleeping), xrBeginFrame, xrEndFrame */
     uint64_t overhead_frames;
@@ -95,7 +98,14 @@ typedef struct fv_xr_frame_stats {
     int64_t gaze_sample_ns;    /* the newest gaze sample when the last xrWaitFrame returned (0: none) */
     double gaze_photon_ms_sum, gaze_photon_ms_max; /* its age at the photons of the vsync that showed the frame */
     uint64_t gaze_photon_frames;
+    uint64_t replaced;         /* frames queued for the compositor and replaced by a newer one before it began */
 } fv_xr_frame_stats;
+
+/** A frame that finished at t_done_ns meant for vsync `target` (predicted photon time predicted_ns): which vsync
+ *  shows it on display d, missed, the prediction's error and (gaze_sample_ns > 0) the gaze sample's age at its
+ *  photons, added to *st. */
+void fv_xr_stats_present(fv_xr_frame_stats *st, fv_display *d, int64_t t_done_ns, uint64_t target, int64_t predicted_ns,
+                         int64_t gaze_sample_ns);
 
 struct XrSession_T {
     uint32_t magic;
@@ -313,9 +323,34 @@ int fv_xr_swapchain_export_fd(fv_xr_compositor *c, struct XrSwapchain_T *sc, uin
 XrResult fv_xr_swapchain_image_acquire(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index);
 XrResult fv_xr_swapchain_image_release(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index);
 XrResult fv_xr_swapchain_image_wait(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, XrDuration timeout);
-/** Composite one frame's layers (already validated) for the head at display_time; shows it on the target. */
-fv_result fv_xr_compositor_frame(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info,
-                                 double *out_app_wait_ms);
+/** Hand one frame's layers (already validated) to the compositor: the layers are mapped for the head at
+ *  info->displayTime now (instance lock held: spaces, poses), the released images they read are held for the
+ *  compositor (xrWaitSwapchainImage waits for them, fv_xr_compositor_image_idle) and the frame is queued. Without a
+ *  window a compositor thread composites it while the app goes on; a frame still queued when the next one comes is
+ *  replaced (counted). In a window (GLFW's thread rule) the caller composites it on its own thread with
+ *  fv_xr_compositor_run_pending once it has let go of the instance lock. The frame's presentation statistics are
+ *  measured against the session's display clock, planned vsync and prediction as they are now. */
+void fv_xr_compositor_submit(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameEndInfo *info);
+/** Whether frames are composited on the caller's thread (a window): then call fv_xr_compositor_run_pending. */
+bool fv_xr_compositor_inline(const fv_xr_compositor *c);
+/** Composite the queued frame on this thread (a window); the instance lock must NOT be held. */
+void fv_xr_compositor_run_pending(fv_xr_compositor *c);
+/** Wait until every queued frame is composited (before images go, the session ends, statistics are read). */
+void fv_xr_compositor_drain(fv_xr_compositor *c);
+/** xrWaitFrame's back-pressure: wait (up to 5 s) until the compositor has begun the frame queued last, so an app
+ *  faster than the compositor is paced by it instead of having its frames replaced. No lock held by the caller. */
+void fv_xr_compositor_wait_queue_free(fv_xr_compositor *c);
+/** Wait (up to timeout_ns; < 0: the compositor's own 5 s) until no queued or running frame reads this image:
+ *  false on timeout. Never holds the instance lock's callers' other locks. */
+bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, int64_t timeout_ns);
+/** Take what the compositor did since the last call: composited frames, their CPU time and presentation
+ *  (composited, replaced, composite_ms_sum, app_gpu_wait_ms_sum and the presentation fields of fv_xr_frame_stats,
+ *  added to *acc), the compositor's CPU time per frame (EMA, ms) and the first failure (FV_OK: none). */
+fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema);
+/** The compositor's Vulkan device's command pool and queue are shared by the compositor thread and the EGL
+ *  hand-overs: hold this around any other use of them. */
+void fv_xr_compositor_gpu_lock(fv_xr_compositor *c);
+void fv_xr_compositor_gpu_unlock(fv_xr_compositor *c);
 /** Write the last composited frame (FOVEA_XR_OUT) and the statistics. */
 void fv_xr_compositor_flush(fv_xr_compositor *c);
 uint32_t fv_xr_compositor_validation_messages(const fv_xr_compositor *c);

@@ -178,6 +178,22 @@ fail:
     return r;
 }
 
+static XrResult take_compositor(struct XrSession_T *s);
+
+/* The compositor's time per frame, CPU (its thread, including the wait for the app's releases) and GPU. */
+static void log_compositor(struct XrSession_T *s)
+{
+    const fv_xr_frame_stats *st = &s->stats;
+    if (!st->composited) return;
+    double gpu_ms[2] = {0, 0};
+    fv_xr_compositor_gpu_ms(s->inst->comp, &gpu_ms[0], &gpu_ms[1]);
+    double n = (double)st->composited;
+    FV_INFO(FV_XR_LOG, "compositor: %llu frames composited, %llu replaced before it began them; per frame CPU %.3f ms "
+                       "(of which waiting for the app's releases %.3f ms), GPU compose %.3f ms + distort %.3f ms",
+            (unsigned long long)st->composited, (unsigned long long)st->replaced, st->composite_ms_sum / n,
+            st->app_gpu_wait_ms_sum / n, gpu_ms[0], gpu_ms[1]);
+}
+
 /* FOVEA_XR_STATS=path: the session's frame statistics as JSON (the hello_xr tests and BENCHMARKS read it). */
 static void write_stats(struct XrSession_T *s)
 {
@@ -201,6 +217,7 @@ static void write_stats(struct XrSession_T *s)
     fprintf(f, "  \"frames_discarded\": %llu,\n", (unsigned long long)st->discarded);
     fprintf(f, "  \"frames_composited\": %llu,\n", (unsigned long long)st->composited);
     fprintf(f, "  \"frames_missed\": %llu,\n", (unsigned long long)st->missed);
+    fprintf(f, "  \"frames_replaced\": %llu,\n", (unsigned long long)st->replaced);
     fprintf(f, "  \"app_ms\": %.4f,\n", st->app_ms_ema);
     fprintf(f, "  \"composite_ms_mean\": %.4f,\n", st->composite_ms_sum / nc);
     fprintf(f, "  \"app_gpu_wait_ms_mean\": %.4f,\n", st->app_gpu_wait_ms_sum / nc);
@@ -238,7 +255,9 @@ FV_XR_DECL(xrDestroySession)(XrSession session)
     fv_xr_swapchains_destroy_all(s);
     fv_xr_input_session_fini(s);
     if (!s->headless) {
-        fv_xr_compositor_flush(inst->comp);
+        fv_xr_compositor_flush(inst->comp); /* every queued frame composited */
+        (void)take_compositor(s);
+        log_compositor(s);
         fv_xr_compositor_session_end(inst->comp);
         if (s->vk.pool) vkDestroyCommandPool(s->vk.device, s->vk.pool, NULL);
     }
@@ -285,7 +304,7 @@ FV_XR_DECL(xrBeginSession)(XrSession session, const XrSessionBeginInfo *info)
     if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
     else if (s->running) r = XR_ERROR_SESSION_RUNNING;
     else if (s->state != XR_SESSION_STATE_READY) r = XR_ERROR_SESSION_NOT_READY;
-    else if (s->headless) r = XR_SUCCESS; /* a headless session has no views (XR_MND_headless) */
+    /* headless too (it has no views to show, but the type is the system's or unsupported: the CTS's SessionState) */
     else r = fv_xr_check_view_config(s->inst, info->primaryViewConfigurationType, &views);
     if (r == XR_SUCCESS) {
         s->running = true;
@@ -388,6 +407,46 @@ static void note_gaze_sample(struct XrSession_T *s)
 
 static double ema(double old, double v, uint64_t n) { return n <= 1 ? v : old + 0.1 * (v - old); }
 
+void fv_xr_stats_present(fv_xr_frame_stats *st, fv_display *d, int64_t t_done_ns, uint64_t target, int64_t predicted_ns,
+                         int64_t gaze_sample_ns)
+{
+    fv_vsync shown_at;
+    if (fv_display_present(d, t_done_ns, target, &shown_at) != FV_OK) return;
+    if (shown_at.index > target) st->missed++;
+    int64_t photon = fv_display_photon_ns(d, &shown_at);
+    int64_t err = photon - predicted_ns;
+    if (err < 0) err = -err;
+    if (err > st->predicted_minus_photon_ns_max) st->predicted_minus_photon_ns_max = err;
+    st->predicted_error_ms_sum += (double)err * MS_PER_NS;
+    st->presented++;
+    if (gaze_sample_ns > 0) { /* the gaze sample's age at the photons */
+        double g_ms = (double)(photon - gaze_sample_ns) * MS_PER_NS;
+        st->gaze_photon_ms_sum += g_ms;
+        if (g_ms > st->gaze_photon_ms_max) st->gaze_photon_ms_max = g_ms;
+        st->gaze_photon_frames++;
+    }
+}
+
+/* Fold what the compositor did since the last call into the session's statistics; a failure of a frame it
+ * composited: the display is lost (the device, or a window that cannot be presented to), else RUNTIME_FAILURE.
+ * Instance lock held. */
+static XrResult take_compositor(struct XrSession_T *s)
+{
+    if (s->headless || !s->inst->comp) return XR_SUCCESS;
+    fv_xr_frame_stats *st = &s->stats;
+    uint64_t before = st->composited;
+    double cpu_ms = 0.0;
+    fv_result fr = fv_xr_compositor_take(s->inst->comp, st, &cpu_ms);
+    if (st->composited > before) st->composite_ms_ema = cpu_ms; /* xrWaitFrame plans with it */
+    if (fr == FV_OK) return XR_SUCCESS;
+    bool windowed = fv_xr_present_windowed(fv_xr_compositor_present(s->inst->comp));
+    if (fr == FV_ERR_DEVICE_LOST || windowed) {
+        lose_display(s, windowed ? "the window could not be presented to" : "the compositor's GPU device was lost");
+        return XR_SUCCESS;
+    }
+    return XR_ERROR_RUNTIME_FAILURE;
+}
+
 FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameState *state)
 {
     struct XrSession_T *s = fv_xr_session_check(session);
@@ -411,6 +470,9 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     bool stopped = !s->running || s->loss_pending;
     pthread_mutex_unlock(&s->frame_lock);
     if (stopped) return s->loss_pending ? XR_ERROR_SESSION_LOST : XR_ERROR_SESSION_NOT_RUNNING;
+    /* the compositor has begun the last frame handed to it (it composites one while the app renders the next) */
+    if (!s->headless) fv_xr_compositor_wait_queue_free(s->inst->comp);
+    t_enter = fv_xr_now_ns(); /* the runtime's own time from here (blocking is not overhead) */
 
     /* Plan the vsync: the app needs app_ms for its frame, the compositor comp_ms, and the display's latch margin;
      * the first vsync after all that (never the one the previous frame aimed at) is the frame's. */
@@ -562,6 +624,9 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     else if (!s->running) r = XR_ERROR_SESSION_NOT_RUNNING;
     else if (!s->frame_open) r = XR_ERROR_CALL_ORDER_INVALID; /* no xrBeginFrame */
     else r = check_layers(s, info);
+    /* what the compositor did with the frames before this one (a failure of theirs is this call's: the frame stays
+     * open, as for any other error) */
+    if (r == XR_SUCCESS && !s->headless) r = take_compositor(s);
     if (r != XR_SUCCESS) {
         pthread_mutex_unlock(&s->inst->lock);
         return r;
@@ -577,51 +642,24 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     st->app_ms_ema = ema(st->app_ms_ema, (double)(t0 - app_start) * MS_PER_NS, st->ended);
     /* a headless session (XR_MND_headless) may run a frame loop for its timing; it has nothing to show */
     bool shown = (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED) && !s->headless;
-    int64_t t_comp = fv_xr_now_ns();
     if (shown && fv_xr_present_lost(fv_xr_compositor_present(s->inst->comp))) {
         lose_display(s, "the window's X server went away");
         shown = false;
     }
-    if (shown && info->layerCount > 0 && !s->loss_pending) {
-        double wait_ms = 0.0;
-        fv_result fr = fv_xr_compositor_frame(s->inst->comp, s, info, &wait_ms);
-        st->app_gpu_wait_ms_ema = ema(st->app_gpu_wait_ms_ema, wait_ms, st->composited + 1);
-        bool windowed = fv_xr_present_windowed(fv_xr_compositor_present(s->inst->comp));
-        if (fr == FV_ERR_DEVICE_LOST || (fr != FV_OK && windowed)) {
-            lose_display(s, windowed ? "the window could not be presented to" : "the compositor's GPU device was lost");
-        } else if (fr != FV_OK) {
-            pthread_mutex_unlock(&s->inst->lock);
-            return XR_ERROR_RUNTIME_FAILURE;
-        } else {
-            st->composited++;
-            st->app_gpu_wait_ms_sum += wait_ms;
-            st->composite_ms_sum += (double)(fv_xr_now_ns() - t_comp) * MS_PER_NS;
-        }
-    }
+    /* the layers go to the compositor (its thread, or this thread once the instance lock is let go in a window):
+     * the app's next frame does not wait for this one's compositing */
+    bool composite = shown && info->layerCount > 0 && !s->loss_pending;
+    if (composite) fv_xr_compositor_submit(s->inst->comp, s, info);
     int64_t t_done = fv_xr_now_ns();
-    st->composite_ms_ema = ema(st->composite_ms_ema, (double)(t_done - t_comp) * MS_PER_NS, st->ended);
-    fv_xr_budget_frame(s->budget, (double)(t_done - app_start) * MS_PER_NS); /* the app's frame and the composite */
-    /* the display clock: which vsync shows it, and how far the prediction given to the app was from its photons */
-    fv_vsync shown_at;
-    if (fv_display_present(s->display, t_done, s->target_vsync, &shown_at) == FV_OK) {
-        if (shown_at.index > s->target_vsync) st->missed++;
-        int64_t err = fv_display_photon_ns(s->display, &shown_at) - s->predicted_ns;
-        if (err < 0) err = -err;
-        if (err > st->predicted_minus_photon_ns_max) st->predicted_minus_photon_ns_max = err;
-        st->predicted_error_ms_sum += (double)err * MS_PER_NS;
-        st->presented++;
-        if (shown && info->layerCount > 0 && st->gaze_sample_ns > 0) { /* the gaze sample's age at the photons */
-            double g_ms = (double)(fv_display_photon_ns(s->display, &shown_at) - st->gaze_sample_ns) * MS_PER_NS;
-            st->gaze_photon_ms_sum += g_ms;
-            if (g_ms > st->gaze_photon_ms_max) st->gaze_photon_ms_max = g_ms;
-            st->gaze_photon_frames++;
-        }
-        FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "frame %llu: app %.2f ms, composite %.2f ms, vsync %llu (planned %llu)",
-               (unsigned long long)st->ended, (double)(t0 - s->begin_ns) * MS_PER_NS,
-               (double)(t_done - t_comp) * MS_PER_NS, (unsigned long long)shown_at.index,
-               (unsigned long long)s->target_vsync);
+    /* the budget's frame: the app's frame and the compositor's (its own thread's time per frame; both must fit) */
+    fv_xr_budget_frame(s->budget, (double)(t0 - app_start) * MS_PER_NS + st->composite_ms_ema);
+    /* nothing to composite: shown (as nothing) at once, on the display clock */
+    if (!composite) {
+        fv_xr_stats_present(st, s->display, t_done, s->target_vsync, s->predicted_ns, 0);
+        FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "frame %llu: app %.2f ms, nothing composited",
+               (unsigned long long)st->ended, (double)(t0 - s->begin_ns) * MS_PER_NS);
     }
-    st->overhead_ms_sum += (double)((t_comp - t0) + (shown ? 0 : t_done - t_comp)) * MS_PER_NS;
+    st->overhead_ms_sum += (double)(t_done - t0) * MS_PER_NS;
     st->overhead_frames++;
     /* the life cycle: the first frame synchronises the session; it is then visible and focused */
     if (s->state == XR_SESSION_STATE_READY && !s->exit_requested) {
@@ -647,6 +685,9 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     }
     if (s->lose_after_frames && st->ended >= s->lose_after_frames)
         lose_display(s, "FOVEA_XR_LOSE_DISPLAY_AFTER frames on the simulated display");
+    fv_xr_compositor *comp = composite ? s->inst->comp : NULL;
     pthread_mutex_unlock(&s->inst->lock);
+    /* a window: this frame is composited here, without the instance lock (the wait thread goes on meanwhile) */
+    if (comp && fv_xr_compositor_inline(comp)) fv_xr_compositor_run_pending(comp);
     return XR_SUCCESS;
 }

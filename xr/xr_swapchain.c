@@ -205,16 +205,12 @@ FV_XR_DECL(xrAcquireSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImag
     else if (sc->acquired_count == sc->image_count) r = XR_ERROR_CALL_ORDER_INVALID; /* every image is acquired */
     else if ((sc->info.createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) && sc->static_used)
         r = XR_ERROR_CALL_ORDER_INVALID; /* a static image is acquired once */
-    if (r == XR_SUCCESS) {
+    if (r == XR_SUCCESS) { /* the index only: the image comes back to the app in xrWaitSwapchainImage */
         uint32_t i = sc->next_acquire;
-        /* an EGL session: its own hand-over (xr_egl.c) */
-        r = sc->egl ? fv_xr_egl_acquire(sc, i) : fv_xr_swapchain_image_acquire(s->inst->comp, sc, i);
-        if (r == XR_SUCCESS) {
-            sc->acquired[sc->acquired_count++] = i;
-            sc->next_acquire = (i + 1) % sc->image_count;
-            sc->static_used = true;
-            *index = i;
-        }
+        sc->acquired[sc->acquired_count++] = i;
+        sc->next_acquire = (i + 1) % sc->image_count;
+        sc->static_used = true;
+        *index = i;
     }
     pthread_mutex_unlock(&s->inst->lock);
     return r;
@@ -232,10 +228,22 @@ FV_XR_DECL(xrWaitSwapchainImage)(XrSwapchain swapchain, const XrSwapchainImageWa
     XrResult r = XR_SUCCESS;
     if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
     else if (sc->acquired_count == 0 || sc->waited) r = XR_ERROR_CALL_ORDER_INVALID; /* nothing acquired to wait on */
-    else {
-        r = sc->egl ? XR_SUCCESS : fv_xr_swapchain_image_wait(s->inst->comp, sc, sc->acquired[0], info->timeout);
-        if (r == XR_SUCCESS) sc->waited = true;
-    }
+    uint32_t i = sc->acquired_count ? sc->acquired[0] : 0;
+    pthread_mutex_unlock(&s->inst->lock);
+    if (r != XR_SUCCESS) return r;
+    /* the spec: wait until the compositor has finished reading the image (a frame queued or being composited
+     * reads its last released image); without the instance lock, so the frame loop's other calls go on */
+    int64_t t0 = fv_xr_now_ns();
+    if (!fv_xr_compositor_image_idle(s->inst->comp, sc, i, info->timeout)) return XR_TIMEOUT_EXPIRED;
+    XrDuration left = info->timeout - (fv_xr_now_ns() - t0);
+    pthread_mutex_lock(&s->inst->lock);
+    if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
+    else if (sc->acquired_count == 0 || sc->waited || sc->acquired[0] != i) r = XR_ERROR_CALL_ORDER_INVALID;
+    /* the image back to the app on its queue (an EGL session: its own hand-over, xr_egl.c), then waited for */
+    else if (sc->egl) r = fv_xr_egl_acquire(sc, i);
+    else if ((r = fv_xr_swapchain_image_acquire(s->inst->comp, sc, i)) == XR_SUCCESS)
+        r = fv_xr_swapchain_image_wait(s->inst->comp, sc, i, left > 0 ? left : 0);
+    if (r == XR_SUCCESS) sc->waited = true;
     pthread_mutex_unlock(&s->inst->lock);
     return r;
 }

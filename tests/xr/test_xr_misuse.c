@@ -12,7 +12,8 @@
  *  - `next` chains: every structure type the runtime knows and an unknown one chained into every input struct it
  *    reads (ignored), looping and over-long chains (XR_ERROR_VALIDATION_FAILURE, never a hang);
  *  - the conformance points: maxLayerCount >= 16, a non-zero vendorId, XR_ERROR_FORM_FACTOR_UNSUPPORTED and
- *    XR_ERROR_REFERENCE_SPACE_UNSUPPORTED for unknown values, headless placeholder layers accepted;
+ *    XR_ERROR_REFERENCE_SPACE_UNSUPPORTED for unknown values, headless placeholder layers accepted, a headless
+ *    session begun with a view configuration not enumerated refused (XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
  *  - an HMD profile too large for the swapchain limit: the recommended size clamped (aspect kept), said once;
  *  - layer names in enabledApiLayerNames (the core-validation layer) ignored by the runtime: frames run.
  * A watchdog (alarm) bounds the whole process: a hang fails the test instead of stalling the suite.
@@ -539,6 +540,12 @@ static void conformance_points(void **state)
     XrExtent2Df bounds;
     EXPECT(XR_ERROR_REFERENCE_SPACE_UNSUPPORTED,
            xrGetReferenceSpaceBoundsRect(a.sess, (XrReferenceSpaceType)12345, &bounds));
+    /* headless too: a view configuration the system does not enumerate is refused (the CTS's SessionState) */
+    XrSessionBeginInfo mono = {.type = XR_TYPE_SESSION_BEGIN_INFO,
+                               .primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO};
+    EXPECT(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, xrBeginSession(a.sess, &mono));
+    mono.primaryViewConfigurationType = (XrViewConfigurationType)0x7ffffff1;
+    EXPECT(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, xrBeginSession(a.sess, &mono));
     begin_session(&a);
     /* headless: a projection layer with no views and a quad with no swapchain are placeholders, ignored */
     XrCompositionLayerProjection proj = {.type = XR_TYPE_COMPOSITION_LAYER_PROJECTION, .space = a.local};

@@ -22,6 +22,9 @@ typedef struct xr_app_vk {
  *  xrCreateVulkanInstanceKHR / xrGetVulkanGraphicsDevice2KHR / xrCreateVulkanDeviceKHR (the graphics requirements
  *  queried first). */
 void xr_app_vk_create(XrInstance inst, XrSystemId system, const VkInstanceCreateInfo *ici, xr_app_vk *out);
+/** Clear mip 0, layer 0 of an image in `layout` (left in it) to rgba on queue 0, waited for (the image needs
+ *  TRANSFER_DST usage). */
+void xr_app_vk_clear(const xr_app_vk *vk, VkImage image, VkImageLayout layout, const float rgba[4]);
 /** The binding for xrCreateSession. */
 XrGraphicsBindingVulkanKHR xr_app_vk_binding(const xr_app_vk *vk);
 
