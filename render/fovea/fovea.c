@@ -144,7 +144,11 @@ static void recon_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         snprintf(vor, sizeof vor, "the exact Voronoi from the neighbouring blocks' samples");
     else
         snprintf(vor, sizeof vor, "the 1+JFA Voronoi, steps %s px", list);
-    if (f->recon == FV_FOVEA_RECON_IDW)
+    if (f->recon == FV_FOVEA_RECON_SOFT)
+        snprintf(out->reason, sizeof out->reason,
+                 "unshaded pixels by an edge-aware Gaussian (G-buffer plane, normal) of the 3x3 blocks' known "
+                 "pixels, as wide as their spacing (soft)");
+    else if (f->recon == FV_FOVEA_RECON_IDW)
         snprintf(out->reason, sizeof out->reason,
                  "unshaded pixels by inverse-distance weights of the samples of the neighbouring blocks (idw)");
     else if (f->recon == FV_FOVEA_RECON_SIBSON)
@@ -502,14 +506,16 @@ const fv_pass fv_compact_pass = {
 
 /* ---- "reconstruct" ------------------------------------------------------------------------------------------- */
 
-enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3 };
+/* the stages of rc->cs; the soft fill is rc->soft (a pipeline of its own: a compute holds at most 4 variants) */
+enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3, RSTAGE_SOFT = 4 };
 
 typedef struct recon {
     fv_vk *vk;
     uint32_t width, height;
-    fv_vk_compute cs;
+    fv_vk_compute cs, soft;
     fv_images *images;
     fv_image_id mask, blocks, voronoi; /* voronoi: FV_IMAGE_MAX until made (mask, blocks: the fovea pass's) */
+    VkSampler nearest;                 /* the G-buffer's reads (soft) */
     fv_vk_buffer seeds[2];
     uint32_t slots;
     fv_vk_timer timer;             /* its stages: "voronoi" (1+JFA or the block search), "fill" */
@@ -524,8 +530,10 @@ static void recon_fini(void *state)
     recon *rc = state;
     if (!rc) return;
     fv_vk_compute_fini(rc->vk, &rc->cs);
+    fv_vk_compute_fini(rc->vk, &rc->soft);
     fv_vk_timer_fini(&rc->timer, rc->vk);
     for (int i = 0; i < 2; i++) fv_vk_buffer_destroy(rc->vk, &rc->seeds[i]);
+    if (rc->nearest) vkDestroySampler(rc->vk->device, rc->nearest, NULL);
     if (rc->voronoi != FV_IMAGE_MAX) fv_images_release(rc->images, rc->voronoi);
     free(rc);
 }
@@ -550,8 +558,10 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
                                   i ? "fovea seeds b" : "fovea seeds a", &rc->seeds[i]);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
+    if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
+    if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "reconstruct nearest sampler", &rc->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-    VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     VkDescriptorSetLayoutBinding b[FV_RECON_BINDING_COUNT] = {
         {FV_RECON_BINDING_MASK, si, 1, cs, NULL},
         {FV_RECON_BINDING_SEEDS_A, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
@@ -559,8 +569,13 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_COLOR, si, 1, cs, NULL},
         {FV_RECON_BINDING_VORONOI, si, 1, cs, NULL},
         {FV_RECON_BINDING_BLOCKS, si, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH + 1, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH + 2, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
+    const uint32_t soft_spec[1] = {FV_RECON_STAGE_SOFT};
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "reconstruct", .code = fv_spv_reconstruct_comp,
                              .code_size = sizeof fv_spv_reconstruct_comp, .shared_sets = shared,
@@ -568,22 +583,30 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
                              .set_count = 1, .push_bytes = sizeof(struct fv_recon_push), .spec = spec,
                              .spec_count = 1, .variant_count = 4};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->cs);
+    cd.name = "reconstruct soft";
+    cd.spec = soft_spec;
+    cd.variant_count = 1;
+    if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->soft);
     if (res != FV_OK) {
         FV_ERROR(MOD, "reconstruction pass could not be created: %s", fv_result_str(res));
         recon_fini(rc);
         return res;
     }
-    VkDescriptorSet set = rc->cs.sets[0];
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MASK, si, fv_images_image(env->images, rc->mask)->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    for (int i = 0; i < 2; i++)
-        fv_vk_write_buffer(env->vk, set, i ? FV_RECON_BINDING_SEEDS_B : FV_RECON_BINDING_SEEDS_A,
-                           VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->seeds[i].buffer, 0, VK_WHOLE_SIZE);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_COLOR, si, color->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_VORONOI, si, fv_images_image(env->images, rc->voronoi)->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_BLOCKS, si, fv_images_image(env->images, rc->blocks)->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    for (int c = 0; c < 2; c++) { /* the same bindings in both pipelines' sets */
+        VkDescriptorSet set = c ? rc->soft.sets[0] : rc->cs.sets[0];
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MASK, si, fv_images_image(env->images, rc->mask)->view,
+                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        for (int i = 0; i < 2; i++)
+            fv_vk_write_buffer(env->vk, set, i ? FV_RECON_BINDING_SEEDS_B : FV_RECON_BINDING_SEEDS_A,
+                               VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->seeds[i].buffer, 0, VK_WHOLE_SIZE);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_COLOR, si, color->view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_VORONOI, si,
+                          fv_images_image(env->images, rc->voronoi)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_BLOCKS, si, fv_images_image(env->images, rc->blocks)->view,
+                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_images_bind_gbuffer(env->images, set, FV_RECON_BINDING_DEPTH, rc->nearest);
+    }
     *out_state = rc;
     return FV_OK;
 }
@@ -599,10 +622,12 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->voronoi, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use_gbuffer(f->images, cmd, CS);
     buffers_barrier(cmd, CS, RW, CS, RW);
-    fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, pc);
-    vkCmdDispatch(cmd, (rc->width + FV_RECON_GROUP - 1) / FV_RECON_GROUP,
-                  (rc->height + FV_RECON_GROUP - 1) / FV_RECON_GROUP, 2);
+    uint32_t tile = stage == RSTAGE_SOFT ? FV_RECON_SOFT_TILE : FV_RECON_GROUP;
+    if (stage == RSTAGE_SOFT) fv_vk_compute_bind(&rc->soft, cmd, 0, &f->scene_set, 1, 0, pc);
+    else fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, pc);
+    vkCmdDispatch(cmd, (rc->width + tile - 1) / tile, (rc->height + tile - 1) / tile, 2);
     f->counters->dispatches++;
 }
 
@@ -628,6 +653,7 @@ static void recon_record(void *state, const fv_pass_frame *f)
     const fv_quality_fovea *q = &f->input->quality.fovea;
     uint32_t method = q->recon == FV_FOVEA_RECON_SIBSON ? FV_RECON_METHOD_SIBSON
                       : q->recon == FV_FOVEA_RECON_IDW  ? FV_RECON_METHOD_IDW
+                      : q->recon == FV_FOVEA_RECON_SOFT ? FV_RECON_METHOD_SOFT
                                                         : FV_RECON_METHOD_NEAREST;
     bool jfa = q->voronoi != FV_FOVEA_VORONOI_BLOCKS;
     fv_vk_label_begin(rc->vk, f->cmd, "reconstruct");
@@ -638,6 +664,24 @@ static void recon_record(void *state, const fv_pass_frame *f)
     /* the voronoi stage: 1+JFA, or the block search for every pixel (sibson); nearest and idw with blocks need no
      * stage of their own (the fill finds each unsampled pixel's nearest itself) */
     int t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "voronoi");
+    if (method == FV_RECON_METHOD_SOFT) {
+        /* one pass, no Voronoi (its timer stays empty); the nearest taps go to "fovea voronoi" only for the
+         * voronoi debug view */
+        n = 0;
+        src = FV_RECON_SRC_SEARCH;
+        pc.reach = 1;
+        pc.flags = f->input->quality.debug_view == FV_DEBUG_VIEW_VORONOI ? FV_RECON_FLAG_VORONOI : 0u;
+        if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+        t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
+        recon_stage(rc, f, RSTAGE_SOFT, &pc);
+        if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+        rc->recorded[f->slot] = true;
+        rc->last_steps = n;
+        rc->last_final = src;
+        rc->last_method = method;
+        fv_vk_label_end(rc->vk, f->cmd);
+        return;
+    }
     if (method != FV_RECON_METHOD_IDW && jfa) {
         recon_stage(rc, f, RSTAGE_INIT, &pc);
         for (uint32_t i = 0; i < n; i++, src ^= 1u) {

@@ -111,7 +111,8 @@ struct fv_compact_push {
     FV_FOVEA_UINT pass;             /* rows stage: 0 count, 1 scatter */
 };
 
-/* ---- "reconstruct": Voronoi of the samples by jump flooding, then the fill (reconstruct.comp) ---- */
+/* ---- "reconstruct": the fill of the unknown pixels from the known ones (reconstruct.comp): nearest or sibson
+ * over a Voronoi (jump flooding or the block search), idw, or the soft fill ---- */
 #define FV_RECON_SET 1
 #define FV_RECON_BINDING_MASK 0    /* uimage2DArray r32ui (read) */
 #define FV_RECON_BINDING_SEEDS_A 1 /* storage uint[2 W H] (eye, row, column): nearest seed so far, x | y << 16, or
@@ -121,7 +122,8 @@ struct fv_compact_push {
 #define FV_RECON_BINDING_VORONOI 4 /* uimage2DArray r32ui: the final nearest seed of every pixel (written by resolve;
                                     * the voronoi view and the tests read it) */
 #define FV_RECON_BINDING_BLOCKS 5  /* uimage2DArray r32ui: the fovea pass's block masks (read) */
-#define FV_RECON_BINDING_COUNT 6
+#define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
+#define FV_RECON_BINDING_COUNT 10
 #define FV_RECON_NONE 0xffffffffu
 
 #define FV_RECON_STAGE_INIT 0    /* seeds A and B = the sampled pixels (a seed is its own nearest: steps skip it) */
@@ -130,11 +132,32 @@ struct fv_compact_push {
  * is read and written in place. */
 #define FV_RECON_STAGE_RESOLVE 2
 #define FV_RECON_STAGE_BLOCKS 3  /* seeds A = every pixel's exact nearest sample, from the neighbouring block masks */
+/* The soft fill (FV_RECON_METHOD_SOFT), one pass, no Voronoi: each workgroup stages the known pixels of the blocks
+ * around its tile of FV_RECON_SOFT_TILE^2 pixels (one block beyond) in shared memory once (colour, world position, normal; at most
+ * FV_RECON_SOFT_STAGED, else it reads them from the images), then every unknown pixel takes the weighted mean of
+ * the staged samples of its own and the 8 neighbouring blocks: w = exp(-d^2 / (2 sigma^2)) (band limit: sigma =
+ * FV_RECON_SOFT_SIGMA times the local sample spacing, 1 / sqrt(density of the 3x3 blocks), at least
+ * FV_RECON_SOFT_SIGMA_MIN px; taps beyond FV_RECON_SOFT_REACH sigma are skipped, the own block always taken) times the edge weight
+ * max(g, FV_RECON_SOFT_EDGE_FLOOR), g = exp(-(t / FV_RECON_SOFT_PLANE)^2) exp(-(1 - n.n') / FV_RECON_SOFT_NORMAL),
+ * t the tap's distance from the pixel's tangent plane over the pixel's distance from the eye times the tap's
+ * distance in radians (a pixel's footprint), n, n' the normals; drawn against nothing drawn: g = 0. No weight
+ * (every tap underflowed): the nearest tap's colour. */
+#define FV_RECON_STAGE_SOFT 4
+#define FV_RECON_SOFT_TILE 16 /* px per side of a soft workgroup's tile (FV_RECON_GROUP^2 threads, 4 pixels each) */
+#define FV_RECON_SOFT_STAGED 256
+#define FV_RECON_SOFT_SIGMA 0.5
+#define FV_RECON_SOFT_SIGMA_MIN 0.5
+#define FV_RECON_SOFT_REACH 2.0
+#define FV_RECON_SOFT_PLANE 2.0
+#define FV_RECON_SOFT_NORMAL 0.1
+#define FV_RECON_SOFT_EDGE_FLOOR 1e-3
 #define FV_RECON_GROUP 8
 
 #define FV_RECON_METHOD_NEAREST 0u
 #define FV_RECON_METHOD_SIBSON 1u
 #define FV_RECON_METHOD_IDW 2u
+#define FV_RECON_METHOD_SOFT 3u
+#define FV_RECON_FLAG_VORONOI 1u /* soft: also write each pixel's nearest tap to "fovea voronoi" (its debug view) */
 /* resolve without a Voronoi: each unsampled pixel searches the neighbouring blocks itself (nearest with blocks) */
 #define FV_RECON_SRC_SEARCH 2u
 
@@ -146,7 +169,7 @@ struct fv_recon_push {
     FV_FOVEA_UINT block;  /* B, px */
     FV_FOVEA_UINT block_words;
     FV_FOVEA_UINT reach;  /* blocks: how many blocks around a pixel's own can hold its nearest sample (1: B <= 5) */
-    FV_FOVEA_UINT pad;
+    FV_FOVEA_UINT flags;  /* FV_RECON_FLAG_* */
 };
 
 

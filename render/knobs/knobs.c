@@ -26,7 +26,7 @@ static const char *const g_filter_names[] = {"none", "pcf3", "pcf5"};
 
 /* The table. Presets: fast, high and exact here; balanced is fv_quality_default() (fv_frame_input.h). Split scheme
  * and its lambda: parallel-split shadow maps, ../shared/papers/README.md §2. */
-static const char *const g_recon_names[] = {"nearest", "sibson", "idw"};
+static const char *const g_recon_names[] = {"nearest", "sibson", "idw", "soft"};
 static const char *const g_voronoi_names[] = {"jfa", "blocks"};
 static const char *const g_compaction_names[] = {"tiles", "rows", "masked"};
 static const char *const g_gi_mode_names[] = {"cut", "traverse", "bound", "rsm_sampling", "exact"};
@@ -85,11 +85,13 @@ static const fv_knob g_knobs[] = {
      .fast = B(false), .high = B(true), .exact = B(true),
      .doc = "widen the fovea by the predicted gaze's uncertainty (eccentricity e' = max(0, e - u))"},
     {.name = "fovea.recon", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_RECON_LAST, .unit = "",
-     .choices = g_recon_names, .choice_count = 3, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_NEAREST),
+     .choices = g_recon_names, .choice_count = 4, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_NEAREST),
      .high = I(FV_FOVEA_RECON_NEAREST), .exact = I(FV_FOVEA_RECON_NEAREST),
      .doc = "how unshaded pixels are filled: nearest (the nearest sample's colour), sibson (approximate discrete "
             "natural-neighbour interpolation over the Voronoi diagram, window = the block), idw (inverse-distance-"
-            "squared weights of the neighbouring blocks' samples)"},
+            "squared weights of the neighbouring blocks' samples), soft (an edge-aware Gaussian, G-buffer plane and "
+            "normal guided, of the 3x3 blocks' known pixels, as wide as the local sample spacing: soft edges, one "
+            "pass)"},
     {.name = "fovea.voronoi", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_VORONOI_LAST, .unit = "",
      .choices = g_voronoi_names, .choice_count = 2, AT(fovea.voronoi), .fast = I(FV_FOVEA_VORONOI_BLOCKS),
      .high = I(FV_FOVEA_VORONOI_BLOCKS), .exact = I(FV_FOVEA_VORONOI_BLOCKS),
