@@ -14,6 +14,7 @@
 #include "fv_renderer.h"
 #include "fv_scene.h"
 #include "fv_test.h"
+#include "fovea_interface.h"
 #include "gpu_test.h"
 
 #define W 96
@@ -823,6 +824,196 @@ static void saliency_and_dof_match_cpu(void **state)
     fv_scene_destroy(&s);
 }
 
+
+/* ---- the soft fill (fovea.recon=soft) ---------------------------------------------------------------------------- */
+
+/* The inverse of a 4x4 column-major matrix (m[c][r]) in double, by Gauss-Jordan with partial pivoting. */
+static bool inverse4(double a[4][4], double out[4][4])
+{
+    double m[4][8];
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 8; c++) m[r][c] = c < 4 ? a[c][r] : (c - 4 == r);
+    for (int c = 0; c < 4; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 4; r++)
+            if (fabs(m[r][c]) > fabs(m[piv][c])) piv = r;
+        if (fabs(m[piv][c]) < 1e-300) return false;
+        for (int k = 0; k < 8; k++) {
+            double t = m[c][k];
+            m[c][k] = m[piv][k], m[piv][k] = t;
+        }
+        double d = m[c][c];
+        for (int k = 0; k < 8; k++) m[c][k] /= d;
+        for (int r = 0; r < 4; r++)
+            if (r != c) {
+                double f = m[r][c];
+                for (int k = 0; k < 8; k++) m[r][k] -= f * m[c][k];
+            }
+    }
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) out[c][r] = m[r][c + 4];
+    return true;
+}
+
+/* What the soft fill reads of one eye: the frame's known colours, the mask, the G-buffer as world positions and
+ * normals (double). */
+typedef struct soft_in {
+    int w, h, B;
+    const float *rgba;
+    const uint32_t *mask;
+    double (*pos)[3], (*nrm)[3];
+    bool *hit;
+    double eye[3], w_px;
+} soft_in;
+
+static void soft_in_fill(soft_in *si, const fv_frame_input *in, int e, const float *depth, int16_t (*oct)[2],
+                         const uint16_t *material)
+{
+    const fv_eye_view *v = &in->eye[e];
+    double vp[4][4], inv[4][4];
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) {
+            vp[c][r] = 0;
+            for (int k = 0; k < 4; k++) vp[c][r] += (double)v->proj.m[k][r] * v->view.m[c][k];
+        }
+    assert_true(inverse4(vp, inv));
+    for (int y = 0; y < si->h; y++)
+        for (int x = 0; x < si->w; x++) {
+            size_t i = (size_t)y * si->w + x;
+            double ndc[4] = {(x + 0.5) / si->w * 2.0 - 1.0, (y + 0.5) / si->h * 2.0 - 1.0, depth[i], 1.0}, wp[4];
+            for (int r = 0; r < 4; r++) {
+                wp[r] = 0;
+                for (int c = 0; c < 4; c++) wp[r] += inv[c][r] * ndc[c];
+            }
+            for (int k = 0; k < 3; k++) si->pos[i][k] = wp[k] / wp[3];
+            si->hit[i] = material[i] != 0;
+            normal_of(oct[i], si->nrm[i]);
+        }
+    si->eye[0] = v->pos_world.x, si->eye[1] = v->pos_world.y, si->eye[2] = v->pos_world.z;
+    double dtx = fabs((double)v->tan_right - v->tan_left) / si->w, dty = fabs((double)v->tan_down - v->tan_up) / si->h;
+    si->w_px = 2.0 * atan(0.5 * fmin(dtx, dty));
+}
+
+/* The soft fill of unknown pixel (x, y) in double (fovea_interface.h FV_RECON_SOFT_*); the discrete choices (the
+ * window's reach, which blocks it visits) in float as the GPU makes them. */
+static void soft_ref(const soft_in *si, int x, int y, double out[3])
+{
+    int B = si->B, nbx = (si->w + B - 1) / B, nby = (si->h + B - 1) / B, bx0 = x / B, by0 = y / B;
+    int lox = bx0 > 0 ? bx0 - 1 : 0, loy = by0 > 0 ? by0 - 1 : 0;
+    int hix = bx0 + 1 < nbx ? bx0 + 1 : nbx - 1, hiy = by0 + 1 < nby ? by0 + 1 : nby - 1;
+    float known = 0, area = 0;
+    for (int by = loy; by <= hiy; by++)
+        for (int bx = lox; bx <= hix; bx++) {
+            int sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B;
+            for (int yy = by * B; yy < by * B + sy; yy++)
+                for (int xx = bx * B; xx < bx * B + sx; xx++) known += si->mask[(size_t)yy * si->w + xx] != 0;
+            area += (float)(sx * sy);
+        }
+    float sigf = fmaxf((float)FV_RECON_SOFT_SIGMA * sqrtf(area / fmaxf(known, 1.0f)), (float)FV_RECON_SOFT_SIGMA_MIN);
+    float reach = (float)FV_RECON_SOFT_REACH * sigf, r2 = reach * reach;
+    int wlx = (int)floorf(((float)x - reach) / (float)B), wly = (int)floorf(((float)y - reach) / (float)B);
+    int whx = (int)floorf(((float)x + reach) / (float)B), why = (int)floorf(((float)y + reach) / (float)B);
+    lox = lox > (wlx < bx0 ? wlx : bx0) ? lox : (wlx < bx0 ? wlx : bx0);
+    loy = loy > (wly < by0 ? wly : by0) ? loy : (wly < by0 ? wly : by0);
+    hix = hix < (whx > bx0 ? whx : bx0) ? hix : (whx > bx0 ? whx : bx0);
+    hiy = hiy < (why > by0 ? why : by0) ? hiy : (why > by0 ? why : by0);
+    size_t pi = (size_t)y * si->w + x;
+    const double *pp = si->pos[pi], *pn = si->nrm[pi];
+    double dist = sqrt((pp[0] - si->eye[0]) * (pp[0] - si->eye[0]) + (pp[1] - si->eye[1]) * (pp[1] - si->eye[1]) +
+                       (pp[2] - si->eye[2]) * (pp[2] - si->eye[2]));
+    double foot = dist * si->w_px, sigma = (double)sigf, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
+    double sum[3] = {0, 0, 0}, wsum = 0;
+    long bd = -1;
+    uint32_t best = NONE;
+    for (int by = loy; by <= hiy; by++)
+        for (int bx = lox; bx <= hix; bx++)
+            for (int yy = by * B; yy < by * B + B && yy < si->h; yy++)
+                for (int xx = bx * B; xx < bx * B + B && xx < si->w; xx++) {
+                    size_t qi = (size_t)yy * si->w + xx;
+                    if (!si->mask[qi]) continue;
+                    long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
+                    uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
+                    if (bd < 0 || d2 < bd || (d2 == bd && packed < best)) bd = d2, best = packed;
+                    if ((float)d2 > r2) continue;
+                    double g;
+                    if (si->hit[pi] != si->hit[qi]) g = INFINITY;
+                    else if (!si->hit[pi]) g = 0;
+                    else {
+                        const double *qp = si->pos[qi], *qn = si->nrm[qi];
+                        double pl = fabs(pn[0] * (qp[0] - pp[0]) + pn[1] * (qp[1] - pp[1]) + pn[2] * (qp[2] - pp[2]));
+                        double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE);
+                        g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
+                    }
+                    double wt = exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap));
+                    for (int k = 0; k < 3; k++) sum[k] += wt * si->rgba[qi * 4 + k];
+                    wsum += wt;
+                }
+    assert_true(best != NONE); /* every block holds a sample */
+    for (int k = 0; k < 3; k++)
+        out[k] = wsum > 1e-30 ? sum[k] / wsum : si->rgba[((size_t)(best >> 16) * si->w + (best & 0xffffu)) * 4 + k];
+}
+
+/* The soft fill on the GPU against soft_ref in double, both eyes, blocks of 4 and 5 (tiles that fit the shared
+ * staging and, near the fovea, tiles that do not: the image path), gazes at the centre and off to the side. */
+static void soft_matches_cpu_double(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    float *rgba = malloc(NPIX * 16), *depth = malloc(NPIX * 4);
+    uint32_t *mask = malloc(NPIX * 4);
+    int16_t(*oct)[2] = malloc(NPIX * 4);
+    uint16_t *material = malloc(NPIX * 2);
+    double(*pos)[3] = malloc(NPIX * sizeof *pos), (*nrm)[3] = malloc(NPIX * sizeof *nrm);
+    bool *hit = malloc(NPIX);
+    assert_true(rgba && depth && mask && oct && material && pos && nrm && hit);
+    const uint32_t blocks[] = {4, 5};
+    const fv_vec3 gazes[] = {fv_v3(0, 0, -1), fv_v3_normalize_or(fv_v3(0.3f, -0.1f, -1.0f), fv_v3(0, 0, -1))};
+    double filled = 0, close = 0, worst = 0, sum_err = 0;
+    for (int bi = 0; bi < 2; bi++)
+        for (int gi = 0; gi < 2; gi++) {
+            fv_frame_input in = frame_in();
+            set_gaze(&in, gazes[gi], 0.5f);
+            in.quality.fovea.mar_slope = 0.3f;
+            in.quality.fovea.block = blocks[bi];
+            in.quality.fovea.temporal = 0;
+            in.quality.fovea.recon = FV_FOVEA_RECON_SOFT;
+            assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            for (int e = 0; e < 2; e++) {
+                assert_int_equal(fv_renderer_read_linear(g_r, e, rgba, NPIX * 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer depth", e, depth, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer normal (oct)", e, oct, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer material id", e, material, NPIX * 2, 2), FV_OK);
+                soft_in si = {.w = W, .h = H, .B = (int)blocks[bi], .rgba = rgba, .mask = mask, .pos = pos,
+                              .nrm = nrm, .hit = hit};
+                soft_in_fill(&si, &in, e, depth, oct, material);
+                for (int y = 0; y < H; y++)
+                    for (int x = 0; x < W; x++) {
+                        const float *got = &rgba[((size_t)y * W + x) * 4];
+                        for (int k = 0; k < 3; k++) assert_true(isfinite(got[k]));
+                        if (mask[(size_t)y * W + x]) continue;
+                        double want[3], err = 0;
+                        soft_ref(&si, x, y, want);
+                        for (int k = 0; k < 3; k++) err = fmax(err, fabs(got[k] - want[k]) / fmax(1e-2, fabs(want[k])));
+                        filled++;
+                        close += err <= 1e-3;
+                        sum_err += err;
+                        worst = fmax(worst, err);
+                    }
+            }
+        }
+    print_message("soft: %.0f filled pixels, %.3f%% within 1e-3 of the CPU in double, mean rel error %.2e, worst "
+                  "%.2e\n", filled, 100.0 * close / filled, sum_err / filled, worst);
+    assert_true(filled > 1000);
+    assert_true(close / filled >= 0.995);
+    assert_true(sum_err / filled <= 1e-4);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    free(rgba), free(depth), free(mask), free(oct), free(material), free(pos), free(nrm), free(hit);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -833,6 +1024,7 @@ int main(void)
         cmocka_unit_test(foveal_band_equals_full_resolution),
         cmocka_unit_test(temporal_reuse_lowers_periphery_error_and_flicker),
         cmocka_unit_test(saliency_and_dof_match_cpu),
+        cmocka_unit_test(soft_matches_cpu_double),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
