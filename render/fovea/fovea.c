@@ -506,17 +506,18 @@ const fv_pass fv_compact_pass = {
 
 /* ---- "reconstruct" ------------------------------------------------------------------------------------------- */
 
-/* the stages of rc->cs; the soft fill is rc->soft (a pipeline of its own: a compute holds at most 4 variants) */
-enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3, RSTAGE_SOFT = 4 };
+/* the stages of rc->cs; the soft fill's two are rc->soft's (a compute holds at most 4 variants) */
+enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3, RSTAGE_SOFT_REPS = 4, RSTAGE_SOFT_FILL = 5 };
 
 typedef struct recon {
     fv_vk *vk;
-    uint32_t width, height;
+    uint32_t width, height, block;
     fv_vk_compute cs, soft;
     fv_images *images;
     fv_image_id mask, blocks, voronoi; /* voronoi: FV_IMAGE_MAX until made (mask, blocks: the fovea pass's) */
     VkSampler nearest;                 /* the G-buffer's reads (soft) */
     fv_vk_buffer seeds[2];
+    fv_vk_buffer reps; /* the soft fill's per-block representatives */
     uint32_t slots;
     fv_vk_timer timer;             /* its stages: "voronoi" (1+JFA or the block search), "fill" */
     bool recorded[FV_MAX_FRAMES_IN_FLIGHT];
@@ -533,6 +534,7 @@ static void recon_fini(void *state)
     fv_vk_compute_fini(rc->vk, &rc->soft);
     fv_vk_timer_fini(&rc->timer, rc->vk);
     for (int i = 0; i < 2; i++) fv_vk_buffer_destroy(rc->vk, &rc->seeds[i]);
+    fv_vk_buffer_destroy(rc->vk, &rc->reps);
     if (rc->nearest) vkDestroySampler(rc->vk->device, rc->nearest, NULL);
     if (rc->voronoi != FV_IMAGE_MAX) fv_images_release(rc->images, rc->voronoi);
     free(rc);
@@ -556,6 +558,13 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     for (int i = 0; i < 2 && res == FV_OK; i++)
         res = fv_vk_buffer_create(env->vk, seed_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
                                   i ? "fovea seeds b" : "fovea seeds a", &rc->seeds[i]);
+    uint32_t B = env->plan->variant >= 2 ? env->plan->variant : 2; /* the block (the fovea pass checks it) */
+    VkDeviceSize rep_bytes = (VkDeviceSize)((env->width + B - 1) / B) * ((env->height + B - 1) / B) * 2u *
+                             FV_RECON_SOFT_REP_VEC4S * 16u;
+    rc->block = B;
+    if (res == FV_OK)
+        res = fv_vk_buffer_create(env->vk, rep_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
+                                  "fovea soft reps", &rc->reps);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
@@ -573,9 +582,10 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_DEPTH + 1, cis, 1, cs, NULL},
         {FV_RECON_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_REPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
-    const uint32_t soft_spec[1] = {FV_RECON_STAGE_SOFT};
+    const uint32_t soft_spec[2] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL};
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "reconstruct", .code = fv_spv_reconstruct_comp,
                              .code_size = sizeof fv_spv_reconstruct_comp, .shared_sets = shared,
@@ -585,7 +595,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->cs);
     cd.name = "reconstruct soft";
     cd.spec = soft_spec;
-    cd.variant_count = 1;
+    cd.variant_count = 2;
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->soft);
     if (res != FV_OK) {
         FV_ERROR(MOD, "reconstruction pass could not be created: %s", fv_result_str(res));
@@ -606,6 +616,8 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_BLOCKS, si, fv_images_image(env->images, rc->blocks)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_images_bind_gbuffer(env->images, set, FV_RECON_BINDING_DEPTH, rc->nearest);
+        fv_vk_write_buffer(env->vk, set, FV_RECON_BINDING_REPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->reps.buffer, 0,
+                           VK_WHOLE_SIZE);
     }
     *out_state = rc;
     return FV_OK;
@@ -624,10 +636,12 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
     buffers_barrier(cmd, CS, RW, CS, RW);
-    uint32_t tile = stage == RSTAGE_SOFT ? FV_RECON_SOFT_TILE : FV_RECON_GROUP;
-    if (stage == RSTAGE_SOFT) fv_vk_compute_bind(&rc->soft, cmd, 0, &f->scene_set, 1, 0, pc);
+    /* SOFT_REPS: a thread per block */
+    uint32_t w = stage == RSTAGE_SOFT_REPS ? (rc->width + rc->block - 1) / rc->block : rc->width;
+    uint32_t h = stage == RSTAGE_SOFT_REPS ? (rc->height + rc->block - 1) / rc->block : rc->height;
+    if (stage >= RSTAGE_SOFT_REPS) fv_vk_compute_bind(&rc->soft, cmd, stage - RSTAGE_SOFT_REPS, &f->scene_set, 1, 0, pc);
     else fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, pc);
-    vkCmdDispatch(cmd, (rc->width + tile - 1) / tile, (rc->height + tile - 1) / tile, 2);
+    vkCmdDispatch(cmd, (w + FV_RECON_GROUP - 1) / FV_RECON_GROUP, (h + FV_RECON_GROUP - 1) / FV_RECON_GROUP, 2);
     f->counters->dispatches++;
 }
 
@@ -665,15 +679,15 @@ static void recon_record(void *state, const fv_pass_frame *f)
      * stage of their own (the fill finds each unsampled pixel's nearest itself) */
     int t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "voronoi");
     if (method == FV_RECON_METHOD_SOFT) {
-        /* one pass, no Voronoi (its timer stays empty); the nearest taps go to "fovea voronoi" only for the
-         * voronoi debug view */
+        /* no Voronoi: the representatives of the blocks (timed as its "voronoi" stage), then the fill; the nearest
+         * representative goes to "fovea voronoi" only for the voronoi debug view */
         n = 0;
         src = FV_RECON_SRC_SEARCH;
-        pc.reach = 1;
         pc.flags = f->input->quality.debug_view == FV_DEBUG_VIEW_VORONOI ? FV_RECON_FLAG_VORONOI : 0u;
+        recon_stage(rc, f, RSTAGE_SOFT_REPS, &pc);
         if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
         t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
-        recon_stage(rc, f, RSTAGE_SOFT, &pc);
+        recon_stage(rc, f, RSTAGE_SOFT_FILL, &pc);
         if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
         rc->recorded[f->slot] = true;
         rc->last_steps = n;

@@ -123,7 +123,8 @@ struct fv_compact_push {
                                     * the voronoi view and the tests read it) */
 #define FV_RECON_BINDING_BLOCKS 5  /* uimage2DArray r32ui: the fovea pass's block masks (read) */
 #define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
-#define FV_RECON_BINDING_COUNT 10
+#define FV_RECON_BINDING_REPS 10   /* storage vec4[FV_RECON_SOFT_REP_VEC4S per block, both eyes]: soft's representatives */
+#define FV_RECON_BINDING_COUNT 11
 #define FV_RECON_NONE 0xffffffffu
 
 #define FV_RECON_STAGE_INIT 0    /* seeds A and B = the sampled pixels (a seed is its own nearest: steps skip it) */
@@ -132,22 +133,27 @@ struct fv_compact_push {
  * is read and written in place. */
 #define FV_RECON_STAGE_RESOLVE 2
 #define FV_RECON_STAGE_BLOCKS 3  /* seeds A = every pixel's exact nearest sample, from the neighbouring block masks */
-/* The soft fill (FV_RECON_METHOD_SOFT), one pass, no Voronoi: each workgroup stages the known pixels of the blocks
- * around its tile of FV_RECON_SOFT_TILE^2 pixels (one block beyond) in shared memory once (colour, world position, normal; at most
- * FV_RECON_SOFT_STAGED, else it reads them from the images), then every unknown pixel takes the weighted mean of
- * the staged samples of its own and the 8 neighbouring blocks: w = exp(-d^2 / (2 sigma^2)) (band limit: sigma =
- * FV_RECON_SOFT_SIGMA times the local sample spacing, 1 / sqrt(density of the 3x3 blocks), at least
- * FV_RECON_SOFT_SIGMA_MIN px; taps beyond FV_RECON_SOFT_REACH sigma are skipped, the own block always taken) times the edge weight
- * max(g, FV_RECON_SOFT_EDGE_FLOOR), g = exp(-(t / FV_RECON_SOFT_PLANE)^2) exp(-(1 - n.n') / FV_RECON_SOFT_NORMAL),
- * t the tap's distance from the pixel's tangent plane over the pixel's distance from the eye times the tap's
- * distance in radians (a pixel's footprint), n, n' the normals; drawn against nothing drawn: g = 0. No weight
- * (every tap underflowed): the nearest tap's colour. */
-#define FV_RECON_STAGE_SOFT 4
-#define FV_RECON_SOFT_TILE 16 /* px per side of a soft workgroup's tile (FV_RECON_GROUP^2 threads, 4 pixels each) */
-#define FV_RECON_SOFT_STAGED 256
+/* The soft fill (FV_RECON_METHOD_SOFT), two dispatches, no Voronoi, a bounded number of taps per pixel:
+ * SOFT_REPS, one thread per block: the block's known pixels as at most FV_RECON_SOFT_SLOTS representatives (all of
+ * them when they are that few, else in each quadrant of the block the one nearest its centre) with their colour,
+ * world position and normal, and the block's count of known pixels, into the reps buffer; SOFT_FILL, one thread per
+ * pixel: every unknown pixel takes the weighted mean of the representatives of the (2 reach + 1)^2 blocks around
+ * its own (reach 1 for B <= 5, else 2): w = exp(-d^2 / (2 sigma^2)) (1 - d^2 / R^2)^2 max(g, FV_RECON_SOFT_EDGE_FLOOR)
+ * for d < R = reach B + 1 (a compact support no farther than the blocks it reads: no seams at block edges; the own
+ * block's representatives are always inside it); sigma = FV_RECON_SOFT_SIGMA times the local sample spacing,
+ * sqrt(area / known pixels) of the 3x3 blocks, at least FV_RECON_SOFT_SIGMA_MIN px (the band limit of the local
+ * sampling rate); the edge weight g = exp(-(t / FV_RECON_SOFT_PLANE)^2 - (1 - n.n') / FV_RECON_SOFT_NORMAL), t the
+ * tap's distance from the pixel's tangent plane over d times the pixel's footprint (its distance from the eye times
+ * the angle of a pixel), n, n' the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1.
+ * No weight at all (underflow): the nearest representative's colour. Reads the colour only at known pixels and
+ * writes it only at unknown ones. */
+#define FV_RECON_STAGE_SOFT_REPS 4
+#define FV_RECON_STAGE_SOFT_FILL 5
+#define FV_RECON_SOFT_SLOTS 4
+#define FV_RECON_SOFT_REP_VEC4S 13 /* per block: (count, n, -, -) as bits; colour[4] (rgb, w: x | y << 16 as bits),
+                                    * position[4] (xyz, w: 1 drawn), normal[4] (xyz) */
 #define FV_RECON_SOFT_SIGMA 0.5
 #define FV_RECON_SOFT_SIGMA_MIN 0.5
-#define FV_RECON_SOFT_REACH 2.0
 #define FV_RECON_SOFT_PLANE 2.0
 #define FV_RECON_SOFT_NORMAL 0.1
 #define FV_RECON_SOFT_EDGE_FLOOR 1e-3

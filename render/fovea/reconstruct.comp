@@ -5,7 +5,8 @@
 // block size down to 1 (every block holds a seed, so no seed is farther than two blocks). Seeds ping-pong between
 // two R32UI images; distances are exact integer squared distances, ties go to the smaller packed seed. idw and the
 // nearest with blocks search the neighbouring blocks' samples instead. The soft fill (FV_RECON_STAGE_SOFT, see
-// fovea_interface.h): one pass, a bounded edge-aware Gaussian of the known pixels of the 3x3 blocks around.
+// fovea_interface.h): per block its representatives, then per pixel a bounded edge-aware Gaussian of those of the
+// blocks around.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
@@ -44,17 +45,16 @@ uint dist2(uint s, ivec2 p)
 // sample's weight is 0 before it leaves the neighbourhood: no seams at block edges) and weighted colours.
 // The block masks around this workgroup's 8x8 pixels (and pc.reach blocks beyond), loaded once per workgroup:
 // a pixel's gather reads up to 25 blocks, and storage-image loads are the cost on some devices (lavapipe).
-// per side: B >= 2, reach <= 2, plus misalignment (the soft fill: tiles of FV_RECON_SOFT_TILE px, reach 1)
-const int TILE_BLOCKS = max(FV_RECON_GROUP / 2 + 2 + 2 * 2, FV_RECON_SOFT_TILE / 2 + 2 + 2);
+const int TILE_BLOCKS = FV_RECON_GROUP / 2 + 2 + 2 * 2; // per side: B >= 2, reach <= 2, plus misalignment
 shared uint sh_blocks[TILE_BLOCKS * TILE_BLOCKS * int(FV_FOVEA_BLOCK_WORDS_MAX)];
 shared ivec2 sh_origin; // the tile's first block
 
-void load_block_tile(ivec2 size, int layer, int tile)
+void load_block_tile(ivec2 size, int layer)
 {
     int B = int(pc.block), R = int(pc.reach), words = int(pc.block_words);
     ivec2 nb = (size + B - 1) / B;
-    ivec2 first = ivec2(gl_WorkGroupID.xy) * tile / B - R;
-    ivec2 last = (ivec2(gl_WorkGroupID.xy) * tile + tile - 1) / B + R;
+    ivec2 first = ivec2(gl_WorkGroupID.xy) * FV_RECON_GROUP / B - R;
+    ivec2 last = (ivec2(gl_WorkGroupID.xy) * FV_RECON_GROUP + FV_RECON_GROUP - 1) / B + R;
     ivec2 n = last - first + 1;
     int total = n.x * n.y * words;
     for (int i = int(gl_LocalInvocationIndex); i < total; i += FV_RECON_GROUP * FV_RECON_GROUP) {
@@ -97,180 +97,125 @@ void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout
 }
 
 
-// ---- the soft fill -------------------------------------------------------------------------------------------
-shared uint sh_start[TILE_BLOCKS * TILE_BLOCKS + 1]; // each tile block's first staged sample (pitch TILE_BLOCKS)
-shared uint sh_count[TILE_BLOCKS * TILE_BLOCKS];     // and its known pixels
-shared uint sh_q[FV_RECON_SOFT_STAGED];              // the staged samples: pixel x | y << 16
-shared vec3 sh_col[FV_RECON_SOFT_STAGED];
-shared vec4 sh_pos[FV_RECON_SOFT_STAGED]; // w: 1 drawn, 0 nothing drawn
-shared uint sh_nrm[FV_RECON_SOFT_STAGED]; // the G-buffer's octahedral normal, packSnorm2x16
-shared bool sh_staged;
+// ---- the soft fill (fovea_interface.h) ---------------------------------------------------------------------------
+layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS) buffer Reps { vec4 reps[]; };
 
-// A known pixel's colour, world position (w: drawn) and octahedral normal, from the images.
-void soft_tap(ivec3 q, out vec3 col, out vec4 pos, out uint nrm)
-{
-    col = imageLoad(color_img, q).rgb;
-    bool hit = texelFetch(g_material, q, 0).r != 0u;
-    pos = vec4(fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r), hit ? 1.0 : 0.0);
-    nrm = packSnorm2x16(texelFetch(g_normal, q, 0).rg);
-}
+uint rep_base(ivec2 b, int layer, ivec2 nb) { return uint((layer * nb.y + b.y) * nb.x + b.x) * FV_RECON_SOFT_REP_VEC4S; }
 
-// Stage the known pixels of the tile's blocks (every invocation calls it; barriers inside).
-void soft_stage(ivec2 size, int layer)
+// SOFT_REPS: block b (inside the image) of layer z.
+void soft_reps(ivec3 b, ivec2 size)
 {
     int B = int(pc.block), words = int(pc.block_words);
-    ivec2 first = sh_origin;
-    ivec2 last = (ivec2(gl_WorkGroupID.xy) * FV_RECON_SOFT_TILE + FV_RECON_SOFT_TILE - 1) / B + 1;
-    ivec2 n = last - first + 1;
-    for (int i = int(gl_LocalInvocationIndex); i < n.x * n.y; i += FV_RECON_GROUP * FV_RECON_GROUP) {
-        int lb = (i / n.x) * TILE_BLOCKS + i % n.x;
-        uint k = 0u;
-        for (int w = 0; w < words; w++) k += uint(bitCount(sh_blocks[lb * words + w]));
-        sh_count[lb] = k;
+    ivec2 nb = (size + B - 1) / B;
+    ivec2 o = b.xy * B, bs = min(ivec2(B), size - o);
+    uint wv[FV_FOVEA_BLOCK_WORDS_MAX];
+    uint count = 0u;
+    for (int w = 0; w < words; w++) {
+        wv[w] = imageLoad(blocks_img, ivec3(b.x * words + w, b.y, b.z)).x;
+        count += uint(bitCount(wv[w]));
     }
-    barrier();
-    if (gl_LocalInvocationIndex == 0u) {
-        uint run = 0u;
-        for (int i = 0; i < n.x * n.y; i++) {
-            int lb = (i / n.x) * TILE_BLOCKS + i % n.x;
-            sh_start[lb] = run;
-            run += sh_count[lb];
-        }
-        sh_start[TILE_BLOCKS * TILE_BLOCKS] = run;
-        sh_staged = run <= uint(FV_RECON_SOFT_STAGED);
-    }
-    barrier();
-    if (sh_staged) {
-        for (int i = int(gl_LocalInvocationIndex); i < n.x * n.y; i += FV_RECON_GROUP * FV_RECON_GROUP) {
-            ivec2 lb2 = ivec2(i % n.x, i / n.x);
-            int lb = lb2.y * TILE_BLOCKS + lb2.x;
-            ivec2 bb = first + lb2;
-            uint at = sh_start[lb];
-            for (int w = 0; w < words; w++) {
-                uint bits = sh_blocks[lb * words + w];
-                while (bits != 0u) {
-                    int k = w * 32 + findLSB(bits);
-                    bits &= bits - 1u;
-                    ivec3 q = ivec3(bb.x * B + k % B, bb.y * B + k / B, layer);
-                    vec3 c;
-                    vec4 ps;
-                    uint nr;
-                    soft_tap(q, c, ps, nr);
-                    sh_q[at] = uint(q.x) | (uint(q.y) << 16);
-                    sh_col[at] = c;
-                    sh_pos[at] = ps;
-                    sh_nrm[at] = nr;
-                    at++;
-                }
+    // the slots: every known pixel when there are few, else per quadrant the one nearest its centre
+    int pick[FV_RECON_SOFT_SLOTS];
+    int bestd[FV_RECON_SOFT_SLOTS];
+    for (int k = 0; k < FV_RECON_SOFT_SLOTS; k++) pick[k] = -1, bestd[k] = 0x7fffffff;
+    uint n = 0u;
+    for (int w = 0; w < words; w++) {
+        uint bits = wv[w];
+        while (bits != 0u) {
+            int k = w * 32 + findLSB(bits);
+            bits &= bits - 1u;
+            ivec2 l = ivec2(k % B, k / B);
+            if (count <= uint(FV_RECON_SOFT_SLOTS)) {
+                pick[n++] = k;
+                continue;
             }
+            ivec2 h = ivec2(greaterThanEqual(l * 2, bs)); // the quadrant; its centre at (2 h + 1) bs / 4
+            int qd = h.x + 2 * h.y;
+            ivec2 dc = l * 4 + 2 - (2 * h + 1) * bs; // 4 (l + 0.5) - (2 h + 1) bs, in quarter pixels
+            int d = dc.x * dc.x + dc.y * dc.y;
+            if (d < bestd[qd]) bestd[qd] = d, pick[qd] = k; // bits rise: ties keep the first
         }
     }
-    barrier();
+    uint base = rep_base(b.xy, b.z, nb);
+    uint m = 0u;
+    for (int s = 0; s < FV_RECON_SOFT_SLOTS; s++) {
+        if (pick[s] < 0) continue;
+        ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
+        bool hit = texelFetch(g_material, q, 0).r != 0u;
+        vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
+        vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, q, 0).rg) : vec3(0.0);
+        vec3 c = imageLoad(color_img, q).rgb;
+        reps[base + 1u + m] = vec4(c, uintBitsToFloat(uint(q.x) | (uint(q.y) << 16)));
+        reps[base + 5u + m] = vec4(pos, hit ? 1.0 : 0.0);
+        reps[base + 9u + m] = vec4(nrm, 0.0);
+        m++;
+    }
+    reps[base] = vec4(uintBitsToFloat(count), uintBitsToFloat(m), 0.0, 0.0);
 }
 
-// What the fill of one pixel needs to know about itself, and its running sums.
-struct soft_px {
-    ivec2 p;
-    bool hit;
-    vec3 pos, nrm;
-    float foot, inv2s2, r2;
-    vec3 sum;
-    float wsum;
-    uint best, bd;
-    vec3 best_col;
-};
-
-void soft_accum(inout soft_px s, uint packed, vec3 qc, vec4 qp, uint qn)
-{
-    ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - s.p;
-    uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
-    if (d2 < s.bd || (d2 == s.bd && packed < s.best)) {
-        s.best = packed;
-        s.bd = d2;
-        s.best_col = qc;
-    }
-    float fd2 = float(d2);
-    if (fd2 > s.r2) return;
-    bool qhit = qp.w > 0.5;
-    float g; // -log of the edge weight
-    if (s.hit != qhit) {
-        g = 1e30;
-    } else if (!s.hit) {
-        g = 0.0;
-    } else {
-        float e = abs(dot(s.nrm, qp.xyz - s.pos)) / max(s.foot * sqrt(fd2) * float(FV_RECON_SOFT_PLANE), 1e-30);
-        g = e * e + (1.0 - dot(s.nrm, fv_oct_decode(unpackSnorm2x16(qn)))) / float(FV_RECON_SOFT_NORMAL);
-    }
-    if (isnan(g)) g = 1e30;
-    float wt = exp(-fd2 * s.inv2s2 - min(g, -log(float(FV_RECON_SOFT_EDGE_FLOOR))));
-    s.sum += wt * qc;
-    s.wsum += wt;
-}
-
+// SOFT_FILL: pixel p (inside the image).
 void soft_fill(ivec3 p, ivec2 size)
 {
-    uint self = uint(p.x) | (uint(p.y) << 16);
     if (imageLoad(mask_img, p).x != 0u) { // known: kept
-        if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(self));
+        if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(uint(p.x) | (uint(p.y) << 16)));
         return;
     }
-    int B = int(pc.block), words = int(pc.block_words);
+    int B = int(pc.block), reach = int(pc.reach);
     ivec2 nb = (size + B - 1) / B, b = p.xy / B;
-    ivec2 lo = max(b - 1, ivec2(0)), hi = min(b + 1, nb - 1);
     // the local sampling rate: the known pixels of the 3x3 blocks over their area (every block holds one)
     float known = 0.0, area = 0.0;
-    for (int by = lo.y; by <= hi.y; by++)
-        for (int bx = lo.x; bx <= hi.x; bx++) {
+    for (int by = max(b.y - 1, 0); by <= min(b.y + 1, nb.y - 1); by++)
+        for (int bx = max(b.x - 1, 0); bx <= min(b.x + 1, nb.x - 1); bx++) {
             ivec2 bs = min(ivec2(B), size - ivec2(bx, by) * B);
-            known += float(sh_count[(by - sh_origin.y) * TILE_BLOCKS + (bx - sh_origin.x)]);
+            known += float(floatBitsToUint(reps[rep_base(ivec2(bx, by), p.z, nb)].x));
             area += float(bs.x * bs.y);
         }
     float sigma = max(float(FV_RECON_SOFT_SIGMA) * sqrt(area / max(known, 1.0)), float(FV_RECON_SOFT_SIGMA_MIN));
-    float reach = float(FV_RECON_SOFT_REACH) * sigma;
-    // only the blocks the window reaches (the own block always: it holds the nearest fallback)
-    lo = max(lo, min(b, ivec2(floor((vec2(p.xy) - reach) / float(B)))));
-    hi = min(hi, max(b, ivec2(floor((vec2(p.xy) + reach) / float(B)))));
-    soft_px s;
-    s.p = p.xy;
-    s.hit = texelFetch(g_material, p, 0).r != 0u;
-    s.pos = fv_gbuffer_position(uvec3(p), texelFetch(g_depth, p, 0).r);
-    s.nrm = s.hit ? fv_oct_decode(texelFetch(g_normal, p, 0).rg) : vec3(0.0);
+    float R = float(reach * B + 1);
+    float inv2s2 = 0.5 / (sigma * sigma), invR2 = 1.0 / (R * R);
+    bool hit = texelFetch(g_material, p, 0).r != 0u;
+    vec3 pos = fv_gbuffer_position(uvec3(p), texelFetch(g_depth, p, 0).r);
+    vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, p, 0).rg) : vec3(0.0);
     vec4 t = frame.eye_tan[p.z];
     vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / vec2(size);
-    s.foot = length(s.pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px
-    s.inv2s2 = 0.5 / (sigma * sigma);
-    s.r2 = reach * reach;
-    s.sum = vec3(0.0);
-    s.wsum = 0.0;
-    s.best = FV_RECON_NONE;
-    s.bd = 0xffffffffu;
-    s.best_col = vec3(0.0);
-    for (int by = lo.y; by <= hi.y; by++)
-        for (int bx = lo.x; bx <= hi.x; bx++) {
-            int lb = (by - sh_origin.y) * TILE_BLOCKS + (bx - sh_origin.x);
-            if (sh_staged) {
-                uint a = sh_start[lb], e = a + sh_count[lb];
-                for (uint i = a; i < e; i++) soft_accum(s, sh_q[i], sh_col[i], sh_pos[i], sh_nrm[i]);
-                continue;
-            }
-            for (int w = 0; w < words; w++) { // too many to stage: from the images
-                uint bits = sh_blocks[lb * words + w];
-                while (bits != 0u) {
-                    int k = w * 32 + findLSB(bits);
-                    bits &= bits - 1u;
-                    ivec3 q = ivec3(bx * B + k % B, by * B + k / B, p.z);
-                    vec3 qc;
-                    vec4 qp;
-                    uint qn;
-                    soft_tap(q, qc, qp, qn);
-                    soft_accum(s, uint(q.x) | (uint(q.y) << 16), qc, qp, qn);
+    float foot = length(pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px
+    float cap = -log(float(FV_RECON_SOFT_EDGE_FLOOR));
+    vec3 sum = vec3(0.0), best_col = vec3(0.0);
+    float wsum = 0.0;
+    uint best = FV_RECON_NONE, bd = 0xffffffffu;
+    for (int by = max(b.y - reach, 0); by <= min(b.y + reach, nb.y - 1); by++)
+        for (int bx = max(b.x - reach, 0); bx <= min(b.x + reach, nb.x - 1); bx++) {
+            uint base = rep_base(ivec2(bx, by), p.z, nb);
+            uint n = min(floatBitsToUint(reps[base].y), uint(FV_RECON_SOFT_SLOTS));
+            for (uint i = 0u; i < n; i++) {
+                vec4 qc = reps[base + 1u + i];
+                uint packed = floatBitsToUint(qc.w);
+                ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
+                uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
+                if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc.rgb;
+                float fd2 = float(d2), win = 1.0 - fd2 * invR2;
+                if (win <= 0.0) continue;
+                vec4 qp = reps[base + 5u + i];
+                float g; // -log of the edge weight
+                if (hit != (qp.w > 0.5)) {
+                    g = cap;
+                } else if (!hit) {
+                    g = 0.0;
+                } else {
+                    vec3 qn = reps[base + 9u + i].xyz;
+                    float e = abs(dot(nrm, qp.xyz - pos)) / max(foot * sqrt(fd2) * float(FV_RECON_SOFT_PLANE), 1e-30);
+                    g = e * e + (1.0 - dot(nrm, qn)) / float(FV_RECON_SOFT_NORMAL);
                 }
+                if (isnan(g)) g = cap;
+                float wt = exp(-fd2 * inv2s2 - min(g, cap)) * win * win;
+                sum += wt * qc.rgb;
+                wsum += wt;
             }
         }
-    if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(s.best));
-    if (s.best == FV_RECON_NONE) return;
-    vec3 c = s.wsum > 1e-30 ? s.sum / s.wsum : s.best_col;
-    if (any(isnan(c)) || any(isinf(c))) c = s.best_col;
+    if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(best));
+    if (best == FV_RECON_NONE) return;
+    vec3 c = wsum > 1e-30 ? sum / wsum : best_col;
+    if (any(isnan(c)) || any(isinf(c))) c = best_col;
     imageStore(color_img, p, vec4(c, 1.0));
 }
 
@@ -279,21 +224,19 @@ void main()
     ivec3 p = ivec3(gl_GlobalInvocationID);
     ivec2 size = ivec2(frame.counts.y, frame.counts.z);
     // the stages that gather load the workgroup's block masks first (every invocation reaches the barrier)
-    bool gathers = STAGE == FV_RECON_STAGE_BLOCKS || STAGE == FV_RECON_STAGE_SOFT ||
+    bool gathers = STAGE == FV_RECON_STAGE_BLOCKS ||
                    (STAGE == FV_RECON_STAGE_RESOLVE && (pc.method == FV_RECON_METHOD_IDW || pc.src == FV_RECON_SRC_SEARCH));
     if (gathers) {
-        load_block_tile(size, p.z, STAGE == FV_RECON_STAGE_SOFT ? FV_RECON_SOFT_TILE : FV_RECON_GROUP);
+        load_block_tile(size, p.z);
         barrier();
     }
-    if (STAGE == FV_RECON_STAGE_SOFT) {
-        // a tile of FV_RECON_SOFT_TILE px per workgroup, (FV_RECON_SOFT_TILE / FV_RECON_GROUP)^2 pixels each
-        soft_stage(size, p.z);
-        const int per = FV_RECON_SOFT_TILE / FV_RECON_GROUP;
-        for (int i = 0; i < per * per; i++) {
-            ivec3 q = ivec3(ivec2(gl_WorkGroupID.xy) * FV_RECON_SOFT_TILE + ivec2(gl_LocalInvocationID.xy) +
-                                ivec2(i % per, i / per) * FV_RECON_GROUP, p.z);
-            if (q.x < size.x && q.y < size.y && q.z <= 1) soft_fill(q, size);
-        }
+    if (STAGE == FV_RECON_STAGE_SOFT_REPS) { // one thread per block
+        int B = int(pc.block);
+        if (p.x < (size.x + B - 1) / B && p.y < (size.y + B - 1) / B && p.z <= 1) soft_reps(p, size);
+        return;
+    }
+    if (STAGE == FV_RECON_STAGE_SOFT_FILL) {
+        if (p.x < size.x && p.y < size.y && p.z <= 1) soft_fill(p, size);
         return;
     }
     if (p.x >= size.x || p.y >= size.y || p.z > 1) return;

@@ -894,67 +894,93 @@ static void soft_in_fill(soft_in *si, const fv_frame_input *in, int e, const flo
     si->w_px = 2.0 * atan(0.5 * fmin(dtx, dty));
 }
 
-/* The soft fill of unknown pixel (x, y) in double (fovea_interface.h FV_RECON_SOFT_*); the discrete choices (the
- * window's reach, which blocks it visits) in float as the GPU makes them. */
+/* The representatives of block (bx, by) (fovea_interface.h SOFT_REPS): its known pixels when there are at most
+ * FV_RECON_SOFT_SLOTS, else per quadrant the one nearest the quadrant's centre (ties: the first in row order).
+ * Returns how many, their pixel indices in out[]; *count = the block's known pixels. */
+static int soft_reps_of(const soft_in *si, int bx, int by, size_t out[FV_RECON_SOFT_SLOTS], int *count)
+{
+    int B = si->B, sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B;
+    int n = 0, k = 0, pick[FV_RECON_SOFT_SLOTS], bestd[FV_RECON_SOFT_SLOTS];
+    for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++) pick[q] = -1, bestd[q] = 1 << 30;
+    *count = 0;
+    for (int ly = 0; ly < sy; ly++)
+        for (int lx = 0; lx < sx; lx++) *count += si->mask[(size_t)(by * B + ly) * si->w + bx * B + lx] != 0;
+    for (int ly = 0; ly < sy; ly++)
+        for (int lx = 0; lx < sx; lx++) {
+            if (!si->mask[(size_t)(by * B + ly) * si->w + bx * B + lx]) continue;
+            if (*count <= FV_RECON_SOFT_SLOTS) {
+                pick[k++] = ly * B + lx;
+                continue;
+            }
+            int hx = 2 * lx >= sx, hy = 2 * ly >= sy, qd = hx + 2 * hy;
+            double cx = (2 * hx + 1) * sx / 4.0, cy = (2 * hy + 1) * sy / 4.0;
+            int d = (int)(16.0 * ((lx + 0.5 - cx) * (lx + 0.5 - cx) + (ly + 0.5 - cy) * (ly + 0.5 - cy)) + 0.5);
+            if (d < bestd[qd]) bestd[qd] = d, pick[qd] = ly * B + lx;
+        }
+    for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++)
+        if (pick[q] >= 0) out[n++] = (size_t)(by * B + pick[q] / B) * si->w + bx * B + pick[q] % B;
+    return n;
+}
+
+/* The soft fill of unknown pixel (x, y) in double (fovea_interface.h SOFT_FILL). */
 static void soft_ref(const soft_in *si, int x, int y, double out[3])
 {
     int B = si->B, nbx = (si->w + B - 1) / B, nby = (si->h + B - 1) / B, bx0 = x / B, by0 = y / B;
-    int lox = bx0 > 0 ? bx0 - 1 : 0, loy = by0 > 0 ? by0 - 1 : 0;
-    int hix = bx0 + 1 < nbx ? bx0 + 1 : nbx - 1, hiy = by0 + 1 < nby ? by0 + 1 : nby - 1;
-    float known = 0, area = 0;
-    for (int by = loy; by <= hiy; by++)
-        for (int bx = lox; bx <= hix; bx++) {
-            int sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B;
-            for (int yy = by * B; yy < by * B + sy; yy++)
-                for (int xx = bx * B; xx < bx * B + sx; xx++) known += si->mask[(size_t)yy * si->w + xx] != 0;
-            area += (float)(sx * sy);
+    int reach = B <= 5 ? 1 : 2;
+    double known = 0, area = 0;
+    for (int by = by0 - 1; by <= by0 + 1; by++)
+        for (int bx = bx0 - 1; bx <= bx0 + 1; bx++) {
+            if (bx < 0 || by < 0 || bx >= nbx || by >= nby) continue;
+            int sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B, count;
+            size_t idx[FV_RECON_SOFT_SLOTS];
+            soft_reps_of(si, bx, by, idx, &count);
+            known += count;
+            area += sx * sy;
         }
-    float sigf = fmaxf((float)FV_RECON_SOFT_SIGMA * sqrtf(area / fmaxf(known, 1.0f)), (float)FV_RECON_SOFT_SIGMA_MIN);
-    float reach = (float)FV_RECON_SOFT_REACH * sigf, r2 = reach * reach;
-    int wlx = (int)floorf(((float)x - reach) / (float)B), wly = (int)floorf(((float)y - reach) / (float)B);
-    int whx = (int)floorf(((float)x + reach) / (float)B), why = (int)floorf(((float)y + reach) / (float)B);
-    lox = lox > (wlx < bx0 ? wlx : bx0) ? lox : (wlx < bx0 ? wlx : bx0);
-    loy = loy > (wly < by0 ? wly : by0) ? loy : (wly < by0 ? wly : by0);
-    hix = hix < (whx > bx0 ? whx : bx0) ? hix : (whx > bx0 ? whx : bx0);
-    hiy = hiy < (why > by0 ? why : by0) ? hiy : (why > by0 ? why : by0);
+    double sigma = fmax(FV_RECON_SOFT_SIGMA * sqrt(area / fmax(known, 1.0)), FV_RECON_SOFT_SIGMA_MIN);
+    double R = reach * B + 1, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
     size_t pi = (size_t)y * si->w + x;
     const double *pp = si->pos[pi], *pn = si->nrm[pi];
     double dist = sqrt((pp[0] - si->eye[0]) * (pp[0] - si->eye[0]) + (pp[1] - si->eye[1]) * (pp[1] - si->eye[1]) +
                        (pp[2] - si->eye[2]) * (pp[2] - si->eye[2]));
-    double foot = dist * si->w_px, sigma = (double)sigf, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
+    double foot = dist * si->w_px;
     double sum[3] = {0, 0, 0}, wsum = 0;
     long bd = -1;
     uint32_t best = NONE;
-    for (int by = loy; by <= hiy; by++)
-        for (int bx = lox; bx <= hix; bx++)
-            for (int yy = by * B; yy < by * B + B && yy < si->h; yy++)
-                for (int xx = bx * B; xx < bx * B + B && xx < si->w; xx++) {
-                    size_t qi = (size_t)yy * si->w + xx;
-                    if (!si->mask[qi]) continue;
-                    long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
-                    uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
-                    if (bd < 0 || d2 < bd || (d2 == bd && packed < best)) bd = d2, best = packed;
-                    if ((float)d2 > r2) continue;
-                    double g;
-                    if (si->hit[pi] != si->hit[qi]) g = INFINITY;
-                    else if (!si->hit[pi]) g = 0;
-                    else {
-                        const double *qp = si->pos[qi], *qn = si->nrm[qi];
-                        double pl = fabs(pn[0] * (qp[0] - pp[0]) + pn[1] * (qp[1] - pp[1]) + pn[2] * (qp[2] - pp[2]));
-                        double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE);
-                        g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
-                    }
-                    double wt = exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap));
-                    for (int k = 0; k < 3; k++) sum[k] += wt * si->rgba[qi * 4 + k];
-                    wsum += wt;
+    for (int by = by0 - reach; by <= by0 + reach; by++)
+        for (int bx = bx0 - reach; bx <= bx0 + reach; bx++) {
+            if (bx < 0 || by < 0 || bx >= nbx || by >= nby) continue;
+            size_t idx[FV_RECON_SOFT_SLOTS];
+            int count, n = soft_reps_of(si, bx, by, idx, &count);
+            for (int i = 0; i < n; i++) {
+                size_t qi = idx[i];
+                int xx = (int)(qi % (size_t)si->w), yy = (int)(qi / (size_t)si->w);
+                long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
+                uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
+                if (bd < 0 || d2 < bd || (d2 == bd && packed < best)) bd = d2, best = packed;
+                double win = 1.0 - (double)d2 / (R * R);
+                if (win <= 0) continue;
+                double g;
+                if (si->hit[pi] != si->hit[qi]) g = cap;
+                else if (!si->hit[pi]) g = 0;
+                else {
+                    const double *qp = si->pos[qi], *qn = si->nrm[qi];
+                    double pl = fabs(pn[0] * (qp[0] - pp[0]) + pn[1] * (qp[1] - pp[1]) + pn[2] * (qp[2] - pp[2]));
+                    double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE);
+                    g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
                 }
+                double wt = exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap)) * win * win;
+                for (int k = 0; k < 3; k++) sum[k] += wt * si->rgba[qi * 4 + k];
+                wsum += wt;
+            }
+        }
     assert_true(best != NONE); /* every block holds a sample */
     for (int k = 0; k < 3; k++)
         out[k] = wsum > 1e-30 ? sum[k] / wsum : si->rgba[((size_t)(best >> 16) * si->w + (best & 0xffffu)) * 4 + k];
 }
 
-/* The soft fill on the GPU against soft_ref in double, both eyes, blocks of 4 and 5 (tiles that fit the shared
- * staging and, near the fovea, tiles that do not: the image path), gazes at the centre and off to the side. */
+/* The soft fill on the GPU against soft_ref in double, both eyes, blocks of 4, 5 and 7 (reach 1 and 2; blocks cut
+ * by the image edge at 5 and 7: 96 x 80 px), gazes at the centre and off to the side. */
 static void soft_matches_cpu_double(void **state)
 {
     (void)state;
@@ -968,10 +994,10 @@ static void soft_matches_cpu_double(void **state)
     double(*pos)[3] = malloc(NPIX * sizeof *pos), (*nrm)[3] = malloc(NPIX * sizeof *nrm);
     bool *hit = malloc(NPIX);
     assert_true(rgba && depth && mask && oct && material && pos && nrm && hit);
-    const uint32_t blocks[] = {4, 5};
+    const uint32_t blocks[] = {4, 5, 7};
     const fv_vec3 gazes[] = {fv_v3(0, 0, -1), fv_v3_normalize_or(fv_v3(0.3f, -0.1f, -1.0f), fv_v3(0, 0, -1))};
     double filled = 0, close = 0, worst = 0, sum_err = 0;
-    for (int bi = 0; bi < 2; bi++)
+    for (int bi = 0; bi < 3; bi++)
         for (int gi = 0; gi < 2; gi++) {
             fv_frame_input in = frame_in();
             set_gaze(&in, gazes[gi], 0.5f);
