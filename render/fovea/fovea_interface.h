@@ -120,7 +120,8 @@ struct fv_compact_push {
 #define FV_RECON_BINDING_SEEDS_B 2 /* its ping-pong partner */
 #define FV_RECON_BINDING_COLOR 3   /* image2DArray rgba32f: linear colour (unsampled pixels written) */
 #define FV_RECON_BINDING_VORONOI 4 /* uimage2DArray r32ui: the final nearest seed of every pixel (written by resolve;
-                                    * the voronoi view and the tests read it) */
+                                    * the voronoi view and the tests read it; soft writes its nearest
+                                    * representative only for the voronoi view, FV_RECON_FLAG_VORONOI) */
 #define FV_RECON_BINDING_BLOCKS 5  /* uimage2DArray r32ui: the fovea pass's block masks (read) */
 #define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
 #define FV_RECON_BINDING_REPS 10   /* storage vec4[FV_RECON_SOFT_REP_VEC4S per block, both eyes]: soft's representatives */

@@ -85,8 +85,8 @@ static const fv_knob g_knobs[] = {
      .fast = B(false), .high = B(true), .exact = B(true),
      .doc = "widen the fovea by the predicted gaze's uncertainty (eccentricity e' = max(0, e - u))"},
     {.name = "fovea.recon", .type = FV_KNOB_ENUM, .min = 0, .max = FV_FOVEA_RECON_LAST, .unit = "",
-     .choices = g_recon_names, .choice_count = 4, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_NEAREST),
-     .high = I(FV_FOVEA_RECON_NEAREST), .exact = I(FV_FOVEA_RECON_NEAREST),
+     .choices = g_recon_names, .choice_count = 4, AT(fovea.recon), .fast = I(FV_FOVEA_RECON_SOFT),
+     .high = I(FV_FOVEA_RECON_SOFT), .exact = I(FV_FOVEA_RECON_NEAREST),
      .doc = "how unshaded pixels are filled: nearest (the nearest sample's colour), sibson (approximate discrete "
             "natural-neighbour interpolation over the Voronoi diagram, window = the block), idw (inverse-distance-"
             "squared weights of the neighbouring blocks' samples), soft (an edge-aware Gaussian, G-buffer plane and "

@@ -138,6 +138,7 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
         for (int e = 0; e < 2; e++) in.gaze[e].valid = c->valid;
         in.quality.fovea.mar_slope = 0.2f; /* a fovea that fits the small test image */
         in.quality.fovea.block = 3 + (uint32_t)(k % 3); /* 3, 4, 5: blocks cut by the 96x80 image's edges too */
+        in.quality.fovea.recon = FV_FOVEA_RECON_NEAREST; /* its Voronoi (soft, the default, makes none) */
         in.quality.fovea.voronoi = FV_FOVEA_VORONOI_JFA; /* the paper's; the block search is checked below */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         bool valid = c->valid && isfinite(c->dir.x);

@@ -256,7 +256,7 @@ static inline fv_quality fv_quality_default(void)
                               .min_prob = 0.05f,
                               .block = 5,
                               .uncertainty = true,
-                              .recon = FV_FOVEA_RECON_NEAREST,
+                              .recon = FV_FOVEA_RECON_SOFT, /* BENCHMARKS.md: issue 25 */
                               .compaction = FV_FOVEA_COMPACTION_TILES,
                               .voronoi = FV_FOVEA_VORONOI_BLOCKS,
                               .temporal = 8,
