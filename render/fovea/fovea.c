@@ -560,7 +560,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
                                   i ? "fovea seeds b" : "fovea seeds a", &rc->seeds[i]);
     uint32_t B = env->plan->variant >= 2 ? env->plan->variant : 2; /* the block (the fovea pass checks it) */
     VkDeviceSize rep_bytes = (VkDeviceSize)((env->width + B - 1) / B) * ((env->height + B - 1) / B) * 2u *
-                             FV_RECON_SOFT_REP_VEC4S * 16u;
+                             FV_RECON_SOFT_REP_UVEC4S * 16u;
     rc->block = B;
     if (res == FV_OK)
         res = fv_vk_buffer_create(env->vk, rep_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,

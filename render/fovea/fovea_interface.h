@@ -124,7 +124,7 @@ struct fv_compact_push {
                                     * representative only for the voronoi view, FV_RECON_FLAG_VORONOI) */
 #define FV_RECON_BINDING_BLOCKS 5  /* uimage2DArray r32ui: the fovea pass's block masks (read) */
 #define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
-#define FV_RECON_BINDING_REPS 10   /* storage vec4[FV_RECON_SOFT_REP_VEC4S per block, both eyes]: soft's representatives */
+#define FV_RECON_BINDING_REPS 10   /* storage uvec4[FV_RECON_SOFT_REP_UVEC4S per block, both eyes]: soft's representatives */
 #define FV_RECON_BINDING_COUNT 11
 #define FV_RECON_NONE 0xffffffffu
 
@@ -137,7 +137,7 @@ struct fv_compact_push {
 /* The soft fill (FV_RECON_METHOD_SOFT), two dispatches, no Voronoi, a bounded number of taps per pixel:
  * SOFT_REPS, one thread per block: the block's known pixels as at most FV_RECON_SOFT_SLOTS representatives (all of
  * them when they are that few, else in each quadrant of the block the one nearest its centre) with their colour,
- * world position and normal, and the block's count of known pixels, into the reps buffer; SOFT_FILL, one thread per
+ * world position and normal, the block's count of known pixels and its sigma (below), into the reps buffer; SOFT_FILL, one thread per
  * pixel: every unknown pixel takes the weighted mean of the representatives of the (2 reach + 1)^2 blocks around
  * its own (reach 1 for B <= 5, else 2): w = exp(-d^2 / (2 sigma^2)) (1 - d^2 / R^2)^2 max(g, FV_RECON_SOFT_EDGE_FLOOR)
  * for d < R = reach B + 1 (a compact support no farther than the blocks it reads: no seams at block edges; the own
@@ -151,8 +151,10 @@ struct fv_compact_push {
 #define FV_RECON_STAGE_SOFT_REPS 4
 #define FV_RECON_STAGE_SOFT_FILL 5
 #define FV_RECON_SOFT_SLOTS 4
-#define FV_RECON_SOFT_REP_VEC4S 13 /* per block: (count, n, -, -) as bits; colour[4] (rgb, w: x | y << 16 as bits),
-                                    * position[4] (xyz, w: 1 drawn), normal[4] (xyz) */
+#define FV_RECON_SOFT_REP_UVEC4S 9 /* per block: (known pixels, representatives n, sigma as bits, -), then per
+                                    * representative (colour rgb as bits, x | y << 16), (world position as bits,
+                                    * packSnorm2x16 of the G-buffer's octahedral normal, FV_RECON_NONE: nothing
+                                    * drawn) */
 #define FV_RECON_SOFT_SIGMA 0.5
 #define FV_RECON_SOFT_SIGMA_MIN 0.5
 #define FV_RECON_SOFT_PLANE 2.0

@@ -98,9 +98,17 @@ void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout
 
 
 // ---- the soft fill (fovea_interface.h) ---------------------------------------------------------------------------
-layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS) buffer Reps { vec4 reps[]; };
+layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS) buffer Reps { uvec4 reps[]; };
 
-uint rep_base(ivec2 b, int layer, ivec2 nb) { return uint((layer * nb.y + b.y) * nb.x + b.x) * FV_RECON_SOFT_REP_VEC4S; }
+uint rep_base(ivec2 b, int layer, ivec2 nb) { return uint((layer * nb.y + b.y) * nb.x + b.x) * FV_RECON_SOFT_REP_UVEC4S; }
+
+uint block_count(ivec2 b, int layer)
+{
+    int words = int(pc.block_words);
+    uint k = 0u;
+    for (int w = 0; w < words; w++) k += uint(bitCount(imageLoad(blocks_img, ivec3(b.x * words + w, b.y, layer)).x));
+    return k;
+}
 
 // SOFT_REPS: block b (inside the image) of layer z.
 void soft_reps(ivec3 b, ivec2 size)
@@ -114,6 +122,15 @@ void soft_reps(ivec3 b, ivec2 size)
         wv[w] = imageLoad(blocks_img, ivec3(b.x * words + w, b.y, b.z)).x;
         count += uint(bitCount(wv[w]));
     }
+    // the local sampling rate: the known pixels of the 3x3 blocks over their area (every block holds one)
+    float known = 0.0, area = 0.0;
+    for (int by = max(b.y - 1, 0); by <= min(b.y + 1, nb.y - 1); by++)
+        for (int bx = max(b.x - 1, 0); bx <= min(b.x + 1, nb.x - 1); bx++) {
+            ivec2 cs = min(ivec2(B), size - ivec2(bx, by) * B);
+            known += float(bx == b.x && by == b.y ? count : block_count(ivec2(bx, by), b.z));
+            area += float(cs.x * cs.y);
+        }
+    float sigma = max(float(FV_RECON_SOFT_SIGMA) * sqrt(area / max(known, 1.0)), float(FV_RECON_SOFT_SIGMA_MIN));
     // the slots: every known pixel when there are few, else per quadrant the one nearest its centre
     int pick[FV_RECON_SOFT_SLOTS];
     int bestd[FV_RECON_SOFT_SLOTS];
@@ -143,14 +160,13 @@ void soft_reps(ivec3 b, ivec2 size)
         ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
         bool hit = texelFetch(g_material, q, 0).r != 0u;
         vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
-        vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, q, 0).rg) : vec3(0.0);
+        uint nrm = hit ? packSnorm2x16(texelFetch(g_normal, q, 0).rg) : FV_RECON_NONE;
         vec3 c = imageLoad(color_img, q).rgb;
-        reps[base + 1u + m] = vec4(c, uintBitsToFloat(uint(q.x) | (uint(q.y) << 16)));
-        reps[base + 5u + m] = vec4(pos, hit ? 1.0 : 0.0);
-        reps[base + 9u + m] = vec4(nrm, 0.0);
+        reps[base + 1u + 2u * m] = uvec4(floatBitsToUint(c), uint(q.x) | (uint(q.y) << 16));
+        reps[base + 2u + 2u * m] = uvec4(floatBitsToUint(pos), nrm);
         m++;
     }
-    reps[base] = vec4(uintBitsToFloat(count), uintBitsToFloat(m), 0.0, 0.0);
+    reps[base] = uvec4(count, m, floatBitsToUint(sigma), 0u);
 }
 
 // SOFT_FILL: pixel p (inside the image).
@@ -162,15 +178,7 @@ void soft_fill(ivec3 p, ivec2 size)
     }
     int B = int(pc.block), reach = int(pc.reach);
     ivec2 nb = (size + B - 1) / B, b = p.xy / B;
-    // the local sampling rate: the known pixels of the 3x3 blocks over their area (every block holds one)
-    float known = 0.0, area = 0.0;
-    for (int by = max(b.y - 1, 0); by <= min(b.y + 1, nb.y - 1); by++)
-        for (int bx = max(b.x - 1, 0); bx <= min(b.x + 1, nb.x - 1); bx++) {
-            ivec2 bs = min(ivec2(B), size - ivec2(bx, by) * B);
-            known += float(floatBitsToUint(reps[rep_base(ivec2(bx, by), p.z, nb)].x));
-            area += float(bs.x * bs.y);
-        }
-    float sigma = max(float(FV_RECON_SOFT_SIGMA) * sqrt(area / max(known, 1.0)), float(FV_RECON_SOFT_SIGMA_MIN));
+    float sigma = uintBitsToFloat(reps[rep_base(b, p.z, nb)].z);
     float R = float(reach * B + 1);
     float inv2s2 = 0.5 / (sigma * sigma), invR2 = 1.0 / (R * R);
     bool hit = texelFetch(g_material, p, 0).r != 0u;
@@ -186,29 +194,32 @@ void soft_fill(ivec3 p, ivec2 size)
     for (int by = max(b.y - reach, 0); by <= min(b.y + reach, nb.y - 1); by++)
         for (int bx = max(b.x - reach, 0); bx <= min(b.x + reach, nb.x - 1); bx++) {
             uint base = rep_base(ivec2(bx, by), p.z, nb);
-            uint n = min(floatBitsToUint(reps[base].y), uint(FV_RECON_SOFT_SLOTS));
+            uint n = min(reps[base].y, uint(FV_RECON_SOFT_SLOTS));
             for (uint i = 0u; i < n; i++) {
-                vec4 qc = reps[base + 1u + i];
-                uint packed = floatBitsToUint(qc.w);
+                uvec4 qa = reps[base + 1u + 2u * i];
+                vec3 qc = uintBitsToFloat(qa.xyz);
+                uint packed = qa.w;
                 ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
                 uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
-                if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc.rgb;
+                if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc;
                 float fd2 = float(d2), win = 1.0 - fd2 * invR2;
                 if (win <= 0.0) continue;
-                vec4 qp = reps[base + 5u + i];
+                uvec4 qb = reps[base + 2u + 2u * i];
+                bool qhit = qb.w != FV_RECON_NONE;
                 float g; // -log of the edge weight
-                if (hit != (qp.w > 0.5)) {
+                if (hit != qhit) {
                     g = cap;
                 } else if (!hit) {
                     g = 0.0;
                 } else {
-                    vec3 qn = reps[base + 9u + i].xyz;
-                    float e = abs(dot(nrm, qp.xyz - pos)) / max(foot * sqrt(fd2) * float(FV_RECON_SOFT_PLANE), 1e-30);
+                    vec3 qn = fv_oct_decode(unpackSnorm2x16(qb.w));
+                    float e = abs(dot(nrm, uintBitsToFloat(qb.xyz) - pos)) /
+                              max(foot * sqrt(fd2) * float(FV_RECON_SOFT_PLANE), 1e-30);
                     g = e * e + (1.0 - dot(nrm, qn)) / float(FV_RECON_SOFT_NORMAL);
                 }
                 if (isnan(g)) g = cap;
                 float wt = exp(-fd2 * inv2s2 - min(g, cap)) * win * win;
-                sum += wt * qc.rgb;
+                sum += wt * qc;
                 wsum += wt;
             }
         }
