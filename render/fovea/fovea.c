@@ -170,6 +170,7 @@ typedef struct fovea {
     fv_vk_buffer ranks;
     VkSampler nearest; /* the G-buffer's reads (saliency, DoF) */
     struct fv_fovea_push pc;
+    uint32_t variant; /* of the last recorded frame: 1 reads the G-buffer (saliency, DoF with a pupil) */
 } fovea;
 
 static void fovea_fini(void *state)
@@ -185,6 +186,9 @@ static void fovea_fini(void *state)
     if (fv->blocks != FV_IMAGE_MAX) fv_images_release(fv->images, fv->blocks);
     free(fv);
 }
+
+/* The map's variants: without (0) and with (1) the G-buffer's reads (fovea.comp USE_GBUFFER). */
+static const uint32_t FOVEA_SPEC[2] = {0u, 1u};
 
 static fv_result fovea_init(const fv_pass_env *env, void **out_state)
 {
@@ -242,7 +246,8 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
                              .shared_sets = shared, .shared_set_count = 1, .bindings = b,
                              .binding_count = FV_FOVEA_BINDING_COUNT, .set_count = 1,
-                             .push_bytes = sizeof(struct fv_fovea_push)};
+                             .push_bytes = sizeof(struct fv_fovea_push), .spec = FOVEA_SPEC, .spec_count = 1,
+                             .variant_count = 2};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &fv->cs);
     if (res == FV_OK) {
         VkDescriptorSet set = fv->cs.sets[0];
@@ -273,8 +278,13 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     VkCommandBuffer cmd = f->cmd;
     if (!f->samples) return; /* only whole frames make a sample list */
     const fv_quality_fovea *q = &f->input->quality.fovea;
-    uint32_t flags = (q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u) | (q->dof ? FV_FOVEA_FLAG_DOF : 0u) |
+    /* DoF acts only with a pupil size (the renderer passes 0 for an unknown one: no blur); without it and without
+     * saliency the map runs the variant that reads no G-buffer */
+    float pupil = f->input->pupil_mm;
+    bool dof = q->dof && isfinite(pupil) && pupil > 0.0f && pupil <= FV_GPU_PUPIL_MAX_MM;
+    uint32_t flags = (q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u) | (dof ? FV_FOVEA_FLAG_DOF : 0u) |
                      (q->saliency > 0.0f ? FV_FOVEA_FLAG_SALIENCY : 0u);
+    uint32_t variant = flags & (FV_FOVEA_FLAG_DOF | FV_FOVEA_FLAG_SALIENCY) ? 1u : 0u;
     fv->pc = (struct fv_fovea_push){.block = fv->block, .flags = flags, .mar_slope = q->mar_slope,
                                     .mar_w0_deg = q->mar_w0_deg, .min_prob = q->min_prob,
                                     .block_words = block_words(fv->block), .saliency = q->saliency};
@@ -292,7 +302,8 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     fv_images_use_gbuffer(f->images, cmd, CS);
     fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    fv_vk_compute_bind(&fv->cs, cmd, 0, &f->scene_set, 1, 0, &fv->pc);
+    fv->variant = variant;
+    fv_vk_compute_bind(&fv->cs, cmd, variant, &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
                   (fv->height + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP, 2);
     f->counters->dispatches++;
@@ -302,7 +313,9 @@ static void fovea_record(void *state, const fv_pass_frame *f)
 static uint32_t fovea_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     fovea *fv = state;
-    return fv_fovea_add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope, fv->pc.min_prob);
+    uint32_t n = fv_fovea_add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope,
+                                     fv->pc.min_prob);
+    return fv_fovea_add_detail(out, n, cap, "reads_gbuffer", 1, fv->variant, 0, 0);
 }
 
 const fv_pass fv_fovea_pass = {

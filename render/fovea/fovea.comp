@@ -13,6 +13,9 @@
 #include "fovea_interface.h"
 
 layout(local_size_x = FV_FOVEA_GROUP, local_size_y = FV_FOVEA_GROUP, local_size_z = 1) in;
+// FV_FOVEA_SPEC_GBUFFER: whether the G-buffer is read at all (saliency, or DoF with a pupil). Off, no texel fetch is
+// compiled in (on llvmpipe their presence alone costs ~10x the rest of the pass); the host picks the variant.
+layout(constant_id = 0) const uint USE_GBUFFER = 1u;
 
 FV_SCENE_SET_DECLARE
 layout(set = FV_FOVEA_SET, binding = FV_FOVEA_BINDING_PROB, r32f) uniform writeonly image2DArray prob_img;
@@ -140,7 +143,7 @@ float sampling_prob(uvec3 p)
     float w_min = max(pc.mar_w0_deg, w_px);
     float w_far = (float(FV_FOVEA_FAR_PX) - 1.0) * w_px;
     float w = pc.mar_slope * ep * RAD_TO_DEG + pc.mar_w0_deg;
-    if ((pc.flags & (FV_FOVEA_FLAG_SALIENCY | FV_FOVEA_FLAG_DOF)) == 0u)
+    if (USE_GBUFFER == 0u || (pc.flags & (FV_FOVEA_FLAG_SALIENCY | FV_FOVEA_FLAG_DOF)) == 0u)
         return clamp(1.0 - (w - w_min) / w_far, pc.min_prob, 1.0);
     ivec2 isize = ivec2(size);
     bool sal = (pc.flags & FV_FOVEA_FLAG_SALIENCY) != 0u;

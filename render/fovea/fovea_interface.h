@@ -38,7 +38,7 @@
 
 #define FV_FOVEA_FLAG_UNCERTAINTY 1u /* e' = max(0, e - u) */
 #define FV_FOVEA_FLAG_SALIENCY 2u    /* p = max(p, saliency S) (fovea.saliency > 0) */
-#define FV_FOVEA_FLAG_DOF 4u         /* the eye's defocus blur widens the MAR (fovea.dof) */
+#define FV_FOVEA_FLAG_DOF 4u         /* the eye's defocus blur widens the MAR (fovea.dof, and a pupil size known) */
 
 /* Saliency S = max(S_albedo, S_normal, S_motion) in [0, 1] (papers/README.md section 3), each over the 8
  * neighbours: S_albedo = max CIELAB (D65) Delta E*ab of the linear albedo / FV_FOVEA_SAL_DELTA_E; S_normal = max

@@ -1172,6 +1172,40 @@ static void every_fill_finite_at_extremes(void **state)
     fv_scene_destroy(&s);
 }
 
+/* The sampling map compiles the G-buffer's reads in only where they act (fovea.comp USE_GBUFFER; on llvmpipe their
+ * presence costs ~10x the rest of the pass): the variant without them runs with saliency 0 and DoF on but no pupil
+ * size (or DoF off), the other with saliency or with DoF and a pupil; the pass reports which ran. */
+static double map_reads_gbuffer(float saliency, bool dof, float pupil_mm)
+{
+    fv_frame_input in = frame_in();
+    in.quality.fovea.saliency = saliency;
+    in.quality.fovea.dof = dof;
+    in.pupil_mm = pupil_mm;
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    fv_pass_detail d[8];
+    uint32_t n = fv_renderer_pass_details(g_r, "fovea", d, 8);
+    for (uint32_t i = 0; i < n; i++)
+        if (strcmp(d[i].key, "reads_gbuffer") == 0) return d[i].value[0];
+    fail_msg("the fovea pass reports no reads_gbuffer");
+    return -1;
+}
+
+static void map_reads_gbuffer_only_when_needed(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    assert_true(map_reads_gbuffer(0.0f, true, NAN) == 0);   /* balanced without a tracker: DoF has no pupil */
+    assert_true(map_reads_gbuffer(0.0f, true, 0.0f) == 0);
+    assert_true(map_reads_gbuffer(0.0f, true, 25.0f) == 0); /* beyond FV_GPU_PUPIL_MAX_MM: unknown */
+    assert_true(map_reads_gbuffer(0.0f, false, 4.0f) == 0);
+    assert_true(map_reads_gbuffer(0.0f, true, 4.0f) == 1);
+    assert_true(map_reads_gbuffer(0.5f, false, NAN) == 1);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1185,6 +1219,7 @@ int main(void)
         cmocka_unit_test(soft_matches_cpu_double),
         cmocka_unit_test(soft_fill_flickers_less_than_nearest),
         cmocka_unit_test(every_fill_finite_at_extremes),
+        cmocka_unit_test(map_reads_gbuffer_only_when_needed),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
