@@ -145,7 +145,11 @@ static void recon_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         snprintf(vor, sizeof vor, "the exact Voronoi from the neighbouring blocks' samples");
     else
         snprintf(vor, sizeof vor, "the 1+JFA Voronoi, steps %s px", list);
-    if (f->recon == FV_FOVEA_RECON_IDW)
+    if (f->recon == FV_FOVEA_RECON_SOFT)
+        snprintf(out->reason, sizeof out->reason,
+                 "unshaded pixels by an edge-aware Gaussian (G-buffer plane, normal) of the 3x3 blocks' known "
+                 "pixels, as wide as their spacing (soft)");
+    else if (f->recon == FV_FOVEA_RECON_IDW)
         snprintf(out->reason, sizeof out->reason,
                  "unshaded pixels by inverse-distance weights of the samples of the neighbouring blocks (idw)");
     else if (f->recon == FV_FOVEA_RECON_SIBSON)
@@ -167,6 +171,7 @@ typedef struct fovea {
     fv_vk_buffer ranks;
     VkSampler nearest; /* the G-buffer's reads (saliency, DoF) */
     struct fv_fovea_push pc;
+    uint32_t variant; /* of the last recorded frame: 1 reads the G-buffer (saliency, DoF with a pupil) */
 } fovea;
 
 static void fovea_fini(void *state)
@@ -182,6 +187,9 @@ static void fovea_fini(void *state)
     if (fv->blocks != FV_IMAGE_MAX) fv_images_release(fv->images, fv->blocks);
     free(fv);
 }
+
+/* The map's variants: without (0) and with (1) the G-buffer's reads (fovea.comp USE_GBUFFER). */
+static const uint32_t FOVEA_SPEC[2] = {0u, 1u};
 
 static fv_result fovea_init(const fv_pass_env *env, void **out_state)
 {
@@ -239,7 +247,8 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
                              .shared_sets = shared, .shared_set_count = 1, .bindings = b,
                              .binding_count = FV_FOVEA_BINDING_COUNT, .set_count = 1,
-                             .push_bytes = sizeof(struct fv_fovea_push)};
+                             .push_bytes = sizeof(struct fv_fovea_push), .spec = FOVEA_SPEC, .spec_count = 1,
+                             .variant_count = 2};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &fv->cs);
     if (res == FV_OK) {
         VkDescriptorSet set = fv->cs.sets[0];
@@ -270,8 +279,13 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     VkCommandBuffer cmd = f->cmd;
     if (!f->samples) return; /* only whole frames make a sample list */
     const fv_quality_fovea *q = &f->input->quality.fovea;
-    uint32_t flags = (q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u) | (q->dof ? FV_FOVEA_FLAG_DOF : 0u) |
+    /* DoF acts only with a pupil size (the renderer passes 0 for an unknown one: no blur); without it and without
+     * saliency the map runs the variant that reads no G-buffer */
+    float pupil = f->input->pupil_mm;
+    bool dof = q->dof && isfinite(pupil) && pupil > 0.0f && pupil <= FV_GPU_PUPIL_MAX_MM;
+    uint32_t flags = (q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u) | (dof ? FV_FOVEA_FLAG_DOF : 0u) |
                      (q->saliency > 0.0f ? FV_FOVEA_FLAG_SALIENCY : 0u);
+    uint32_t variant = flags & (FV_FOVEA_FLAG_DOF | FV_FOVEA_FLAG_SALIENCY) ? 1u : 0u;
     fv->pc = (struct fv_fovea_push){.block = fv->block, .flags = flags, .mar_slope = q->mar_slope,
                                     .mar_w0_deg = q->mar_w0_deg, .min_prob = q->min_prob,
                                     .block_words = block_words(fv->block), .saliency = q->saliency};
@@ -289,7 +303,8 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     fv_images_use_gbuffer(f->images, cmd, CS);
     fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    fv_vk_compute_bind(&fv->cs, cmd, 0, &f->scene_set, 1, 0, &fv->pc);
+    fv->variant = variant;
+    fv_vk_compute_bind(&fv->cs, cmd, variant, &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
                   (fv->height + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP, 2);
     f->counters->dispatches++;
@@ -299,7 +314,9 @@ static void fovea_record(void *state, const fv_pass_frame *f)
 static uint32_t fovea_details(void *state, fv_pass_detail *out, uint32_t cap)
 {
     fovea *fv = state;
-    return fv_fovea_add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope, fv->pc.min_prob);
+    uint32_t n = fv_fovea_add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope,
+                                     fv->pc.min_prob);
+    return fv_fovea_add_detail(out, n, cap, "reads_gbuffer", 1, fv->variant, 0, 0);
 }
 
 const fv_pass fv_fovea_pass = {
@@ -505,15 +522,18 @@ const fv_pass fv_compact_pass = {
 
 /* ---- "reconstruct" ------------------------------------------------------------------------------------------- */
 
-enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3 };
+/* the stages of rc->cs; the soft fill's two are rc->soft's (a compute holds at most 4 variants) */
+enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3, RSTAGE_SOFT_REPS = 4, RSTAGE_SOFT_FILL = 5 };
 
 typedef struct recon {
     fv_vk *vk;
-    uint32_t width, height;
-    fv_vk_compute cs;
+    uint32_t width, height, block;
+    fv_vk_compute cs, soft;
     fv_images *images;
     fv_image_id mask, blocks, voronoi; /* voronoi: FV_IMAGE_MAX until made (mask, blocks: the fovea pass's) */
+    VkSampler nearest;                 /* the G-buffer's reads (soft) */
     fv_vk_buffer seeds[2];
+    fv_vk_buffer reps; /* the soft fill's per-block representatives */
     uint32_t slots;
     fv_vk_timer timer;             /* its stages: "voronoi" (1+JFA or the block search), "fill" */
     bool recorded[FV_MAX_FRAMES_IN_FLIGHT];
@@ -527,8 +547,11 @@ static void recon_fini(void *state)
     recon *rc = state;
     if (!rc) return;
     fv_vk_compute_fini(rc->vk, &rc->cs);
+    fv_vk_compute_fini(rc->vk, &rc->soft);
     fv_vk_timer_fini(&rc->timer, rc->vk);
     for (int i = 0; i < 2; i++) fv_vk_buffer_destroy(rc->vk, &rc->seeds[i]);
+    fv_vk_buffer_destroy(rc->vk, &rc->reps);
+    if (rc->nearest) vkDestroySampler(rc->vk->device, rc->nearest, NULL);
     if (rc->voronoi != FV_IMAGE_MAX) fv_images_release(rc->images, rc->voronoi);
     free(rc);
 }
@@ -551,10 +574,19 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     for (int i = 0; i < 2 && res == FV_OK; i++)
         res = fv_vk_buffer_create(env->vk, seed_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
                                   i ? "fovea seeds b" : "fovea seeds a", &rc->seeds[i]);
+    uint32_t B = env->plan->variant >= 2 ? env->plan->variant : 2; /* the block (the fovea pass checks it) */
+    VkDeviceSize rep_bytes = (VkDeviceSize)((env->width + B - 1) / B) * ((env->height + B - 1) / B) * 2u *
+                             FV_RECON_SOFT_REP_UVEC4S * 16u;
+    rc->block = B;
+    if (res == FV_OK)
+        res = fv_vk_buffer_create(env->vk, rep_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
+                                  "fovea soft reps", &rc->reps);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
+    if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
+    if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "reconstruct nearest sampler", &rc->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-    VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     VkDescriptorSetLayoutBinding b[FV_RECON_BINDING_COUNT] = {
         {FV_RECON_BINDING_MASK, si, 1, cs, NULL},
         {FV_RECON_BINDING_SEEDS_A, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
@@ -562,8 +594,14 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_COLOR, si, 1, cs, NULL},
         {FV_RECON_BINDING_VORONOI, si, 1, cs, NULL},
         {FV_RECON_BINDING_BLOCKS, si, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH + 1, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH + 2, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_REPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
+    const uint32_t soft_spec[2] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL};
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "reconstruct", .code = fv_spv_reconstruct_comp,
                              .code_size = sizeof fv_spv_reconstruct_comp, .shared_sets = shared,
@@ -571,22 +609,32 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
                              .set_count = 1, .push_bytes = sizeof(struct fv_recon_push), .spec = spec,
                              .spec_count = 1, .variant_count = 4};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->cs);
+    cd.name = "reconstruct soft";
+    cd.spec = soft_spec;
+    cd.variant_count = 2;
+    if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->soft);
     if (res != FV_OK) {
         FV_ERROR(MOD, "reconstruction pass could not be created: %s", fv_result_str(res));
         recon_fini(rc);
         return res;
     }
-    VkDescriptorSet set = rc->cs.sets[0];
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MASK, si, fv_images_image(env->images, rc->mask)->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    for (int i = 0; i < 2; i++)
-        fv_vk_write_buffer(env->vk, set, i ? FV_RECON_BINDING_SEEDS_B : FV_RECON_BINDING_SEEDS_A,
-                           VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->seeds[i].buffer, 0, VK_WHOLE_SIZE);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_COLOR, si, color->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_VORONOI, si, fv_images_image(env->images, rc->voronoi)->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-    fv_vk_write_image(env->vk, set, FV_RECON_BINDING_BLOCKS, si, fv_images_image(env->images, rc->blocks)->view,
-                      VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    for (int c = 0; c < 2; c++) { /* the same bindings in both pipelines' sets */
+        VkDescriptorSet set = c ? rc->soft.sets[0] : rc->cs.sets[0];
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MASK, si, fv_images_image(env->images, rc->mask)->view,
+                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        for (int i = 0; i < 2; i++)
+            fv_vk_write_buffer(env->vk, set, i ? FV_RECON_BINDING_SEEDS_B : FV_RECON_BINDING_SEEDS_A,
+                               VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->seeds[i].buffer, 0, VK_WHOLE_SIZE);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_COLOR, si, color->view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_VORONOI, si,
+                          fv_images_image(env->images, rc->voronoi)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_BLOCKS, si, fv_images_image(env->images, rc->blocks)->view,
+                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_images_bind_gbuffer(env->images, set, FV_RECON_BINDING_DEPTH, rc->nearest);
+        fv_vk_write_buffer(env->vk, set, FV_RECON_BINDING_REPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->reps.buffer, 0,
+                           VK_WHOLE_SIZE);
+    }
     *out_state = rc;
     return FV_OK;
 }
@@ -602,10 +650,14 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->voronoi, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use_gbuffer(f->images, cmd, CS);
     buffers_barrier(cmd, CS, RW, CS, RW);
-    fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, pc);
-    vkCmdDispatch(cmd, (rc->width + FV_RECON_GROUP - 1) / FV_RECON_GROUP,
-                  (rc->height + FV_RECON_GROUP - 1) / FV_RECON_GROUP, 2);
+    /* SOFT_REPS: a thread per block */
+    uint32_t w = stage == RSTAGE_SOFT_REPS ? (rc->width + rc->block - 1) / rc->block : rc->width;
+    uint32_t h = stage == RSTAGE_SOFT_REPS ? (rc->height + rc->block - 1) / rc->block : rc->height;
+    if (stage >= RSTAGE_SOFT_REPS) fv_vk_compute_bind(&rc->soft, cmd, stage - RSTAGE_SOFT_REPS, &f->scene_set, 1, 0, pc);
+    else fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, pc);
+    vkCmdDispatch(cmd, (w + FV_RECON_GROUP - 1) / FV_RECON_GROUP, (h + FV_RECON_GROUP - 1) / FV_RECON_GROUP, 2);
     f->counters->dispatches++;
 }
 
@@ -631,6 +683,7 @@ static void recon_record(void *state, const fv_pass_frame *f)
     const fv_quality_fovea *q = &f->input->quality.fovea;
     uint32_t method = q->recon == FV_FOVEA_RECON_SIBSON ? FV_RECON_METHOD_SIBSON
                       : q->recon == FV_FOVEA_RECON_IDW  ? FV_RECON_METHOD_IDW
+                      : q->recon == FV_FOVEA_RECON_SOFT ? FV_RECON_METHOD_SOFT
                                                         : FV_RECON_METHOD_NEAREST;
     bool jfa = q->voronoi != FV_FOVEA_VORONOI_BLOCKS;
     fv_vk_label_begin(rc->vk, f->cmd, "reconstruct");
@@ -641,6 +694,24 @@ static void recon_record(void *state, const fv_pass_frame *f)
     /* the voronoi stage: 1+JFA, or the block search for every pixel (sibson); nearest and idw with blocks need no
      * stage of their own (the fill finds each unsampled pixel's nearest itself) */
     int t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "voronoi");
+    if (method == FV_RECON_METHOD_SOFT) {
+        /* no Voronoi: the representatives of the blocks (timed as its "voronoi" stage), then the fill; the nearest
+         * representative goes to "fovea voronoi" only for the voronoi debug view */
+        n = 0;
+        src = FV_RECON_SRC_SEARCH;
+        pc.flags = f->input->quality.debug_view == FV_DEBUG_VIEW_VORONOI ? FV_RECON_FLAG_VORONOI : 0u;
+        recon_stage(rc, f, RSTAGE_SOFT_REPS, &pc);
+        if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+        t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
+        recon_stage(rc, f, RSTAGE_SOFT_FILL, &pc);
+        if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+        rc->recorded[f->slot] = true;
+        rc->last_steps = n;
+        rc->last_final = src;
+        rc->last_method = method;
+        fv_vk_label_end(rc->vk, f->cmd);
+        return;
+    }
     if (method != FV_RECON_METHOD_IDW && jfa) {
         recon_stage(rc, f, RSTAGE_INIT, &pc);
         for (uint32_t i = 0; i < n; i++, src ^= 1u) {

@@ -4,7 +4,8 @@
 // fovea_interface.h), with fovea.dof w widened to the eye's defocus blur and with fovea.saliency p raised to the
 // weighted saliency of the G-buffer (fovea_interface.h); per B x B block a sample mask from the ranks of a low-discrepancy (R2) pattern, turned by a
 // cyclic shift each frame: a pixel is sampled when its rank r has r == 0 or r + 0.5 < p n (n pixels in the block),
-// so every block holds at least one sample. One thread per pixel, no barriers.
+// so every block holds at least one sample. One thread per pixel, no barriers; without saliency only the G-buffer's
+// depth and material are read.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
@@ -12,6 +13,9 @@
 #include "fovea_interface.h"
 
 layout(local_size_x = FV_FOVEA_GROUP, local_size_y = FV_FOVEA_GROUP, local_size_z = 1) in;
+// FV_FOVEA_SPEC_GBUFFER: whether the G-buffer is read at all (saliency, or DoF with a pupil). Off, no texel fetch is
+// compiled in (on llvmpipe their presence alone costs ~10x the rest of the pass); the host picks the variant.
+layout(constant_id = 0) const uint USE_GBUFFER = 1u;
 
 FV_SCENE_SET_DECLARE
 layout(set = FV_FOVEA_SET, binding = FV_FOVEA_BINDING_PROB, r32f) uniform writeonly image2DArray prob_img;
@@ -139,10 +143,17 @@ float sampling_prob(uvec3 p)
     float w_min = max(pc.mar_w0_deg, w_px);
     float w_far = (float(FV_FOVEA_FAR_PX) - 1.0) * w_px;
     float w = pc.mar_slope * ep * RAD_TO_DEG + pc.mar_w0_deg;
-    if ((pc.flags & (FV_FOVEA_FLAG_SALIENCY | FV_FOVEA_FLAG_DOF)) == 0u)
+    if (USE_GBUFFER == 0u || (pc.flags & (FV_FOVEA_FLAG_SALIENCY | FV_FOVEA_FLAG_DOF)) == 0u)
         return clamp(1.0 - (w - w_min) / w_far, pc.min_prob, 1.0);
     ivec2 isize = ivec2(size);
-    gsurf gs = g_at(ivec3(p));
+    bool sal = (pc.flags & FV_FOVEA_FLAG_SALIENCY) != 0u;
+    gsurf gs;
+    if (sal) {
+        gs = g_at(ivec3(p));
+    } else { // DoF alone: drawn and position only
+        gs.hit = texelFetch(g_material, ivec3(p), 0).r != 0u;
+        gs.pos = fv_gbuffer_position(p, texelFetch(g_depth, ivec3(p), 0).r);
+    }
     float blur = 0.0; // degrees
     float pupil = frame.gaze_info[p.z].y;
     if ((pc.flags & FV_FOVEA_FLAG_DOF) != 0u && pupil > 0.0) {
@@ -154,7 +165,7 @@ float sampling_prob(uvec3 p)
         }
     }
     float pm = 1.0 - (max(w, blur) - w_min) / w_far;
-    if ((pc.flags & FV_FOVEA_FLAG_SALIENCY) != 0u) {
+    if (sal) {
         float seen = clamp(1.0 - (blur - w_min) / w_far, 0.0, 1.0);
         pm = max(pm, pc.saliency * saliency(ivec3(p), isize, gs) * seen);
     }

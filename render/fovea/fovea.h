@@ -2,7 +2,9 @@
  * frame constants, a sampling probability per pixel (linear MAR) and a sample mask with at least one sample per
  * block; the "compact" pass turns the sampled pixels of both eyes into the renderer's frame sample list (with its
  * indirect dispatch), which the shade pass then shades instead of the whole frame; the "reconstruct" pass, after
- * shading, fills every unshaded pixel from the samples over their 1+JFA Voronoi diagram (nearest or Sibson). Images (2-layer scratch, GENERAL): "fovea prob"
+ * shading, fills every unshaded pixel from the known ones: soft (per block up to 4 representatives, then per pixel
+ * an edge-aware Gaussian of those of the blocks around, as wide as the local sample spacing), or nearest, Sibson or
+ * idw over the samples' Voronoi diagram (1+JFA or the block search). Images (2-layer scratch, GENERAL): "fovea prob"
  * (R32F), "fovea mask" (R32UI), "fovea seeds a" / "fovea seeds b" (R32UI); FV_IMAGE_COLOR is read and written by
  * reconstruct in GENERAL. */
 #ifndef FV_FOVEA_H

@@ -38,7 +38,7 @@
 
 #define FV_FOVEA_FLAG_UNCERTAINTY 1u /* e' = max(0, e - u) */
 #define FV_FOVEA_FLAG_SALIENCY 2u    /* p = max(p, saliency S) (fovea.saliency > 0) */
-#define FV_FOVEA_FLAG_DOF 4u         /* the eye's defocus blur widens the MAR (fovea.dof) */
+#define FV_FOVEA_FLAG_DOF 4u         /* the eye's defocus blur widens the MAR (fovea.dof, and a pupil size known) */
 
 /* Saliency S = max(S_albedo, S_normal, S_motion) in [0, 1] (papers/README.md section 3), each over the 8
  * neighbours: S_albedo = max CIELAB (D65) Delta E*ab of the linear albedo / FV_FOVEA_SAL_DELTA_E; S_normal = max
@@ -111,7 +111,8 @@ struct fv_compact_push {
     FV_FOVEA_UINT pass;             /* rows stage: 0 count, 1 scatter */
 };
 
-/* ---- "reconstruct": Voronoi of the samples by jump flooding, then the fill (reconstruct.comp) ---- */
+/* ---- "reconstruct": the fill of the unknown pixels from the known ones (reconstruct.comp): nearest or sibson
+ * over a Voronoi (jump flooding or the block search), idw, or the soft fill ---- */
 #define FV_RECON_SET 1
 #define FV_RECON_BINDING_MASK 0    /* uimage2DArray r32ui (read) */
 #define FV_RECON_BINDING_SEEDS_A 1 /* storage uint[2 W H] (eye, row, column): nearest seed so far, x | y << 16, or
@@ -119,9 +120,12 @@ struct fv_compact_push {
 #define FV_RECON_BINDING_SEEDS_B 2 /* its ping-pong partner */
 #define FV_RECON_BINDING_COLOR 3   /* image2DArray rgba32f: linear colour (unsampled pixels written) */
 #define FV_RECON_BINDING_VORONOI 4 /* uimage2DArray r32ui: the final nearest seed of every pixel (written by resolve;
-                                    * the voronoi view and the tests read it) */
+                                    * the voronoi view and the tests read it; soft writes its nearest
+                                    * representative only for the voronoi view, FV_RECON_FLAG_VORONOI) */
 #define FV_RECON_BINDING_BLOCKS 5  /* uimage2DArray r32ui: the fovea pass's block masks (read) */
-#define FV_RECON_BINDING_COUNT 6
+#define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
+#define FV_RECON_BINDING_REPS 10   /* storage uvec4[FV_RECON_SOFT_REP_UVEC4S per block, both eyes]: soft's representatives */
+#define FV_RECON_BINDING_COUNT 11
 #define FV_RECON_NONE 0xffffffffu
 
 #define FV_RECON_STAGE_INIT 0    /* seeds A and B = the sampled pixels (a seed is its own nearest: steps skip it) */
@@ -130,11 +134,39 @@ struct fv_compact_push {
  * is read and written in place. */
 #define FV_RECON_STAGE_RESOLVE 2
 #define FV_RECON_STAGE_BLOCKS 3  /* seeds A = every pixel's exact nearest sample, from the neighbouring block masks */
+/* The soft fill (FV_RECON_METHOD_SOFT), two dispatches, no Voronoi, a bounded number of taps per pixel:
+ * SOFT_REPS, one thread per block: the block's known pixels as at most FV_RECON_SOFT_SLOTS representatives (all of
+ * them when they are that few, else in each quadrant of the block the one nearest its centre) with their colour,
+ * world position and normal, the block's count of known pixels and its sigma (below), into the reps buffer; SOFT_FILL, one thread per
+ * pixel: every unknown pixel takes the weighted mean of the representatives of the (2 reach + 1)^2 blocks around
+ * its own (reach 1 for B <= 5, else 2): w = exp(-d^2 / (2 sigma^2)) (1 - d^2 / R^2)^2 max(g, FV_RECON_SOFT_EDGE_FLOOR)
+ * for d < R = reach B + 1 (a compact support no farther than the blocks it reads: no seams at block edges; the own
+ * block's representatives are always inside it); sigma = FV_RECON_SOFT_SIGMA times the local sample spacing,
+ * sqrt(area / known pixels) of the 3x3 blocks, at least FV_RECON_SOFT_SIGMA_MIN px (the band limit of the local
+ * sampling rate); the edge weight g = exp(-(t / FV_RECON_SOFT_PLANE)^2 - (1 - n.n') / FV_RECON_SOFT_NORMAL), t the
+ * tap's distance from the pixel's tangent plane over d times the pixel's footprint (its distance from the eye times
+ * the angle of a pixel), n, n' the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1.
+ * No weight at all (underflow): the nearest representative's colour. Reads the colour only at known pixels and
+ * writes it only at unknown ones. */
+#define FV_RECON_STAGE_SOFT_REPS 4
+#define FV_RECON_STAGE_SOFT_FILL 5
+#define FV_RECON_SOFT_SLOTS 4
+#define FV_RECON_SOFT_REP_UVEC4S 9 /* per block: (known pixels, representatives n, sigma as bits, -), then per
+                                    * representative (colour rgb as bits, x | y << 16), (world position as bits,
+                                    * packSnorm2x16 of the G-buffer's octahedral normal, FV_RECON_NONE: nothing
+                                    * drawn) */
+#define FV_RECON_SOFT_SIGMA 0.5
+#define FV_RECON_SOFT_SIGMA_MIN 0.5
+#define FV_RECON_SOFT_PLANE 2.0
+#define FV_RECON_SOFT_NORMAL 0.1
+#define FV_RECON_SOFT_EDGE_FLOOR 1e-3
 #define FV_RECON_GROUP 8
 
 #define FV_RECON_METHOD_NEAREST 0u
 #define FV_RECON_METHOD_SIBSON 1u
 #define FV_RECON_METHOD_IDW 2u
+#define FV_RECON_METHOD_SOFT 3u
+#define FV_RECON_FLAG_VORONOI 1u /* soft: also write each pixel's nearest tap to "fovea voronoi" (its debug view) */
 /* resolve without a Voronoi: each unsampled pixel searches the neighbouring blocks itself (nearest with blocks) */
 #define FV_RECON_SRC_SEARCH 2u
 
@@ -146,7 +178,7 @@ struct fv_recon_push {
     FV_FOVEA_UINT block;  /* B, px */
     FV_FOVEA_UINT block_words;
     FV_FOVEA_UINT reach;  /* blocks: how many blocks around a pixel's own can hold its nearest sample (1: B <= 5) */
-    FV_FOVEA_UINT pad;
+    FV_FOVEA_UINT flags;  /* FV_RECON_FLAG_* */
 };
 
 

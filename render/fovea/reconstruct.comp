@@ -3,7 +3,10 @@
 // colour of the nearest seed) or sibson (approximate discrete natural-neighbour interpolation), both over the
 // Voronoi diagram of the seeds found by jump flooding (Rong & Tan 2006) in its 1+JFA form: one step of size 1, then steps from the
 // block size down to 1 (every block holds a seed, so no seed is farther than two blocks). Seeds ping-pong between
-// two R32UI images; distances are exact integer squared distances, ties go to the smaller packed seed.
+// two R32UI images; distances are exact integer squared distances, ties go to the smaller packed seed. idw and the
+// nearest with blocks search the neighbouring blocks' samples instead. The soft fill (FV_RECON_STAGE_SOFT, see
+// fovea_interface.h): per block its representatives, then per pixel a bounded edge-aware Gaussian of those of the
+// blocks around.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
@@ -19,6 +22,13 @@ layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_SEEDS_B) buffer Se
 layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_COLOR, rgba32f) uniform image2DArray color_img;
 layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_VORONOI, r32ui) uniform writeonly uimage2DArray voronoi_img;
 layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_BLOCKS, r32ui) uniform readonly uimage2DArray blocks_img;
+#define FV_GBUFFER_SET FV_RECON_SET
+#define FV_GBUFFER_BINDING_DEPTH FV_RECON_BINDING_DEPTH
+#define FV_GBUFFER_BINDING_NORMAL (FV_RECON_BINDING_DEPTH + 1)
+#define FV_GBUFFER_BINDING_ALBEDO (FV_RECON_BINDING_DEPTH + 2)
+#define FV_GBUFFER_BINDING_MATERIAL (FV_RECON_BINDING_DEPTH + 3)
+#include "fv_common.glsl"
+#include "fv_gbuffer_decode.glsl"
 layout(push_constant) uniform Push { fv_recon_push pc; };
 
 uint at(ivec3 c) { return (uint(c.z) * frame.counts.z + uint(c.y)) * frame.counts.y + uint(c.x); }
@@ -86,6 +96,140 @@ void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout
             }
 }
 
+
+// ---- the soft fill (fovea_interface.h) ---------------------------------------------------------------------------
+layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS) buffer Reps { uvec4 reps[]; };
+
+uint rep_base(ivec2 b, int layer, ivec2 nb) { return uint((layer * nb.y + b.y) * nb.x + b.x) * FV_RECON_SOFT_REP_UVEC4S; }
+
+uint block_count(ivec2 b, int layer)
+{
+    int words = int(pc.block_words);
+    uint k = 0u;
+    for (int w = 0; w < words; w++) k += uint(bitCount(imageLoad(blocks_img, ivec3(b.x * words + w, b.y, layer)).x));
+    return k;
+}
+
+// SOFT_REPS: block b (inside the image) of layer z.
+void soft_reps(ivec3 b, ivec2 size)
+{
+    int B = int(pc.block), words = int(pc.block_words);
+    ivec2 nb = (size + B - 1) / B;
+    ivec2 o = b.xy * B, bs = min(ivec2(B), size - o);
+    uint wv[FV_FOVEA_BLOCK_WORDS_MAX];
+    uint count = 0u;
+    for (int w = 0; w < words; w++) {
+        wv[w] = imageLoad(blocks_img, ivec3(b.x * words + w, b.y, b.z)).x;
+        count += uint(bitCount(wv[w]));
+    }
+    // the local sampling rate: the known pixels of the 3x3 blocks over their area (every block holds one)
+    float known = 0.0, area = 0.0;
+    for (int by = max(b.y - 1, 0); by <= min(b.y + 1, nb.y - 1); by++)
+        for (int bx = max(b.x - 1, 0); bx <= min(b.x + 1, nb.x - 1); bx++) {
+            ivec2 cs = min(ivec2(B), size - ivec2(bx, by) * B);
+            known += float(bx == b.x && by == b.y ? count : block_count(ivec2(bx, by), b.z));
+            area += float(cs.x * cs.y);
+        }
+    float sigma = max(float(FV_RECON_SOFT_SIGMA) * sqrt(area / max(known, 1.0)), float(FV_RECON_SOFT_SIGMA_MIN));
+    // the slots: every known pixel when there are few, else per quadrant the one nearest its centre
+    int pick[FV_RECON_SOFT_SLOTS];
+    int bestd[FV_RECON_SOFT_SLOTS];
+    for (int k = 0; k < FV_RECON_SOFT_SLOTS; k++) pick[k] = -1, bestd[k] = 0x7fffffff;
+    uint n = 0u;
+    for (int w = 0; w < words; w++) {
+        uint bits = wv[w];
+        while (bits != 0u) {
+            int k = w * 32 + findLSB(bits);
+            bits &= bits - 1u;
+            ivec2 l = ivec2(k % B, k / B);
+            if (count <= uint(FV_RECON_SOFT_SLOTS)) {
+                pick[n++] = k;
+                continue;
+            }
+            ivec2 h = ivec2(greaterThanEqual(l * 2, bs)); // the quadrant; its centre at (2 h + 1) bs / 4
+            int qd = h.x + 2 * h.y;
+            ivec2 dc = l * 4 + 2 - (2 * h + 1) * bs; // 4 (l + 0.5) - (2 h + 1) bs, in quarter pixels
+            int d = dc.x * dc.x + dc.y * dc.y;
+            if (d < bestd[qd]) bestd[qd] = d, pick[qd] = k; // bits rise: ties keep the first
+        }
+    }
+    uint base = rep_base(b.xy, b.z, nb);
+    uint m = 0u;
+    for (int s = 0; s < FV_RECON_SOFT_SLOTS; s++) {
+        if (pick[s] < 0) continue;
+        ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
+        bool hit = texelFetch(g_material, q, 0).r != 0u;
+        vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
+        uint nrm = hit ? packSnorm2x16(texelFetch(g_normal, q, 0).rg) : FV_RECON_NONE;
+        vec3 c = imageLoad(color_img, q).rgb;
+        reps[base + 1u + 2u * m] = uvec4(floatBitsToUint(c), uint(q.x) | (uint(q.y) << 16));
+        reps[base + 2u + 2u * m] = uvec4(floatBitsToUint(pos), nrm);
+        m++;
+    }
+    reps[base] = uvec4(count, m, floatBitsToUint(sigma), 0u);
+}
+
+// SOFT_FILL: pixel p (inside the image).
+void soft_fill(ivec3 p, ivec2 size)
+{
+    if (imageLoad(mask_img, p).x != 0u) { // known: kept
+        if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(uint(p.x) | (uint(p.y) << 16)));
+        return;
+    }
+    int B = int(pc.block), reach = int(pc.reach);
+    ivec2 nb = (size + B - 1) / B, b = p.xy / B;
+    float sigma = uintBitsToFloat(reps[rep_base(b, p.z, nb)].z);
+    float R = float(reach * B + 1);
+    float inv2s2 = 0.5 / (sigma * sigma), invR2 = 1.0 / (R * R);
+    bool hit = texelFetch(g_material, p, 0).r != 0u;
+    vec3 pos = fv_gbuffer_position(uvec3(p), texelFetch(g_depth, p, 0).r);
+    vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, p, 0).rg) : vec3(0.0);
+    vec4 t = frame.eye_tan[p.z];
+    vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / vec2(size);
+    float foot = length(pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px
+    float cap = -log(float(FV_RECON_SOFT_EDGE_FLOOR));
+    vec3 sum = vec3(0.0), best_col = vec3(0.0);
+    float wsum = 0.0;
+    uint best = FV_RECON_NONE, bd = 0xffffffffu;
+    for (int by = max(b.y - reach, 0); by <= min(b.y + reach, nb.y - 1); by++)
+        for (int bx = max(b.x - reach, 0); bx <= min(b.x + reach, nb.x - 1); bx++) {
+            uint base = rep_base(ivec2(bx, by), p.z, nb);
+            uint n = min(reps[base].y, uint(FV_RECON_SOFT_SLOTS));
+            for (uint i = 0u; i < n; i++) {
+                uvec4 qa = reps[base + 1u + 2u * i];
+                vec3 qc = uintBitsToFloat(qa.xyz);
+                uint packed = qa.w;
+                ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
+                uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
+                if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc;
+                float fd2 = float(d2), win = 1.0 - fd2 * invR2;
+                if (win <= 0.0) continue;
+                uvec4 qb = reps[base + 2u + 2u * i];
+                bool qhit = qb.w != FV_RECON_NONE;
+                float g; // -log of the edge weight
+                if (hit != qhit) {
+                    g = cap;
+                } else if (!hit) {
+                    g = 0.0;
+                } else {
+                    vec3 qn = fv_oct_decode(unpackSnorm2x16(qb.w));
+                    float e = abs(dot(nrm, uintBitsToFloat(qb.xyz) - pos)) /
+                              max(foot * sqrt(fd2) * float(FV_RECON_SOFT_PLANE), 1e-30);
+                    g = e * e + (1.0 - dot(nrm, qn)) / float(FV_RECON_SOFT_NORMAL);
+                }
+                if (isnan(g)) g = cap;
+                float wt = exp(-fd2 * inv2s2 - min(g, cap)) * win * win;
+                sum += wt * qc;
+                wsum += wt;
+            }
+        }
+    if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(best));
+    if (best == FV_RECON_NONE) return;
+    vec3 c = wsum > 1e-30 ? sum / wsum : best_col;
+    if (any(isnan(c)) || any(isinf(c))) c = best_col;
+    imageStore(color_img, p, vec4(c, 1.0));
+}
+
 void main()
 {
     ivec3 p = ivec3(gl_GlobalInvocationID);
@@ -96,6 +240,15 @@ void main()
     if (gathers) {
         load_block_tile(size, p.z);
         barrier();
+    }
+    if (STAGE == FV_RECON_STAGE_SOFT_REPS) { // one thread per block
+        int B = int(pc.block);
+        if (p.x < (size.x + B - 1) / B && p.y < (size.y + B - 1) / B && p.z <= 1) soft_reps(p, size);
+        return;
+    }
+    if (STAGE == FV_RECON_STAGE_SOFT_FILL) {
+        if (p.x < size.x && p.y < size.y && p.z <= 1) soft_fill(p, size);
+        return;
     }
     if (p.x >= size.x || p.y >= size.y || p.z > 1) return;
     if (STAGE == FV_RECON_STAGE_INIT) {

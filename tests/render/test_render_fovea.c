@@ -14,6 +14,7 @@
 #include "fv_renderer.h"
 #include "fv_scene.h"
 #include "fv_test.h"
+#include "fovea_interface.h"
 #include "gpu_test.h"
 
 #define W 96
@@ -137,6 +138,7 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
         for (int e = 0; e < 2; e++) in.gaze[e].valid = c->valid;
         in.quality.fovea.mar_slope = 0.2f; /* a fovea that fits the small test image */
         in.quality.fovea.block = 3 + (uint32_t)(k % 3); /* 3, 4, 5: blocks cut by the 96x80 image's edges too */
+        in.quality.fovea.recon = FV_FOVEA_RECON_NEAREST; /* its Voronoi (soft, the default, makes none) */
         in.quality.fovea.voronoi = FV_FOVEA_VORONOI_JFA; /* the paper's; the block search is checked below */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         bool valid = c->valid && isfinite(c->dir.x);
@@ -823,6 +825,387 @@ static void saliency_and_dof_match_cpu(void **state)
     fv_scene_destroy(&s);
 }
 
+
+/* ---- the soft fill (fovea.recon=soft) ---------------------------------------------------------------------------- */
+
+/* The inverse of a 4x4 column-major matrix (m[c][r]) in double, by Gauss-Jordan with partial pivoting. */
+static bool inverse4(double a[4][4], double out[4][4])
+{
+    double m[4][8];
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 8; c++) m[r][c] = c < 4 ? a[c][r] : (c - 4 == r);
+    for (int c = 0; c < 4; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 4; r++)
+            if (fabs(m[r][c]) > fabs(m[piv][c])) piv = r;
+        if (fabs(m[piv][c]) < 1e-300) return false;
+        for (int k = 0; k < 8; k++) {
+            double t = m[c][k];
+            m[c][k] = m[piv][k], m[piv][k] = t;
+        }
+        double d = m[c][c];
+        for (int k = 0; k < 8; k++) m[c][k] /= d;
+        for (int r = 0; r < 4; r++)
+            if (r != c) {
+                double f = m[r][c];
+                for (int k = 0; k < 8; k++) m[r][k] -= f * m[c][k];
+            }
+    }
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) out[c][r] = m[r][c + 4];
+    return true;
+}
+
+/* What the soft fill reads of one eye: the frame's known colours, the mask, the G-buffer as world positions and
+ * normals (double). */
+typedef struct soft_in {
+    int w, h, B;
+    const float *rgba;
+    const uint32_t *mask;
+    double (*pos)[3], (*nrm)[3];
+    bool *hit;
+    double eye[3], w_px;
+} soft_in;
+
+static void soft_in_fill(soft_in *si, const fv_frame_input *in, int e, const float *depth, int16_t (*oct)[2],
+                         const uint16_t *material)
+{
+    const fv_eye_view *v = &in->eye[e];
+    double vp[4][4], inv[4][4];
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) {
+            vp[c][r] = 0;
+            for (int k = 0; k < 4; k++) vp[c][r] += (double)v->proj.m[k][r] * v->view.m[c][k];
+        }
+    assert_true(inverse4(vp, inv));
+    for (int y = 0; y < si->h; y++)
+        for (int x = 0; x < si->w; x++) {
+            size_t i = (size_t)y * si->w + x;
+            double ndc[4] = {(x + 0.5) / si->w * 2.0 - 1.0, (y + 0.5) / si->h * 2.0 - 1.0, depth[i], 1.0}, wp[4];
+            for (int r = 0; r < 4; r++) {
+                wp[r] = 0;
+                for (int c = 0; c < 4; c++) wp[r] += inv[c][r] * ndc[c];
+            }
+            for (int k = 0; k < 3; k++) si->pos[i][k] = wp[k] / wp[3];
+            si->hit[i] = material[i] != 0;
+            normal_of(oct[i], si->nrm[i]);
+        }
+    si->eye[0] = v->pos_world.x, si->eye[1] = v->pos_world.y, si->eye[2] = v->pos_world.z;
+    double dtx = fabs((double)v->tan_right - v->tan_left) / si->w, dty = fabs((double)v->tan_down - v->tan_up) / si->h;
+    si->w_px = 2.0 * atan(0.5 * fmin(dtx, dty));
+}
+
+/* The representatives of block (bx, by) (fovea_interface.h SOFT_REPS): its known pixels when there are at most
+ * FV_RECON_SOFT_SLOTS, else per quadrant the one nearest the quadrant's centre (ties: the first in row order).
+ * Returns how many, their pixel indices in out[]; *count = the block's known pixels. */
+static int soft_reps_of(const soft_in *si, int bx, int by, size_t out[FV_RECON_SOFT_SLOTS], int *count)
+{
+    int B = si->B, sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B;
+    int n = 0, k = 0, pick[FV_RECON_SOFT_SLOTS], bestd[FV_RECON_SOFT_SLOTS];
+    for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++) pick[q] = -1, bestd[q] = 1 << 30;
+    *count = 0;
+    for (int ly = 0; ly < sy; ly++)
+        for (int lx = 0; lx < sx; lx++) *count += si->mask[(size_t)(by * B + ly) * si->w + bx * B + lx] != 0;
+    for (int ly = 0; ly < sy; ly++)
+        for (int lx = 0; lx < sx; lx++) {
+            if (!si->mask[(size_t)(by * B + ly) * si->w + bx * B + lx]) continue;
+            if (*count <= FV_RECON_SOFT_SLOTS) {
+                pick[k++] = ly * B + lx;
+                continue;
+            }
+            int hx = 2 * lx >= sx, hy = 2 * ly >= sy, qd = hx + 2 * hy;
+            double cx = (2 * hx + 1) * sx / 4.0, cy = (2 * hy + 1) * sy / 4.0;
+            int d = (int)(16.0 * ((lx + 0.5 - cx) * (lx + 0.5 - cx) + (ly + 0.5 - cy) * (ly + 0.5 - cy)) + 0.5);
+            if (d < bestd[qd]) bestd[qd] = d, pick[qd] = ly * B + lx;
+        }
+    for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++)
+        if (pick[q] >= 0) out[n++] = (size_t)(by * B + pick[q] / B) * si->w + bx * B + pick[q] % B;
+    return n;
+}
+
+/* The soft fill of unknown pixel (x, y) in double (fovea_interface.h SOFT_FILL). */
+static void soft_ref(const soft_in *si, int x, int y, double out[3])
+{
+    int B = si->B, nbx = (si->w + B - 1) / B, nby = (si->h + B - 1) / B, bx0 = x / B, by0 = y / B;
+    int reach = B <= 5 ? 1 : 2;
+    double known = 0, area = 0;
+    for (int by = by0 - 1; by <= by0 + 1; by++)
+        for (int bx = bx0 - 1; bx <= bx0 + 1; bx++) {
+            if (bx < 0 || by < 0 || bx >= nbx || by >= nby) continue;
+            int sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B, count;
+            size_t idx[FV_RECON_SOFT_SLOTS];
+            soft_reps_of(si, bx, by, idx, &count);
+            known += count;
+            area += sx * sy;
+        }
+    double sigma = fmax(FV_RECON_SOFT_SIGMA * sqrt(area / fmax(known, 1.0)), FV_RECON_SOFT_SIGMA_MIN);
+    double R = reach * B + 1, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
+    size_t pi = (size_t)y * si->w + x;
+    const double *pp = si->pos[pi], *pn = si->nrm[pi];
+    double dist = sqrt((pp[0] - si->eye[0]) * (pp[0] - si->eye[0]) + (pp[1] - si->eye[1]) * (pp[1] - si->eye[1]) +
+                       (pp[2] - si->eye[2]) * (pp[2] - si->eye[2]));
+    double foot = dist * si->w_px;
+    double sum[3] = {0, 0, 0}, wsum = 0;
+    long bd = -1;
+    uint32_t best = NONE;
+    for (int by = by0 - reach; by <= by0 + reach; by++)
+        for (int bx = bx0 - reach; bx <= bx0 + reach; bx++) {
+            if (bx < 0 || by < 0 || bx >= nbx || by >= nby) continue;
+            size_t idx[FV_RECON_SOFT_SLOTS];
+            int count, n = soft_reps_of(si, bx, by, idx, &count);
+            for (int i = 0; i < n; i++) {
+                size_t qi = idx[i];
+                int xx = (int)(qi % (size_t)si->w), yy = (int)(qi / (size_t)si->w);
+                long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
+                uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
+                if (bd < 0 || d2 < bd || (d2 == bd && packed < best)) bd = d2, best = packed;
+                double win = 1.0 - (double)d2 / (R * R);
+                if (win <= 0) continue;
+                double g;
+                if (si->hit[pi] != si->hit[qi]) g = cap;
+                else if (!si->hit[pi]) g = 0;
+                else {
+                    const double *qp = si->pos[qi], *qn = si->nrm[qi];
+                    double pl = fabs(pn[0] * (qp[0] - pp[0]) + pn[1] * (qp[1] - pp[1]) + pn[2] * (qp[2] - pp[2]));
+                    double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE);
+                    g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
+                }
+                double wt = exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap)) * win * win;
+                for (int k = 0; k < 3; k++) sum[k] += wt * si->rgba[qi * 4 + k];
+                wsum += wt;
+            }
+        }
+    assert_true(best != NONE); /* every block holds a sample */
+    for (int k = 0; k < 3; k++)
+        out[k] = wsum > 1e-30 ? sum[k] / wsum : si->rgba[((size_t)(best >> 16) * si->w + (best & 0xffffu)) * 4 + k];
+}
+
+/* The soft fill on the GPU against soft_ref in double, both eyes, blocks of 4, 5 and 7 (reach 1 and 2; blocks cut
+ * by the image edge at 5 and 7: 96 x 80 px), gazes at the centre and off to the side. */
+static void soft_matches_cpu_double(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    float *rgba = malloc(NPIX * 16), *depth = malloc(NPIX * 4);
+    uint32_t *mask = malloc(NPIX * 4);
+    int16_t(*oct)[2] = malloc(NPIX * 4);
+    uint16_t *material = malloc(NPIX * 2);
+    double(*pos)[3] = malloc(NPIX * sizeof *pos), (*nrm)[3] = malloc(NPIX * sizeof *nrm);
+    bool *hit = malloc(NPIX);
+    assert_true(rgba && depth && mask && oct && material && pos && nrm && hit);
+    const uint32_t blocks[] = {4, 5, 7};
+    const fv_vec3 gazes[] = {fv_v3(0, 0, -1), fv_v3_normalize_or(fv_v3(0.3f, -0.1f, -1.0f), fv_v3(0, 0, -1))};
+    double filled = 0, close = 0, worst = 0, sum_err = 0;
+    for (int bi = 0; bi < 3; bi++)
+        for (int gi = 0; gi < 2; gi++) {
+            fv_frame_input in = frame_in();
+            set_gaze(&in, gazes[gi], 0.5f);
+            in.quality.fovea.mar_slope = 0.3f;
+            in.quality.fovea.block = blocks[bi];
+            in.quality.fovea.temporal = 0;
+            in.quality.fovea.recon = FV_FOVEA_RECON_SOFT;
+            assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            for (int e = 0; e < 2; e++) {
+                assert_int_equal(fv_renderer_read_linear(g_r, e, rgba, NPIX * 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer depth", e, depth, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer normal (oct)", e, oct, NPIX * 4, 4), FV_OK);
+                assert_int_equal(fv_renderer_read_image(g_r, "gbuffer material id", e, material, NPIX * 2, 2), FV_OK);
+                soft_in si = {.w = W, .h = H, .B = (int)blocks[bi], .rgba = rgba, .mask = mask, .pos = pos,
+                              .nrm = nrm, .hit = hit};
+                soft_in_fill(&si, &in, e, depth, oct, material);
+                for (int y = 0; y < H; y++)
+                    for (int x = 0; x < W; x++) {
+                        const float *got = &rgba[((size_t)y * W + x) * 4];
+                        for (int k = 0; k < 3; k++) assert_true(isfinite(got[k]));
+                        if (mask[(size_t)y * W + x]) continue;
+                        double want[3], err = 0;
+                        soft_ref(&si, x, y, want);
+                        for (int k = 0; k < 3; k++) err = fmax(err, fabs(got[k] - want[k]) / fmax(1e-2, fabs(want[k])));
+                        filled++;
+                        close += err <= 1e-3;
+                        sum_err += err;
+                        worst = fmax(worst, err);
+                    }
+            }
+        }
+    print_message("soft: %.0f filled pixels, %.3f%% within 1e-3 of the CPU in double, mean rel error %.2e, worst "
+                  "%.2e\n", filled, 100.0 * close / filled, sum_err / filled, worst);
+    assert_true(filled > 1000);
+    assert_true(close / filled >= 0.995);
+    assert_true(sum_err / filled <= 1e-4);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    free(rgba), free(depth), free(mask), free(oct), free(material), free(pos), free(nrm), free(hit);
+    fv_scene_destroy(&s);
+}
+
+/* A head turning (yaw 0.5 degrees and 3 mm sideways per frame) with the gaze held at the centre and temporal reuse
+ * on (fovea.temporal=8, balanced): the flicker of the periphery (> 5 degrees), the mean squared frame-to-frame
+ * change of (reconstructed - full resolution) in sRGB, is under half of nearest's with the soft fill, and its PSNR
+ * against full resolution 3 dB higher; every variant's numbers are printed (BENCHMARKS.md quotes them). The fill
+ * alone: temporal reuse off. */
+#define F_FRAMES 8
+static void soft_fill_flickers_less_than_nearest(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    enum { MODES = FV_FOVEA_RECON_LAST + 2, FULL = FV_FOVEA_RECON_LAST + 1 };
+    static const char *const name[MODES] = {"nearest", "sibson", "idw", "soft", "full"};
+    float *img[MODES][2], *prev[MODES][2], *ecc[2];
+    for (int m = 0; m < MODES; m++)
+        for (int e = 0; e < 2; e++) {
+            img[m][e] = malloc(NPIX * 16), prev[m][e] = malloc(NPIX * 16);
+            assert_true(img[m][e] && prev[m][e]);
+        }
+    ecc[0] = malloc(NPIX * 4), ecc[1] = malloc(NPIX * 4);
+    assert_true(ecc[0] && ecc[1]);
+    fv_vec3 gaze = fv_v3(0, 0, -1);
+    double flicker[MODES] = {0}, mse[MODES] = {0}, n = 0, nf = 0;
+    /* each mode's sequence in turn (the temporal history is the mode's own), frame k against full frame k */
+    for (int k = 0; k < F_FRAMES; k++) {
+        for (int m = MODES - 1; m >= 0; m--) {
+            fv_head h = head_at(s, k, 0.5);
+            fv_frame_input in;
+            assert_int_equal(fv_renderer_frame_input(g_r, &h, g_frame_id++, 0.0, &in), FV_OK);
+            in.quality.fovea.enabled = m != FULL;
+            in.quality.fovea.recon = m == FULL ? FV_FOVEA_RECON_NEAREST : (fv_fovea_recon)m;
+            in.quality.fovea.temporal = 0; /* the fill alone: mixing the modes' frames breaks each one's history */
+            in.quality.fovea.mar_slope = 0.1f;
+            set_gaze(&in, gaze, 0.5f);
+            assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+            for (int e = 0; e < 2; e++) {
+                float *t = prev[m][e];
+                prev[m][e] = img[m][e], img[m][e] = t;
+                assert_int_equal(fv_renderer_read_linear(g_r, e, img[m][e], NPIX * 4), FV_OK);
+                if (k == 0) fv_metrics_eccentricity_deg(&in.eye[e], gaze, W, H, ecc[e], W);
+            }
+        }
+        for (int e = 0; e < 2; e++)
+            for (size_t i = 0; i < NPIX; i++) {
+                if (!(ecc[e][i] > 5.0f)) continue;
+                for (int c = 0; c < 3; c++) {
+                    double full = fv_metrics_linear_to_srgb(img[FULL][e][i * 4 + c]);
+                    double full_prev = fv_metrics_linear_to_srgb(prev[FULL][e][i * 4 + c]);
+                    for (int m = 0; m < FULL; m++) {
+                        assert_true(isfinite(img[m][e][i * 4 + c]));
+                        double err = fv_metrics_linear_to_srgb(img[m][e][i * 4 + c]) - full;
+                        mse[m] += err * err;
+                        if (k == 0) continue;
+                        double err_prev = fv_metrics_linear_to_srgb(prev[m][e][i * 4 + c]) - full_prev;
+                        flicker[m] += (err - err_prev) * (err - err_prev);
+                    }
+                    n++;
+                    nf += k > 0;
+                }
+            }
+    }
+    for (int m = 0; m < FULL; m++) {
+        print_message("turning head, periphery (> 5 deg): %-8s PSNR %.2f dB vs full resolution, flicker %.3e\n",
+                      name[m], fv_metrics_psnr_db(mse[m] / n), flicker[m] / nf);
+    }
+    /* margins far beyond what frame-to-frame pattern changes alone make of the same fill */
+    assert_true(flicker[FV_FOVEA_RECON_SOFT] < 0.5 * flicker[FV_FOVEA_RECON_NEAREST]);
+    assert_true(fv_metrics_psnr_db(mse[FV_FOVEA_RECON_SOFT] / n) > fv_metrics_psnr_db(mse[FV_FOVEA_RECON_NEAREST] / n) + 3.0);
+    for (int m = 0; m < MODES; m++)
+        for (int e = 0; e < 2; e++) free(img[m][e]), free(prev[m][e]);
+    free(ecc[0]), free(ecc[1]);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
+/* Every fill finite (no NaN or Inf anywhere in the colour) at the extremes: blocks 2 and 16, xi 0.01 and 1 (and 0,
+ * which the renderer replaces), gazes at the centre, off the image and lost, at 96 x 80 and on a second renderer of
+ * 13 x 7 px (odd, smaller than a block of 16). */
+static void check_finite(fv_renderer *r, uint32_t w, uint32_t h, const fv_scene *s, float *rgba)
+{
+    const uint32_t blocks[] = {2, 16};
+    const float xis[] = {0.01f, 1.0f, 0.0f};
+    const fv_vec3 gazes[] = {fv_v3(0, 0, -1), fv_v3_normalize_or(fv_v3(3.0f, -2.0f, -1.0f), fv_v3(0, 0, -1)),
+                             fv_v3(0, 0, -1)};
+    for (int b = 0; b < 2; b++)
+        for (int rc = 0; rc <= FV_FOVEA_RECON_LAST; rc++)
+            for (int x = 0; x < 3; x++)
+                for (int g = 0; g < 3; g++) {
+                    fv_frame_input in;
+                    assert_int_equal(fv_renderer_frame_input(r, &s->head, g_frame_id++, 0.0, &in), FV_OK);
+                    in.quality.fovea.enabled = true;
+                    in.quality.fovea.block = blocks[b];
+                    in.quality.fovea.recon = (fv_fovea_recon)rc;
+                    in.quality.fovea.min_prob = xis[x];
+                    set_gaze(&in, gazes[g], 0.5f);
+                    if (g == 2) in.gaze[0].valid = in.gaze[1].valid = false;
+                    assert_int_equal(fv_renderer_draw(r, &in), FV_OK);
+                    for (int e = 0; e < 2; e++) {
+                        assert_int_equal(fv_renderer_read_linear(r, e, rgba, (size_t)w * h * 4), FV_OK);
+                        for (size_t i = 0; i < (size_t)w * h * 4; i++)
+                            if (!isfinite(rgba[i])) fail_msg("%ux%u block %u recon %d xi %g gaze %d eye %d: value %zu "
+                                                             "is %g", w, h, blocks[b], rc, (double)xis[x], g, e, i,
+                                                             (double)rgba[i]);
+                    }
+                }
+}
+
+static void every_fill_finite_at_extremes(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    float *rgba = malloc(NPIX * 16);
+    assert_non_null(rgba);
+    check_finite(g_r, W, H, s, rgba);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_renderer *small = NULL;
+    assert_int_equal(fv_gpu_test_setup(13, 7, &small), 0);
+    assert_non_null(small);
+    fv_scene *s2 = fv_gpu_test_load_scene(small, "cornell");
+    check_finite(small, 13, 7, s2, rgba);
+    assert_int_equal(fv_renderer_validation_messages(small), 0);
+    assert_int_equal(fv_gpu_test_teardown(&small), 0);
+    fv_scene_destroy(&s2);
+    free(rgba);
+    fv_scene_destroy(&s);
+}
+
+/* The sampling map compiles the G-buffer's reads in only where they act (fovea.comp USE_GBUFFER; on llvmpipe their
+ * presence costs ~10x the rest of the pass): the variant without them runs with saliency 0 and DoF on but no pupil
+ * size (or DoF off), the other with saliency or with DoF and a pupil; the pass reports which ran. */
+static double map_reads_gbuffer(float saliency, bool dof, float pupil_mm)
+{
+    fv_frame_input in = frame_in();
+    in.quality.fovea.saliency = saliency;
+    in.quality.fovea.dof = dof;
+    in.pupil_mm = pupil_mm;
+    assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+    fv_pass_detail d[8];
+    uint32_t n = fv_renderer_pass_details(g_r, "fovea", d, 8);
+    for (uint32_t i = 0; i < n; i++)
+        if (strcmp(d[i].key, "reads_gbuffer") == 0) return d[i].value[0];
+    fail_msg("the fovea pass reports no reads_gbuffer");
+    return -1;
+}
+
+static void map_reads_gbuffer_only_when_needed(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    assert_true(map_reads_gbuffer(0.0f, true, NAN) == 0);   /* balanced without a tracker: DoF has no pupil */
+    assert_true(map_reads_gbuffer(0.0f, true, 0.0f) == 0);
+    assert_true(map_reads_gbuffer(0.0f, true, 25.0f) == 0); /* beyond FV_GPU_PUPIL_MAX_MM: unknown */
+    assert_true(map_reads_gbuffer(0.0f, false, 4.0f) == 0);
+    assert_true(map_reads_gbuffer(0.0f, true, 4.0f) == 1);
+    assert_true(map_reads_gbuffer(0.5f, false, NAN) == 1);
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -833,6 +1216,10 @@ int main(void)
         cmocka_unit_test(foveal_band_equals_full_resolution),
         cmocka_unit_test(temporal_reuse_lowers_periphery_error_and_flicker),
         cmocka_unit_test(saliency_and_dof_match_cpu),
+        cmocka_unit_test(soft_matches_cpu_double),
+        cmocka_unit_test(soft_fill_flickers_less_than_nearest),
+        cmocka_unit_test(every_fill_finite_at_extremes),
+        cmocka_unit_test(map_reads_gbuffer_only_when_needed),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -199,6 +199,22 @@ static void add_ms_or_null(cJSON *o, const char *key, double v)
     else cJSON_AddNullToObject(o, key);
 }
 
+/* The cost model of foveation (issue 25): each stage's median GPU ms over the present pass's (a tonemap of the same
+ * 2 x W x H pixels, the cheapest full-screen pass), i.e. its work per pixel in present passes (out[0..4], the
+ * stages of FOVEA_STAGE); out[5] = the passes that exist only for foveation (all but shading) together. NAN where a
+ * pass did not run (a temporal pass that is off counts 0 in the sum) or there is no present pass. */
+static void fovea_cost_vs_present(fv_measure *m, double out[6])
+{
+    double present = pass_median(m, "present"), sum = 0;
+    for (int s = 0; s < 6; s++) out[s] = NAN;
+    if (!(present > 0)) return;
+    for (int s = 0; s < 5; s++) {
+        out[s] = pass_median(m, FOVEA_STAGE[s][1]) / present;
+        if (s != 2 && isfinite(out[s])) sum += out[s]; /* shading is what foveation saves, not its overhead */
+    }
+    out[5] = sum;
+}
+
 void fv_measure_add_fovea_json(const fv_measure *mc, const fv_renderer *r, cJSON *j)
 {
     fv_measure *m = (fv_measure *)mc;
@@ -219,6 +235,11 @@ void fv_measure_add_fovea_json(const fv_measure *mc, const fv_renderer *r, cJSON
     }
     cJSON *js = cJSON_AddObjectToObject(jf, "stage_gpu_ms");
     for (int s = 0; s < 5; s++) add_ms_or_null(js, FOVEA_STAGE[s][0], pass_median(m, FOVEA_STAGE[s][1]));
+    double cost[6];
+    fovea_cost_vs_present(m, cost);
+    cJSON *jc = cJSON_AddObjectToObject(jf, "stage_cost_vs_present");
+    for (int s = 0; s < 5; s++) add_ms_or_null(jc, FOVEA_STAGE[s][0], cost[s]);
+    add_ms_or_null(jc, "overhead", cost[5]);
     if (detail_of(r, "reconstruct", "stage_gpu_ms_voronoi_fill", &split)) {
         add_ms_or_null(js, "reconstruction_voronoi_last", split.value[0]);
         add_ms_or_null(js, "reconstruction_fill_last", split.value[1]);
@@ -248,6 +269,11 @@ void fv_measure_print_fovea(const fv_measure *mc, const fv_renderer *r, FILE *f)
     }
     if (detail_of(r, "reconstruct", "stage_gpu_ms_voronoi_fill", &split))
         fprintf(f, " (voronoi %.3f + fill %.3f)", split.value[0], split.value[1]);
+    double cost[6];
+    fovea_cost_vs_present(m, cost);
+    if (isfinite(cost[5]))
+        fprintf(f, "; vs present: map %.1fx, compaction %.1fx, temporal %.1fx, reconstruction %.1fx, overhead %.1fx",
+                cost[0], cost[1], isfinite(cost[3]) ? cost[3] : 0.0, cost[4], cost[5]);
     fputc('\n', f);
 }
 

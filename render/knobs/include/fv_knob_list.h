@@ -83,11 +83,13 @@
     X(fovea, uncertainty, uncertainty, BOOL, bool, 0, 1, false, "", (), \
       false, true, true, true, \
       "widen the fovea by the predicted gaze's uncertainty (eccentricity e' = max(0, e - u))", NULL) \
-    X(fovea, recon, recon, ENUM, fv_fovea_recon, 0, FV_FOVEA_RECON_LAST, false, "", ("nearest", "sibson", "idw"), \
-      FV_FOVEA_RECON_NEAREST, FV_FOVEA_RECON_NEAREST, FV_FOVEA_RECON_NEAREST, FV_FOVEA_RECON_NEAREST, \
+    X(fovea, recon, recon, ENUM, fv_fovea_recon, 0, FV_FOVEA_RECON_LAST, false, "", ("nearest", "sibson", "idw", "soft"), \
+      FV_FOVEA_RECON_SOFT, FV_FOVEA_RECON_SOFT, FV_FOVEA_RECON_SOFT, FV_FOVEA_RECON_NEAREST, \
       "how unshaded pixels are filled: nearest (the nearest sample's colour), sibson (approximate discrete " \
       "natural-neighbour interpolation over the Voronoi diagram, window = the block), idw " \
-      "(inverse-distance-squared weights of the neighbouring blocks' samples)", NULL) \
+      "(inverse-distance-squared weights of the neighbouring blocks' samples), soft (an edge-aware Gaussian, G-buffer " \
+      "plane and normal guided, of the 3x3 blocks' known pixels, as wide as the local sample spacing: soft edges, " \
+      "one pass)", NULL) \
     X(fovea, voronoi, voronoi, ENUM, fv_fovea_voronoi, 0, FV_FOVEA_VORONOI_LAST, false, "", ("jfa", "blocks"), \
       FV_FOVEA_VORONOI_BLOCKS, FV_FOVEA_VORONOI_BLOCKS, FV_FOVEA_VORONOI_BLOCKS, FV_FOVEA_VORONOI_BLOCKS, \
       "how the nearest sample of every pixel is found: jfa (jump flooding, 1+JFA from the block size) or " \

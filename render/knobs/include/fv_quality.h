@@ -57,7 +57,9 @@ typedef enum fv_fovea_recon {
                                  * Voronoi diagram, window = the block */
     FV_FOVEA_RECON_IDW = 2,     /* "idw": inverse-distance-squared (Shepard) weights of the samples of the
                                  * neighbouring blocks (no Voronoi diagram needed) */
-    FV_FOVEA_RECON_LAST = FV_FOVEA_RECON_IDW
+    FV_FOVEA_RECON_SOFT = 3,    /* "soft": an edge-aware (G-buffer plane and normal) Gaussian of the known pixels of
+                                 * the 3x3 blocks around, as wide as the local sample spacing (one pass) */
+    FV_FOVEA_RECON_LAST = FV_FOVEA_RECON_SOFT
 } fv_fovea_recon;
 
 /** How the Voronoi diagram of the samples is found (knob `fovea.voronoi`). */
