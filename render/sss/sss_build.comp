@@ -4,7 +4,9 @@
 // depth area-weighted, and a similarity in [0, 1] (leaves 1): the smallest of the children's, times how alike the
 // children's normals are (the smallest cosine to the mean normal) and how flat they lie (1 - the largest depth
 // offset from the mean over the cluster's size sqrt(area)); and its extent, the radius around the centroid that
-// holds every child's extent (a leaf's: its footprint's largest disk). One dispatch per level; empty children are left out.
+// holds every child's extent (a leaf's: its footprint's half-diagonal); and its footprint, the parallelogram of its
+// four children's (their edges' means, doubled) when all four are there, else none. One dispatch per level; empty
+// children are left out.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_common.glsl"
@@ -14,6 +16,8 @@ layout(local_size_x = FV_SSS_BUILD_GROUP, local_size_y = 1, local_size_z = 1) in
 layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_POS) uniform sampler2DArray map_pos;
 layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_FLUX) uniform sampler2DArray map_flux;
 layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_NORMAL) uniform sampler2DArray map_normal;
+layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_EDGE_A) uniform sampler2DArray map_edge_a;
+layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_EDGE_B) uniform sampler2DArray map_edge_b;
 layout(std430, set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_NODES) buffer Nodes { fv_gpu_sss_node nodes[]; };
 layout(push_constant) uniform Push { fv_sss_build_push pc; };
 
@@ -42,18 +46,22 @@ void main()
     if (level == leaf) {
         ivec3 t = ivec3(int(compact_bits(i)), int(compact_bits(i >> 1)), int(map));
         vec4 p = texelFetch(map_pos, t, 0), f = texelFetch(map_flux, t, 0), n = texelFetch(map_normal, t, 0);
-        bool ok = p.w > 0.0 && !any(isnan(p)) && !any(isnan(f));
+        vec3 ea = texelFetch(map_edge_a, t, 0).xyz, eb = texelFetch(map_edge_b, t, 0).xyz;
+        bool ok = p.w > 0.0 && !any(isnan(p)) && !any(isnan(f)) && !any(isnan(ea)) && !any(isnan(eb));
         o.pos_area = ok ? p : vec4(0.0);
         o.flux_sim = ok ? vec4(f.rgb, 1.0) : vec4(0.0);
         o.normal_depth = ok ? vec4(n.xyz, f.w) : vec4(0.0);
-        o.extent = vec4(ok ? float(FV_SSS_FOOTPRINT_MAX) * sqrt(p.w * (1.0 / FV_PI)) : 0.0, 0.0, 0.0, 0.0);
+        float half_diagonal = 0.5 * sqrt(max(dot(ea + eb, ea + eb), dot(ea - eb, ea - eb)));
+        o.extent = ok ? vec4(half_diagonal, ea) : vec4(0.0);
+        o.edge_b = ok ? vec4(eb, 0.0) : vec4(0.0);
         nodes[at] = o;
         return;
     }
     uint child = map * total + ((1u << (2u * (level + 1u))) - 1u) / 3u + i * 4u;
     float area = 0.0, sim = 1.0;
-    vec3 pos = vec3(0.0), flux = vec3(0.0), nrm = vec3(0.0);
+    vec3 pos = vec3(0.0), flux = vec3(0.0), nrm = vec3(0.0), ea = vec3(0.0), eb = vec3(0.0);
     float depth = 0.0;
+    uint present = 0u;
     for (uint c = 0u; c < 4u; c++) {
         fv_gpu_sss_node k = nodes[child + c];
         float a = k.pos_area.w;
@@ -64,9 +72,12 @@ void main()
         nrm += a * k.normal_depth.xyz;
         depth += a * k.normal_depth.w;
         sim = min(sim, k.flux_sim.w);
+        ea += k.extent.yzw;
+        eb += k.edge_b.xyz;
+        present += dot(k.extent.yzw, k.extent.yzw) > 0.0 && dot(k.edge_b.xyz, k.edge_b.xyz) > 0.0 ? 1u : 0u;
     }
     if (!(area > 0.0)) {
-        nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+        nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
         return;
     }
     pos /= area;
@@ -87,6 +98,8 @@ void main()
     o.pos_area = vec4(pos, area);
     o.flux_sim = vec4(flux, sim * alike * flat_);
     o.normal_depth = vec4(nrm, depth);
-    o.extent = vec4(reach, 0.0, 0.0, 0.0);
+    bool whole = present == 4u; // four footprints: their parallelogram, the children's edges' means doubled
+    o.extent = vec4(reach, whole ? 0.5 * ea : vec3(0.0));
+    o.edge_b = vec4(whole ? 0.5 * eb : vec3(0.0), 0.0);
     nodes[at] = o;
 }
