@@ -2,8 +2,8 @@
 // ../shared/papers/README.md section 4's corrected eq. 4) summed over the light-view samples of the surface's
 // material, Lo = (1/pi) Ft(eta, wo) sum_i E_i A_i K_i(x_o), where K_i is the mean of Rd over the sample's
 // footprint, the parallelogram its texel cuts from the surface (render/sss/fv_dipole.h's fv_dipole_tile_kernel, whose
-// double version the CPU reference and the tests use; a cluster whose children are not all there: the disk of its
-// area, fv_dipole_kernel). Exact mode sums every sample; hierarchy mode walks each map's
+// double version the CPU reference and the tests use; a cluster above the leaves: the disk of its area,
+// fv_dipole_kernel). Exact mode sums every sample; hierarchy mode walks each map's
 // quad-tree from the start level, accepting a cluster of radius r at distance d when r <= distance_scale x eye
 // distance x similarity x d, or at the limit level (Ki & Oh), and dropping every node wholly beyond the material's
 // cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light). Requires fv_gpu.h, fv_common.glsl, the scene set and
@@ -153,11 +153,11 @@ vec3 fv_sss_ring_signed(fv_sss_dipole d, float r1, float r2)
 }
 
 // The footprint kernel (fv_dipole_tile_kernel): the mean of Rd over the parallelogram c +- a/2 +- b/2 seen from the
-// receiver x. Near (within FV_DIPOLE_KERNEL_NEAR half-diagonals, or a footprint wide against the diffusion
-// length): each edge's triangle from the receiver's foot on the footprint's plane, integrated exactly in the radius
+// receiver x. Near (within FV_DIPOLE_KERNEL_NEAR half-diagonals): each edge's triangle from the receiver's foot on the
+// footprint's plane, integrated exactly in the radius
 // along 4 Gauss-Legendre directions (neighbours share an edge's directions, so the footprints of a map tile the
-// surface without ripple); far: the second-order mean with M = (a a^T + b b^T) / 12. No footprint (a x b = 0): the
-// isotropic kernel of the area.
+// surface without ripple); far: the second-order mean with M = (a a^T + b b^T) / 12, or the disk of its area where
+// the footprint is wide against the diffusion length. No footprint (a x b = 0): the isotropic kernel of the area.
 vec3 fv_sss_tile_kernel(fv_sss_dipole d, vec3 c, vec3 a, vec3 b, float area, vec3 x)
 {
     vec3 off = c - x;
@@ -167,12 +167,12 @@ vec3 fv_sss_tile_kernel(fv_sss_dipole d, vec3 c, vec3 a, vec3 b, float area, vec
     if (!(fa > 0.0) || !(la > 0.0)) return fv_sss_kernel(d, dist, area);
     float radius = 0.5 * sqrt(max(dot(a + b, a + b), dot(a - b, a - b)));
     bvec3 smooth_ok = lessThanEqual(d.sigma_tr * radius, vec3(0.25));
-    bool far_ = dist > 4.0 * radius;
-    vec3 smoothed = vec3(0.0);
-    if (far_) {
+    if (dist > 4.0 * radius) { // far: the second-order mean, or (a footprint wide against the diffusion length) the
+                               // disk of its area
         float ua = dot(off, a) / dist, ub = dot(off, b) / dist;
-        smoothed = fv_sss_smoothed(d, dist, (ua * ua + ub * ub) * (1.0 / 12.0), (dot(a, a) + dot(b, b)) * (1.0 / 12.0));
+        vec3 smoothed = fv_sss_smoothed(d, dist, (ua * ua + ub * ub) * (1.0 / 12.0), (dot(a, a) + dot(b, b)) * (1.0 / 12.0));
         if (all(smooth_ok)) return smoothed;
+        return mix(fv_sss_disk_mean(d, dist, sqrt(area * (1.0 / FV_PI))), smoothed, smooth_ok);
     }
     const float gx[4] = float[4](-0.8611363116, -0.3399810436, 0.3399810436, 0.8611363116);
     const float gw[4] = float[4](0.3478548451, 0.6521451549, 0.6521451549, 0.3478548451);
@@ -201,8 +201,7 @@ vec3 fv_sss_tile_kernel(fv_sss_dipole d, vec3 c, vec3 a, vec3 b, float area, vec
         wind += dl;
     }
     vec3 quad = max((tot + wind * fv_sss_disk_ring(d, abs(h), r0)) * (1.0 / (2.0 * FV_PI * fa)), vec3(0.0));
-    quad = mix(vec3(0.0), quad, greaterThan(d.zr, vec3(0.0)));
-    return far_ ? mix(quad, smoothed, smooth_ok) : quad;
+    return mix(vec3(0.0), quad, greaterThan(d.zr, vec3(0.0)));
 }
 
 // One node's footprint kernel at the receiver.
@@ -282,7 +281,9 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 float radius = sqrt(area * (1.0 / FV_PI));
                 bool accept = k >= limit || (node.flux_sim.w > 0.0 && radius <= theta * node.flux_sim.w * dist);
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {
-                    sum += node.flux_sim.rgb * fv_sss_node_kernel(d, node, x);
+                    // a leaf: its texel's footprint; a cluster: the disk of its area (the quadrature over a
+                    // footprint costs 4x a disk's, and a cluster is accepted only away from the receiver)
+                    sum += node.flux_sim.rgb * (k >= leaf ? fv_sss_node_kernel(d, node, x) : fv_sss_kernel(d, dist, area));
                     count++;
                     continue;
                 }

@@ -43,9 +43,8 @@ struct fv_gpu_sss_node {
     FV_VEC4 extent;       /* x bounding radius around the centroid (m): how far the footprints of its samples reach
                            * (a leaf: its footprint's half-diagonal); yzw the footprint's edge a (m) */
     FV_VEC4 edge_b;       /* xyz the footprint's edge b (m), w 0. The footprint is the parallelogram centroid +- a/2 +-
-                           * b/2 on the surface (fv_sss_texel_footprint; |a x b| = area): a leaf's texel, a cluster's
-                           * four children when all four are there (their edges' means, doubled); a = b = 0: none (a
-                           * cluster with empty children: the disk of its area stands in) */
+                           * b/2 on the surface (fv_sss_texel_footprint; |a x b| = area) of a leaf's texel; a cluster
+                           * has none (a = b = 0: the disk of its area stands in) */
 };
 
 /** The map pass's push constants (vertex and fragment stages): the scene's {draw, view} then ours. */

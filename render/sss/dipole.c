@@ -321,7 +321,8 @@ double fv_dipole_tile_kernel(const fv_dipole *d, const double c[3], const double
     if (!(area > 0.0) || !isfinite(area) || !(la > 0.0)) return fv_dipole_rd(d, dist);
     double apb[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]}, amb[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
     double radius = 0.5 * sqrt(fmax(dot3(apb, apb), dot3(amb, amb)));
-    if (dist > FV_DIPOLE_KERNEL_NEAR * radius && d->sigma_tr * radius <= FV_DIPOLE_KERNEL_SMOOTH) {
+    if (dist > FV_DIPOLE_KERNEL_NEAR * radius) { /* far: the shape no longer matters to first order */
+        if (d->sigma_tr * radius > FV_DIPOLE_KERNEL_SMOOTH) return disk_mean(d, dist, sqrt(area / PI));
         double ua = dot3(off, a) / dist, ub = dot3(off, b) / dist;
         return rd_smoothed(d, dist, (ua * ua + ub * ub) / 12.0, (dot3(a, a) + dot3(b, b)) / 12.0);
     }

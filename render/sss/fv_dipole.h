@@ -90,8 +90,8 @@ double fv_dipole_kernel(const fv_dipole *d, double dist, double area);
  *  form; 4 Gauss-Legendre directions per edge. An edge shared by two footprints is evaluated at the same directions
  *  from both sides, so the quadrature's error cancels between neighbours and the tiling stays exact. The radial
  *  integral is taken relative to the footprint's centre distance (no cancellation far away). Beyond
- *  FV_DIPOLE_KERNEL_NEAR half-diagonals (while sigma_tr x half-diagonal <= FV_DIPOLE_KERNEL_SMOOTH) the second-order
- *  mean with M = (a a^T + b b^T) / 12. A degenerate footprint (|a x b| = 0): Rd(|c - x|). Per unit^2, finite. */
+ *  FV_DIPOLE_KERNEL_NEAR half-diagonals the second-order mean with M = (a a^T + b b^T) / 12 (while sigma_tr x
+ *  half-diagonal <= FV_DIPOLE_KERNEL_SMOOTH; beyond, the disk of its area, as fv_dipole_kernel's quadrature). A degenerate footprint (|a x b| = 0): Rd(|c - x|). Per unit^2, finite. */
 double fv_dipole_tile_kernel(const fv_dipole *d, const double c[3], const double a[3], const double b[3],
                              const double x[3]);
 

@@ -4,9 +4,8 @@
 // depth area-weighted, and a similarity in [0, 1] (leaves 1): the smallest of the children's, times how alike the
 // children's normals are (the smallest cosine to the mean normal) and how flat they lie (1 - the largest depth
 // offset from the mean over the cluster's size sqrt(area)); and its extent, the radius around the centroid that
-// holds every child's extent (a leaf's: its footprint's half-diagonal); and its footprint, the parallelogram of its
-// four children's (their edges' means, doubled) when all four are there, else none. One dispatch per level; empty
-// children are left out.
+// holds every child's extent (a leaf's: its footprint's half-diagonal); a leaf also its texel's footprint (clusters
+// have none: the gather takes the disk of their area). One dispatch per level; empty children are left out.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_common.glsl"
@@ -59,9 +58,8 @@ void main()
     }
     uint child = map * total + ((1u << (2u * (level + 1u))) - 1u) / 3u + i * 4u;
     float area = 0.0, sim = 1.0;
-    vec3 pos = vec3(0.0), flux = vec3(0.0), nrm = vec3(0.0), ea = vec3(0.0), eb = vec3(0.0);
+    vec3 pos = vec3(0.0), flux = vec3(0.0), nrm = vec3(0.0);
     float depth = 0.0;
-    uint present = 0u;
     for (uint c = 0u; c < 4u; c++) {
         fv_gpu_sss_node k = nodes[child + c];
         float a = k.pos_area.w;
@@ -72,9 +70,6 @@ void main()
         nrm += a * k.normal_depth.xyz;
         depth += a * k.normal_depth.w;
         sim = min(sim, k.flux_sim.w);
-        ea += k.extent.yzw;
-        eb += k.edge_b.xyz;
-        present += dot(k.extent.yzw, k.extent.yzw) > 0.0 && dot(k.edge_b.xyz, k.edge_b.xyz) > 0.0 ? 1u : 0u;
     }
     if (!(area > 0.0)) {
         nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
@@ -98,8 +93,7 @@ void main()
     o.pos_area = vec4(pos, area);
     o.flux_sim = vec4(flux, sim * alike * flat_);
     o.normal_depth = vec4(nrm, depth);
-    bool whole = present == 4u; // four footprints: their parallelogram, the children's edges' means doubled
-    o.extent = vec4(reach, whole ? 0.5 * ea : vec3(0.0));
-    o.edge_b = vec4(whole ? 0.5 * eb : vec3(0.0), 0.0);
+    o.extent = vec4(reach, 0.0, 0.0, 0.0);
+    o.edge_b = vec4(0.0);
     nodes[at] = o;
 }
