@@ -184,14 +184,16 @@ vec3 fv_sss_tile_kernel(fv_sss_dipole d, vec3 c, vec3 a, vec3 b, float area, vec
     float r0 = sqrt(dot(o, o) + h * h);
     vec3 tot = vec3(0.0);
     float wind = 0.0;
-    for (int k = 0; k < 4; k++) {
+    // Loops kept rolled: exact mode unrolls its sample loop 16 times, and this body inlined 16 x 16 times took
+    // llvmpipe over a minute to compile (they run only for the few footprints near the receiver).
+    [[dont_unroll]] for (int k = 0; k < 4; k++) {
         vec2 P = q[k], Q = q[(k + 1) & 3], E = Q - P;
         float cr = P.x * E.y - P.y * E.x;
         bool ends = dot(P, P) > 0.0 && dot(Q, Q) > 0.0;
         float dl = ends ? atan(P.x * Q.y - P.y * Q.x, dot(P, Q)) : 0.0;
         float ph0 = ends ? atan(P.y, P.x) : 0.0;
         vec3 sum = vec3(0.0);
-        for (int j = 0; j < 4; j++) {
+        [[dont_unroll]] for (int j = 0; j < 4; j++) {
             float ph = ph0 + 0.5 * dl * (gx[j] + 1.0);
             float den = cos(ph) * E.y - sin(ph) * E.x;
             float rho = den != 0.0 ? max(cr / den, 0.0) : 0.0;
