@@ -1,8 +1,9 @@
 // @brief Subsurface light at a surface (render/sss): the dipole diffusion approximation (Jensen et al. 2001, with
 // ../shared/papers/README.md section 4's corrected eq. 4) summed over the light-view samples of the surface's
-// material, Lo = (1/pi) Ft(eta, wo) sum_i E_i A_i K(|x_i - x_o|, A_i), where K is the mean of Rd over the sample's
-// soft footprint (render/sss/fv_dipole.h's fv_dipole_kernel, whose double version the CPU reference and the tests
-// use). Exact mode sums every sample; hierarchy mode walks each map's
+// material, Lo = (1/pi) Ft(eta, wo) sum_i E_i A_i K_i(x_o), where K_i is the mean of Rd over the sample's
+// footprint, the parallelogram its texel cuts from the surface (render/sss/fv_dipole.h's fv_dipole_tile_kernel, whose
+// double version the CPU reference and the tests use; a cluster above the leaves: the disk of its area,
+// fv_dipole_kernel). Exact mode sums every sample; hierarchy mode walks each map's
 // quad-tree from the start level, accepting a cluster of radius r at distance d when r <= distance_scale x eye
 // distance x similarity x d, or at the limit level (Ki & Oh), and dropping every node wholly beyond the material's
 // cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light). Requires fv_gpu.h, fv_common.glsl, the scene set and
@@ -105,42 +106,110 @@ vec3 fv_sss_disk_mean(fv_sss_dipole d, float dist, float s)
     return sum * (half_range / (FV_PI * FV_PI * s * s));
 }
 
-// One source's Rd term and its 2D Laplacian at r (fv_dipole.h's source_laplacian), per channel.
-void fv_sss_source_laplacian(vec3 z, vec3 s, float r, out vec3 g, out vec3 lap)
+// One source's Rd term at r and its radial derivatives (fv_dipole.h's source_derivs), per channel: g, d^2/dr^2 g and
+// (1/r) d/dr g.
+void fv_sss_source_derivs(vec3 z, vec3 s, float r, out vec3 g, out vec3 frr, out vec3 fr_r)
 {
     vec3 D = sqrt(r * r + z * z);
-    vec3 e = exp(-s * D), i1 = 1.0 / max(D, vec3(1e-30)), i2 = i1 * i1, i3 = i2 * i1, i4 = i2 * i2, i5 = i4 * i1;
+    vec3 e = z * exp(-s * D), i1 = 1.0 / max(D, vec3(1e-30)), i2 = i1 * i1, i3 = i2 * i1, i4 = i2 * i2, i5 = i4 * i1;
     vec3 g1 = -e * (s * s * i2 + 3.0 * s * i3 + 3.0 * i4);
     vec3 g2 = e * (s * s * s * i2 + 5.0 * s * s * i3 + 12.0 * s * i4 + 12.0 * i5);
-    g = z * (s + i1) * e * i2;
-    lap = z * (g2 * (r * r) * i2 + g1 * (z * z + D * D) * i3);
+    g = e * (s + i1) * i2;
+    frr = g2 * (r * r) * i2 + g1 * (z * z) * i3;
+    fr_r = g1 * i1;
 }
 
-// The footprint kernel (fv_dipole_kernel): mean Rd over a sample's soft footprint, three concentric disks of
-// FV_DIPOLE_FOOTPRINT_* = 0.9, 1.3, 1.7 times the radius s of its area, centred `dist` from the receiver;
-// beyond FV_DIPOLE_KERNEL_NEAR = 4 radii (where sigma_tr s <= 0.25) its second-order mean Rd + m2 s^2 Lap(Rd).
-// soft = false (a cluster above the leaves, accepted away from the receiver): the middle disk alone, a third of the
-// near-field cost; the soft footprint matters where samples tile the receiver's neighbourhood, at the leaves.
-vec3 fv_sss_kernel(fv_sss_dipole d, float dist, float area, bool soft)
+// The mean of Rd over a region of second moment M at distance r, to second order (fv_dipole.h's rd_smoothed):
+// Rd + (1/2)(f_rr m_uu + (f_r / r)(tr M - m_uu)), m_uu = u^T M u along the direction u to the region.
+vec3 fv_sss_smoothed(fv_sss_dipole d, float r, float m_uu, float m_trace)
+{
+    vec3 gr, rr, fr, gv, rv, fv;
+    fv_sss_source_derivs(d.zr, d.sigma_tr, r, gr, rr, fr);
+    fv_sss_source_derivs(d.zv, d.sigma_tr, r, gv, rv, fv);
+    vec3 v = d.alpha * (1.0 / (4.0 * FV_PI)) *
+             (gr + gv + 0.5 * ((rr + rv) * m_uu + (fr + fv) * (m_trace - m_uu)));
+    return mix(vec3(0.0), max(v, vec3(0.0)), greaterThan(d.zr, vec3(0.0)));
+}
+
+// The isotropic kernel (fv_dipole_kernel): mean Rd over the disk of the node's area centred `dist` from the
+// receiver; beyond FV_DIPOLE_KERNEL_NEAR = 4 radii (where sigma_tr s <= 0.25) its second-order mean. For a cluster
+// without a footprint (some of its children empty).
+vec3 fv_sss_kernel(fv_sss_dipole d, float dist, float area)
 {
     float s = sqrt(max(area, 0.0) * (1.0 / FV_PI));
     if (!(s > 0.0)) return fv_sss_rd(d, dist);
-    bvec3 smooth_ok = lessThanEqual(d.sigma_tr * s, vec3(0.25));
-    vec3 smoothed = vec3(0.0);
-    bool far_ = dist > 4.0 * s; // FV_DIPOLE_KERNEL_NEAR
-    if (far_) {
-        vec3 gr, lr, gv, lv;
-        fv_sss_source_laplacian(d.zr, d.sigma_tr, dist, gr, lr);
-        fv_sss_source_laplacian(d.zv, d.sigma_tr, dist, gv, lv);
-        float m2 = (0.81 + 1.69 + 2.89) / 24.0 * s * s;
-        smoothed = max(d.alpha * (1.0 / (4.0 * FV_PI)) * (gr + gv + m2 * (lr + lv)), vec3(0.0));
-        smoothed = mix(vec3(0.0), smoothed, greaterThan(d.zr, vec3(0.0)));
-        if (all(smooth_ok)) return smoothed;
-    }
-    vec3 quad = soft ? (fv_sss_disk_mean(d, dist, 0.9 * s) + fv_sss_disk_mean(d, dist, 1.3 * s) +
-                        fv_sss_disk_mean(d, dist, 1.7 * s)) * (1.0 / 3.0)
-                     : fv_sss_disk_mean(d, dist, 1.3 * s);
+    bvec3 smooth_ok = lessThanEqual(d.sigma_tr * s, vec3(0.25)); // FV_DIPOLE_KERNEL_SMOOTH
+    bool far_ = dist > 4.0 * s;                                  // FV_DIPOLE_KERNEL_NEAR
+    vec3 smoothed = far_ ? fv_sss_smoothed(d, dist, 0.25 * s * s, 0.5 * s * s) : vec3(0.0);
+    if (far_ && all(smooth_ok)) return smoothed;
+    vec3 quad = fv_sss_disk_mean(d, dist, s);
     return far_ ? mix(quad, smoothed, smooth_ok) : quad;
+}
+
+// fv_sss_disk_ring signed: negative when r2 < r1.
+vec3 fv_sss_ring_signed(fv_sss_dipole d, float r1, float r2)
+{
+    return (r2 >= r1 ? 1.0 : -1.0) * fv_sss_disk_ring(d, min(r1, r2), max(r1, r2));
+}
+
+// The footprint kernel (fv_dipole_tile_kernel): the mean of Rd over the parallelogram c +- a/2 +- b/2 seen from the
+// receiver x. Near (within FV_DIPOLE_KERNEL_NEAR half-diagonals): each edge's triangle from the receiver's foot on the
+// footprint's plane, integrated exactly in the radius
+// along 4 Gauss-Legendre directions (neighbours share an edge's directions, so the footprints of a map tile the
+// surface without ripple); far: the second-order mean with M = (a a^T + b b^T) / 12, or the disk of its area where
+// the footprint is wide against the diffusion length. No footprint (a x b = 0): the isotropic kernel of the area.
+vec3 fv_sss_tile_kernel(fv_sss_dipole d, vec3 c, vec3 a, vec3 b, float area, vec3 x)
+{
+    vec3 off = c - x;
+    float dist = length(off);
+    vec3 nrm = cross(a, b);
+    float fa = length(nrm), la = length(a);
+    if (!(fa > 0.0) || !(la > 0.0)) return fv_sss_kernel(d, dist, area);
+    float radius = 0.5 * sqrt(max(dot(a + b, a + b), dot(a - b, a - b)));
+    bvec3 smooth_ok = lessThanEqual(d.sigma_tr * radius, vec3(0.25));
+    if (dist > 4.0 * radius) { // far: the second-order mean, or (a footprint wide against the diffusion length) the
+                               // disk of its area
+        float ua = dot(off, a) / dist, ub = dot(off, b) / dist;
+        vec3 smoothed = fv_sss_smoothed(d, dist, (ua * ua + ub * ub) * (1.0 / 12.0), (dot(a, a) + dot(b, b)) * (1.0 / 12.0));
+        if (all(smooth_ok)) return smoothed;
+        return mix(fv_sss_disk_mean(d, dist, sqrt(area * (1.0 / FV_PI))), smoothed, smooth_ok);
+    }
+    const float gx[4] = float[4](-0.8611363116, -0.3399810436, 0.3399810436, 0.8611363116);
+    const float gw[4] = float[4](0.3478548451, 0.6521451549, 0.6521451549, 0.3478548451);
+    vec3 n = nrm / fa, e1 = a / la, e2 = cross(n, e1);
+    float h = dot(off, n);
+    vec2 o = vec2(dot(off, e1), dot(off, e2)); // the centre, relative to the receiver's foot
+    vec2 ha = vec2(0.5 * la, 0.0), hb = 0.5 * vec2(dot(b, e1), dot(b, e2));
+    vec2 q[4] = vec2[4](o - ha - hb, o + ha - hb, o + ha + hb, o - ha + hb);
+    float r0 = sqrt(dot(o, o) + h * h);
+    vec3 tot = vec3(0.0);
+    float wind = 0.0;
+    // Loops kept rolled: exact mode unrolls its sample loop 16 times, and this body inlined 16 x 16 times took
+    // llvmpipe over a minute to compile (they run only for the few footprints near the receiver).
+    [[dont_unroll]] for (int k = 0; k < 4; k++) {
+        vec2 P = q[k], Q = q[(k + 1) & 3], E = Q - P;
+        float cr = P.x * E.y - P.y * E.x;
+        bool ends = dot(P, P) > 0.0 && dot(Q, Q) > 0.0;
+        float dl = ends ? atan(P.x * Q.y - P.y * Q.x, dot(P, Q)) : 0.0;
+        float ph0 = ends ? atan(P.y, P.x) : 0.0;
+        vec3 sum = vec3(0.0);
+        [[dont_unroll]] for (int j = 0; j < 4; j++) {
+            float ph = ph0 + 0.5 * dl * (gx[j] + 1.0);
+            float den = cos(ph) * E.y - sin(ph) * E.x;
+            float rho = den != 0.0 ? max(cr / den, 0.0) : 0.0;
+            sum += gw[j] * fv_sss_ring_signed(d, r0, sqrt(rho * rho + h * h));
+        }
+        tot += 0.5 * dl * sum;
+        wind += dl;
+    }
+    vec3 quad = max((tot + wind * fv_sss_disk_ring(d, abs(h), r0)) * (1.0 / (2.0 * FV_PI * fa)), vec3(0.0));
+    return mix(vec3(0.0), quad, greaterThan(d.zr, vec3(0.0)));
+}
+
+// One node's footprint kernel at the receiver.
+vec3 fv_sss_node_kernel(fv_sss_dipole d, fv_gpu_sss_node n, vec3 x)
+{
+    return fv_sss_tile_kernel(d, n.pos_area.xyz, n.extent.yzw, n.edge_b.xyz, n.pos_area.w, x);
 }
 
 // Whether the surface's light is carried by the dipole (a translucent material with a map this frame).
@@ -156,11 +225,6 @@ bool fv_sss_active(fv_surface s)
     return false;
 }
 
-// One node's contribution: its flux through the kernel at the receiver.
-vec3 fv_sss_node_light(fv_sss_dipole d, fv_gpu_sss_node n, vec3 x)
-{
-    return n.flux_sim.rgb * fv_sss_kernel(d, length(n.pos_area.xyz - x), n.pos_area.w, true);
-}
 
 // Lo(xo) toward the eye, W/(m^2 sr) per channel; out_clusters: the nodes it summed.
 vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
@@ -192,7 +256,7 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                     if (at >= total) break;
                     fv_gpu_sss_node node = sss_nodes[at];
                     if (!(node.pos_area.w > 0.0)) continue;
-                    sum += fv_sss_node_light(d, node, x);
+                    sum += node.flux_sim.rgb * fv_sss_node_kernel(d, node, x);
                     count++;
                 }
             }
@@ -219,7 +283,9 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 float radius = sqrt(area * (1.0 / FV_PI));
                 bool accept = k >= limit || (node.flux_sim.w > 0.0 && radius <= theta * node.flux_sim.w * dist);
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {
-                    sum += node.flux_sim.rgb * fv_sss_kernel(d, dist, area, k >= leaf);
+                    // a leaf: its texel's footprint; a cluster: the disk of its area (the quadrature over a
+                    // footprint costs 4x a disk's, and a cluster is accepted only away from the receiver)
+                    sum += node.flux_sim.rgb * (k >= leaf ? fv_sss_node_kernel(d, node, x) : fv_sss_kernel(d, dist, area));
                     count++;
                     continue;
                 }

@@ -14,7 +14,6 @@
 #define FV_SSS_GPU_MODE_HIERARCHY 0u
 #define FV_SSS_GPU_MODE_EXACT 1u
 #define FV_SSS_GPU_MIN_COS 0.1 /* = FV_SSS_MIN_COS */
-#define FV_SSS_FOOTPRINT_MAX 1.7 /* = FV_DIPOLE_FOOTPRINT_2: the soft footprint's largest disk, in radii */
 #define FV_SSS_STACK 32        /* traversal stack entries per pixel: 3 per level below the start, plus one */
 
 /** One light-view map. */
@@ -42,7 +41,10 @@ struct fv_gpu_sss_node {
     FV_VEC4 flux_sim;    /* rgb flux entering the surface, E * area (W), w similarity (leaves 1, 0..1) */
     FV_VEC4 normal_depth; /* xyz area-weighted mean normal, w mean depth along the light (m) */
     FV_VEC4 extent;       /* x bounding radius around the centroid (m): how far the footprints of its samples reach
-                           * (a leaf: the kernel's largest disk, FV_SSS_FOOTPRINT_MAX x sqrt(area / pi)); yzw 0 */
+                           * (a leaf: its footprint's half-diagonal); yzw the footprint's edge a (m) */
+    FV_VEC4 edge_b;       /* xyz the footprint's edge b (m), w 0. The footprint is the parallelogram centroid +- a/2 +-
+                           * b/2 on the surface (fv_sss_texel_footprint; |a x b| = area) of a leaf's texel; a cluster
+                           * has none (a = b = 0: the disk of its area stands in) */
 };
 
 /** The map pass's push constants (vertex and fragment stages): the scene's {draw, view} then ours. */
@@ -60,7 +62,9 @@ struct fv_sss_map_push {
 #define FV_SSS_BUILD_BINDING_FLUX 1   /* sampler2DArray: rgb flux, w depth along the light */
 #define FV_SSS_BUILD_BINDING_NORMAL 2 /* sampler2DArray: xyz normal */
 #define FV_SSS_BUILD_BINDING_NODES 3  /* the nodes (written) */
-#define FV_SSS_BUILD_BINDING_COUNT 4
+#define FV_SSS_BUILD_BINDING_EDGE_A 4 /* sampler2DArray: xyz footprint edge a */
+#define FV_SSS_BUILD_BINDING_EDGE_B 5 /* sampler2DArray: xyz footprint edge b */
+#define FV_SSS_BUILD_BINDING_COUNT 6
 #define FV_SSS_BUILD_GROUP 64
 
 struct fv_sss_build_push {
@@ -71,6 +75,9 @@ struct fv_sss_build_push {
 #define FV_SSS_OUT_POS 0
 #define FV_SSS_OUT_FLUX 1
 #define FV_SSS_OUT_NORMAL 2
+#define FV_SSS_OUT_EDGE_A 3 /* xyz the texel's footprint's edge a along the map's x (fv_sss_texel_footprint), w 0 */
+#define FV_SSS_OUT_EDGE_B 4 /* xyz its edge b along the map's y, w 0 */
+#define FV_SSS_MAP_TARGETS 5
 
 #ifdef FV_GLSL
 /* GLSL (after fv_common.glsl): */
@@ -92,7 +99,7 @@ typedef struct fv_gpu_sss fv_gpu_sss;
 typedef struct fv_gpu_sss_node fv_gpu_sss_node;
 _Static_assert(sizeof(fv_gpu_sss_layer) == 32, "fv_gpu_sss_layer layout");
 _Static_assert(sizeof(fv_gpu_sss) <= 256, "the SSS header fits the shading inputs' dummy buffer");
-_Static_assert(sizeof(fv_gpu_sss_node) == 64, "fv_gpu_sss_node layout");
+_Static_assert(sizeof(fv_gpu_sss_node) == 80, "fv_gpu_sss_node layout");
 _Static_assert(sizeof(struct fv_sss_map_push) == 128, "fv_sss_map_push layout");
 _Static_assert(sizeof(struct fv_sss_build_push) == 16, "fv_sss_build_push layout");
 #endif

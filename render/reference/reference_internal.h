@@ -165,6 +165,7 @@ bool ref_ray_from_inverse(const double inv[16], uint32_t width, uint32_t height,
 typedef struct ref_sss_sample {
     dvec3 pos, flux; /* world position; flux entering the surface E A (W) */
     double area;     /* the surface area the texel covers (m^2) */
+    double a[3], b[3]; /* the texel's footprint, pos +- a/2 +- b/2 (fv_sss_texel_footprint; |a x b| = area) */
 } ref_sss_sample;
 typedef struct ref_sss_map {
     uint32_t material;

@@ -2,9 +2,9 @@
  * light-view map (render/sss's model), in double — the oracle of the GPU's `exact` mode and of its hierarchy. The
  * maps are not rasterised but ray cast: one Embree ray from the light through each texel centre of the same light
  * view the GPU uses (fv_sss_light_view), the point the GPU's rasteriser samples. Each sample carries what
- * sss_map.frag computes: the surface area the texel covers (fv_sss_texel_area) and the flux entering the surface
- * E A = Ft(eta, wi) E_light A. A receiver on the same material sums flux x fv_dipole_kernel over all of them; no
- * visibility inside the object (the model). */
+ * sss_map.frag computes: the surface area the texel covers (fv_sss_texel_area), its footprint on the surface
+ * (fv_sss_texel_footprint) and the flux entering the surface E A = Ft(eta, wi) E_light A. A receiver on the same
+ * material sums flux x fv_dipole_tile_kernel over all of them; no visibility inside the object (the model). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,13 +37,20 @@ static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light
             if (dv_dot(nrm, to_light) < 0) nrm = dv_scale(nrm, -1.0); /* the side the light sees, as the GPU */
             dvec3 e = ref_light_irradiance(L, h.pos, nrm, &l, &dist);
             double cos_i = dv_dot(nrm, l);
-            double area = fv_sss_texel_area(v, fv_v3((float)h.pos.x, (float)h.pos.y, (float)h.pos.z), cos_i);
-            if (!(area > 0.0)) continue;
+            fv_vec3 pf = fv_v3((float)h.pos.x, (float)h.pos.y, (float)h.pos.z);
+            double area = fv_sss_texel_area(v, pf, cos_i);
+            fv_vec3 fa, fb;
+            if (!(area > 0.0) ||
+                !fv_sss_texel_footprint(v, pf, fv_v3((float)nrm.x, (float)nrm.y, (float)nrm.z), &fa, &fb))
+                continue;
             double ft = fv_fresnel_transmittance(eta, cos_i);
             ref_sss_sample *s = &m->samples[m->count++];
             s->pos = h.pos;
             s->flux = dv_scale(e, ft * area);
             s->area = area;
+            const double ea[3] = {fa.x, fa.y, fa.z}, eb[3] = {fb.x, fb.y, fb.z};
+            memcpy(s->a, ea, sizeof s->a);
+            memcpy(s->b, eb, sizeof s->b);
         }
     return FV_OK;
 }
@@ -98,13 +105,13 @@ dvec3 ref_sss_radiance(const ref_sss *s, dvec3 x, dvec3 n, dvec3 to_eye, uint32_
         const ref_sss_map *m = &s->map[i];
         if (m->material != material) continue;
         eta = m->eta;
+        const double xr[3] = {x.x, x.y, x.z};
         for (uint32_t k = 0; k < m->count; k++) {
             const ref_sss_sample *p = &m->samples[k];
-            dvec3 dd = dv_sub(p->pos, x);
-            double dist = sqrt(dv_dot(dd, dd));
-            sum.x += p->flux.x * fv_dipole_kernel(&m->dipole[0], dist, p->area);
-            sum.y += p->flux.y * fv_dipole_kernel(&m->dipole[1], dist, p->area);
-            sum.z += p->flux.z * fv_dipole_kernel(&m->dipole[2], dist, p->area);
+            const double c[3] = {p->pos.x, p->pos.y, p->pos.z};
+            sum.x += p->flux.x * fv_dipole_tile_kernel(&m->dipole[0], c, p->a, p->b, xr);
+            sum.y += p->flux.y * fv_dipole_tile_kernel(&m->dipole[1], c, p->a, p->b, xr);
+            sum.z += p->flux.z * fv_dipole_tile_kernel(&m->dipole[2], c, p->a, p->b, xr);
         }
     }
     double len = sqrt(dv_dot(to_eye, to_eye));

@@ -216,32 +216,36 @@ static double disk_mean(const fv_dipole *d, double dist, double s)
     return isfinite(v) && v > 0.0 ? fmin(v, DBL_MAX) : 0.0;
 }
 
-static const double footprint[3] = {FV_DIPOLE_FOOTPRINT_0, FV_DIPOLE_FOOTPRINT_1, FV_DIPOLE_FOOTPRINT_2};
-
-/* One source's term of Rd and of its 2D Laplacian at r: g(D) = (s + 1/D) e^(-s D) / D^2 with D = sqrt(r^2 + z^2);
- * Laplacian of g(D(r)) = g''(D) r^2/D^2 + g'(D) (z^2 + D^2)/D^3, g' = -e^(-sD)(s^2/D^2 + 3s/D^3 + 3/D^4),
- * g'' = e^(-sD)(s^3/D^2 + 5s^2/D^3 + 12s/D^4 + 12/D^5). */
-static void source_laplacian(double z, double s, double r, double *out_g, double *out_lap)
+/* One source's term of Rd at r and its radial derivatives: g(D) = z (s + 1/D) e^(-s D) / D^2 with D = sqrt(r^2 + z^2);
+ * g' = -z e^(-sD)(s^2/D^2 + 3s/D^3 + 3/D^4), g'' = z e^(-sD)(s^3/D^2 + 5s^2/D^3 + 12s/D^4 + 12/D^5);
+ * d^2/dr^2 g(D(r)) = g'' r^2/D^2 + g' z^2/D^3 and (1/r) d/dr g(D(r)) = g'/D. */
+static void source_derivs(double z, double s, double r, double *out_g, double *out_frr, double *out_fr_r)
 {
     double D = hypot(r, z);
     if (!(z > 0.0) || !(D > 0.0)) {
-        *out_g = *out_lap = 0.0;
+        *out_g = *out_frr = *out_fr_r = 0.0;
         return;
     }
-    double e = exp(-s * D), i1 = 1.0 / D, i2 = i1 * i1, i3 = i2 * i1, i4 = i2 * i2, i5 = i4 * i1;
+    double e = z * exp(-s * D), i1 = 1.0 / D, i2 = i1 * i1, i3 = i2 * i1, i4 = i2 * i2, i5 = i4 * i1;
     double g1 = -e * (s * s * i2 + 3.0 * s * i3 + 3.0 * i4);
     double g2 = e * (s * s * s * i2 + 5.0 * s * s * i3 + 12.0 * s * i4 + 12.0 * i5);
-    *out_g = z * (s + i1) * e * i2;
-    *out_lap = z * (g2 * r * r * i2 + g1 * (z * z + D * D) * i3);
+    *out_g = e * (s + i1) * i2;
+    *out_frr = g2 * r * r * i2 + g1 * z * z * i3;
+    *out_fr_r = g1 * i1;
 }
 
-/* Rd + m2 Laplacian(Rd) at r: the mean over a footprint whose mean squared radius is 4 m2, to second order. */
-static double rd_smoothed(const fv_dipole *d, double r, double m2)
+/* The mean of Rd over a region with second moment M about its centre, at distance r from the receiver, to second
+ * order: Rd + (1/2) tr(M H), H = f_rr u u^T + (f_r / r)(I - u u^T) for the unit direction u; m_uu = u^T M u. */
+static double rd_smoothed(const fv_dipole *d, double r, double m_uu, double m_trace)
 {
-    double gr, lr, gv, lv;
-    source_laplacian(d->zr, d->sigma_tr, r, &gr, &lr);
-    source_laplacian(d->zv, d->sigma_tr, r, &gv, &lv);
-    double v = d->alpha_prime / (4.0 * PI) * (gr + gv + m2 * (lr + lv));
+    double v = 0.0;
+    const double z[2] = {d->zr, d->zv};
+    for (int k = 0; k < 2; k++) {
+        double g, frr, fr_r;
+        source_derivs(z[k], d->sigma_tr, r, &g, &frr, &fr_r);
+        v += g + 0.5 * (frr * m_uu + fr_r * (m_trace - m_uu));
+    }
+    v *= d->alpha_prime / (4.0 * PI);
     return isfinite(v) && v > 0.0 ? fmin(v, DBL_MAX) : 0.0;
 }
 
@@ -253,10 +257,84 @@ double fv_dipole_kernel(const fv_dipole *d, double dist, double area)
     double s = sqrt(area / PI);
     if (!(s > 0.0)) return fv_dipole_rd(d, dist);
     if (dist > FV_DIPOLE_KERNEL_NEAR * s && d->sigma_tr * s <= FV_DIPOLE_KERNEL_SMOOTH)
-        return rd_smoothed(d, dist, FV_DIPOLE_FOOTPRINT_M2 * s * s);
-    double v = 0.0;
-    for (int k = 0; k < 3; k++) v += disk_mean(d, dist, s * footprint[k]);
-    v /= 3.0;
+        return rd_smoothed(d, dist, 0.25 * s * s, 0.5 * s * s); /* a disk: M = (s^2 / 4) I in its plane */
+    return disk_mean(d, dist, s);
+}
+
+/* ---- the footprint kernel: a parallelogram ------------------------------------------------------------------ */
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void cross3(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* disk_ring(r1, r2) signed: negative when r2 < r1. */
+static double ring_signed(const fv_dipole *d, double r1, double r2)
+{
+    return r2 >= r1 ? disk_ring(d, r1, r2) : -disk_ring(d, r2, r1);
+}
+
+/* The integral of Rd(sqrt(rho^2 + h^2)) over the parallelogram with corners q[0..3] (counter-clockwise, in the plane,
+ * relative to the receiver's foot), as the sum over its edges of the triangle (foot, P, Q): along direction phi the
+ * triangle spans [0, rho(phi)], rho = (P x E) / (w(phi) x E) for E = Q - P, and int_0^rho Rd(sqrt(t^2 + h^2)) t dt =
+ * disk_ring(|h|, sqrt(rho^2 + h^2)) / (2 pi) = [ring_signed(R0, .) + disk_ring(|h|, R0)] / (2 pi); the constant
+ * part sums to the winding angle times disk_ring(|h|, R0), zero outside the parallelogram. */
+static double tile_integral(const fv_dipole *d, double q[4][2], double h)
+{
+    double hh = fabs(h);
+    double c0 = 0.25 * (q[0][0] + q[1][0] + q[2][0] + q[3][0]), c1 = 0.25 * (q[0][1] + q[1][1] + q[2][1] + q[3][1]);
+    double r0 = hypot(hypot(c0, c1), h);
+    double tot = 0.0, wind = 0.0;
+    for (int k = 0; k < 4; k++) {
+        const double *P = q[k], *Q = q[(k + 1) & 3];
+        double ex = Q[0] - P[0], ey = Q[1] - P[1];
+        double cr = P[0] * ey - P[1] * ex;
+        bool ends = (P[0] != 0.0 || P[1] != 0.0) && (Q[0] != 0.0 || Q[1] != 0.0);
+        double dl = ends ? atan2(P[0] * Q[1] - P[1] * Q[0], P[0] * Q[0] + P[1] * Q[1]) : 0.0;
+        double ph0 = ends ? atan2(P[1], P[0]) : 0.0;
+        double sum = 0.0;
+        for (int j = 0; j < 4; j++) {
+            double ph = ph0 + 0.5 * dl * (gl_x[j] + 1.0);
+            double den = cos(ph) * ey - sin(ph) * ex;
+            double rho = den != 0.0 ? fmax(cr / den, 0.0) : 0.0;
+            sum += gl_w[j] * ring_signed(d, r0, hypot(rho, h));
+        }
+        tot += 0.5 * dl * sum;
+        wind += dl;
+    }
+    return (tot + wind * disk_ring(d, hh, r0)) / (2.0 * PI);
+}
+
+double fv_dipole_tile_kernel(const fv_dipole *d, const double c[3], const double a[3], const double b[3],
+                             const double x[3])
+{
+    if (!d || !(d->alpha_prime > 0.0)) return 0.0;
+    double off[3] = {c[0] - x[0], c[1] - x[1], c[2] - x[2]};
+    double dist = sqrt(dot3(off, off));
+    if (!isfinite(dist)) return 0.0;
+    double n[3];
+    cross3(a, b, n);
+    double area = sqrt(dot3(n, n)), la = sqrt(dot3(a, a));
+    if (!(area > 0.0) || !isfinite(area) || !(la > 0.0)) return fv_dipole_rd(d, dist);
+    double apb[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]}, amb[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    double radius = 0.5 * sqrt(fmax(dot3(apb, apb), dot3(amb, amb)));
+    if (dist > FV_DIPOLE_KERNEL_NEAR * radius) { /* far: the shape no longer matters to first order */
+        if (d->sigma_tr * radius > FV_DIPOLE_KERNEL_SMOOTH) return disk_mean(d, dist, sqrt(area / PI));
+        double ua = dot3(off, a) / dist, ub = dot3(off, b) / dist;
+        return rd_smoothed(d, dist, (ua * ua + ub * ub) / 12.0, (dot3(a, a) + dot3(b, b)) / 12.0);
+    }
+    for (int k = 0; k < 3; k++) n[k] /= area;
+    /* In-plane coordinates: e1 along a, e2 = n x e1 (so b has a positive e2 component: counter-clockwise). */
+    double e1[3] = {a[0] / la, a[1] / la, a[2] / la}, e2[3];
+    cross3(n, e1, e2);
+    double h = dot3(off, n);
+    double o0 = dot3(off, e1), o1 = dot3(off, e2); /* the centre, relative to the receiver's foot */
+    double a0 = 0.5 * la, b0 = 0.5 * dot3(b, e1), b1 = 0.5 * dot3(b, e2);
+    double q[4][2] = {{o0 - a0 - b0, o1 - b1}, {o0 + a0 - b0, o1 - b1}, {o0 + a0 + b0, o1 + b1}, {o0 - a0 + b0, o1 + b1}};
+    double v = tile_integral(d, q, h) / area;
     return isfinite(v) && v > 0.0 ? fmin(v, DBL_MAX) : 0.0;
 }
 

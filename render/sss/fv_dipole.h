@@ -1,7 +1,7 @@
 /* @brief The dipole diffusion approximation of subsurface scattering (Jensen, Marschner, Levoy, Hanrahan 2001, "A
  * Practical Model for Subsurface Light Transport"; ../shared/papers/README.md section 4, with the corrected eq. 4 of
  * Ki & Oh) as pure functions in double: one colour channel's derived quantities, the diffuse reflectance profile
- * Rd(r), its integral over a disk and over the whole plane (closed form and numeric), the footprint kernel the
+ * Rd(r), its integral over a disk and over the whole plane (closed form and numeric), the footprint kernels the
  * renderer sums samples with, and Schlick's Fresnel transmittance. Lengths are in any one unit: the coefficients
  * per unit, r and z in units (the renderer uses metres, `fovea material` millimetres). No allocation, no I/O; every
  * output is finite for any input (negative or non-finite coefficients count as 0, eta outside (0, 1e3] as 1). The
@@ -63,29 +63,37 @@ double fv_dipole_cutoff_radius(const fv_dipole *d, double fraction);
  *  t = r / (r + zr), to a relative tolerance of 1e-12. */
 double fv_dipole_rd_total_numeric(const fv_dipole *d);
 
-/** A sample's soft footprint: the mean of three concentric disks of these multiples of the radius of its area. On a
- *  square grid of texels it tiles to within -3.5..+2% at 6.5 mean free paths per texel (marble's 0.4 mm against a
- *  2.6 mm texel), where one disk of the texel's area is off by -19..+10% (tests/sss/test_dipole.c). */
-#define FV_DIPOLE_FOOTPRINT_0 0.9
-#define FV_DIPOLE_FOOTPRINT_1 1.3
-#define FV_DIPOLE_FOOTPRINT_2 1.7
-/** Beyond FV_DIPOLE_KERNEL_NEAR radii the footprint mean is taken to second order, Rd + m2 s^2 Laplacian(Rd) with
- *  m2 = (0.9^2 + 1.3^2 + 1.7^2) / 24 (the mean over a disk of radius a is f + (a^2/8) Laplacian f + O(a^4)); it
- *  meets the quadrature there within 1%. */
+/** Beyond FV_DIPOLE_KERNEL_NEAR footprint radii a footprint's mean is taken to second order,
+ *  Rd + (1/2) tr(M Hessian(Rd)) with M the footprint's second moment (the mean over a region of f is
+ *  f + (1/2) tr(M H) + O(size^4)); it meets the quadrature there within 1%. */
 #define FV_DIPOLE_KERNEL_NEAR 4.0
-/** ... and only while the footprint is small against the diffusion length: sigma_tr s <= this (larger footprints
- *  feel the exponential, and the quadrature is kept). */
+/** ... and only while the footprint is small against the diffusion length: sigma_tr x radius <= this (larger
+ *  footprints feel the exponential, and the quadrature is kept). */
 #define FV_DIPOLE_KERNEL_SMOOTH 0.25
-#define FV_DIPOLE_FOOTPRINT_M2 ((0.81 + 1.69 + 2.89) / 24.0)
 
-/** The footprint kernel: the mean of Rd over a sample's soft footprint (FV_DIPOLE_FOOTPRINT_*, around the disk of
- *  area `area`, radius s = sqrt(area / pi)) centred `dist` from the receiver, so a sample contributes
- *  E * area * kernel. Each disk is integrated in polar coordinates around the receiver: along each direction it
- *  spans radii [r1, r2] and Rd integrates in closed form (fv_dipole_rd_disk's antiderivative, differenced without
- *  cancellation); 4 Gauss-Legendre directions over the half disk. Beyond FV_DIPOLE_KERNEL_NEAR radii it is
- *  the second-order mean Rd + m2 s^2 Laplacian(Rd), which tends to Rd(dist) far away. A map coarser than the mean free path 1/sigma_t' so still sums to the right total instead of spikes
- *  of Rd(0) * area. area <= 0: Rd(dist). Per unit^2, finite. */
+/** The isotropic kernel: the mean of Rd over the disk of area `area` (radius s = sqrt(area / pi)) centred `dist` from
+ *  the receiver, so a sample contributes E * area * kernel. The disk is integrated in polar coordinates around the
+ *  receiver: along each direction it spans radii [r1, r2] and Rd integrates in closed form (fv_dipole_rd_disk's
+ *  antiderivative, differenced without cancellation); 4 Gauss-Legendre directions over the half disk. Beyond
+ *  FV_DIPOLE_KERNEL_NEAR radii the second-order mean Rd + (s^2/8) Laplacian(Rd), which tends to Rd(dist) far away.
+ *  The GPU uses it for a quad-tree cluster with no footprint (render/include/fv_sss_gather.glsl). area <= 0:
+ *  Rd(dist). Per unit^2, finite. */
 double fv_dipole_kernel(const fv_dipole *d, double dist, double area);
+
+/** The footprint kernel: the mean of Rd over a sample's footprint, the parallelogram c +- a/2 +- b/2 (a, b: its
+ *  edges, in the plane of the surface; fv_sss_texel_footprint) as seen from the receiver x, so a sample contributes
+ *  E * |a x b| * kernel. The footprints of a light-view map's texels tile the surface, so on a uniformly lit plane
+ *  the samples sum to the plane's total diffuse reflectance whatever the texel against the mean free path, with no
+ *  ripple from where the receiver lies among them (a point or disk per sample leaves rings: issue 28).
+ *  Integrated exactly in the radius: the receiver's foot on the footprint's plane (height h) sees each edge as a
+ *  triangle; along direction phi the triangle spans [0, rho(phi)] and Rd(sqrt(rho^2 + h^2)) integrates in closed
+ *  form; 4 Gauss-Legendre directions per edge. An edge shared by two footprints is evaluated at the same directions
+ *  from both sides, so the quadrature's error cancels between neighbours and the tiling stays exact. The radial
+ *  integral is taken relative to the footprint's centre distance (no cancellation far away). Beyond
+ *  FV_DIPOLE_KERNEL_NEAR half-diagonals the second-order mean with M = (a a^T + b b^T) / 12 (while sigma_tr x
+ *  half-diagonal <= FV_DIPOLE_KERNEL_SMOOTH; beyond, the disk of its area, as fv_dipole_kernel's quadrature). A degenerate footprint (|a x b| = 0): Rd(|c - x|). Per unit^2, finite. */
+double fv_dipole_tile_kernel(const fv_dipole *d, const double c[3], const double a[3], const double b[3],
+                             const double x[3]);
 
 /** Schlick's Fresnel transmittance 1 - F, F = F0 + (1 - F0)(1 - cos)^5, F0 = ((eta - 1)/(eta + 1))^2, for the cosine
  *  between the direction and the normal (clamped to [0, 1]). In [0, 1]. */

@@ -63,5 +63,13 @@ bool fv_sss_light_view(uint32_t type, fv_vec3 pos, fv_vec3 dir, fv_vec3 obj_min,
  *  the direction to the light: orthographic texel^2 / cos; perspective the texel's solid angle
  *  (2 tan_half / size)^2 cos^3(angle off the axis) times distance^2 / cos; cos clamped to FV_SSS_MIN_COS. */
 double fv_sss_texel_area(const fv_sss_view *v, fv_vec3 p, double cos_i);
+/** The footprint of the texel whose sample lies at world point p with unit normal n (either side; the side facing
+ *  the light is taken): the parallelogram p +- a/2 +- b/2 that the texel's square (its sides along the map's x and y
+ *  axes, the first two rows of view_proj) cuts from the surface's tangent plane, carried along the light's ray
+ *  (orthographic: the map's axis; perspective: from the light through p). Where the light grazes (cos_i <
+ *  FV_SSS_MIN_COS) the plane is tilted toward the light to that cosine, so |a x b| = fv_sss_texel_area always.
+ *  Neighbouring texels' footprints on a plane tile it exactly (fv_dipole_tile_kernel). False (a, b zero) for a
+ *  degenerate view, normal or point. The GPU's copy is render/sss/sss_map.frag. */
+bool fv_sss_texel_footprint(const fv_sss_view *v, fv_vec3 p, fv_vec3 n, fv_vec3 *out_a, fv_vec3 *out_b);
 
 #endif

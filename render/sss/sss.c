@@ -32,8 +32,8 @@ typedef struct sss {
     uint32_t size, leaf, count;        /* map side, leaf level log2(size), maps */
     fv_sss_pair pair[FV_SSS_MAX_LAYERS];
     uint32_t nodes_per_map;
-    fv_vk_image map[3], depth;
-    VkImageView layer_view[FV_SSS_MAX_LAYERS][3];
+    fv_vk_image map[FV_SSS_MAP_TARGETS], depth;
+    VkImageView layer_view[FV_SSS_MAX_LAYERS][FV_SSS_MAP_TARGETS];
     VkFramebuffer framebuffer[FV_SSS_MAX_LAYERS];
     VkRenderPass render_pass;
     VkPipelineLayout map_layout;
@@ -112,12 +112,12 @@ static void sss_fini(void *state)
     if (p->map_layout) vkDestroyPipelineLayout(vk->device, p->map_layout, NULL);
     for (uint32_t l = 0; l < FV_SSS_MAX_LAYERS; l++) {
         if (p->framebuffer[l]) vkDestroyFramebuffer(vk->device, p->framebuffer[l], NULL);
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < FV_SSS_MAP_TARGETS; k++)
             if (p->layer_view[l][k]) vkDestroyImageView(vk->device, p->layer_view[l][k], NULL);
     }
     if (p->render_pass) vkDestroyRenderPass(vk->device, p->render_pass, NULL);
     if (p->nearest) vkDestroySampler(vk->device, p->nearest, NULL);
-    for (int k = 0; k < 3; k++) fv_vk_image_destroy(vk, &p->map[k]);
+    for (int k = 0; k < FV_SSS_MAP_TARGETS; k++) fv_vk_image_destroy(vk, &p->map[k]);
     fv_vk_image_destroy(vk, &p->depth);
     fv_vk_buffer_destroy(vk, &p->nodes);
     fv_vk_buffer_destroy(vk, &p->header);
@@ -127,14 +127,16 @@ static void sss_fini(void *state)
 static fv_result create_render_pass(sss *p)
 {
     fv_vk *vk = p->vk;
-    VkAttachmentDescription att[4];
-    for (int k = 0; k < 3; k++) att[k] = fv_vk_attachment_cleared(MAP_FORMAT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    att[3] = fv_vk_attachment_cleared(VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkAttachmentReference color[3] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
-                                      {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
-                                      {2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
-    VkAttachmentReference depth = {3, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription sub = {.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS, .colorAttachmentCount = 3,
+    enum { NT = FV_SSS_MAP_TARGETS };
+    VkAttachmentDescription att[NT + 1];
+    VkAttachmentReference color[NT];
+    for (uint32_t k = 0; k < NT; k++) {
+        att[k] = fv_vk_attachment_cleared(MAP_FORMAT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        color[k] = (VkAttachmentReference){k, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    }
+    att[NT] = fv_vk_attachment_cleared(VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    VkAttachmentReference depth = {NT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub = {.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS, .colorAttachmentCount = NT,
                                 .pColorAttachments = color, .pDepthStencilAttachment = &depth};
     VkSubpassDependency deps[2] = {
         /* Before: the last build read the maps (write-after-read), and the previous map's render pass wrote the
@@ -151,14 +153,14 @@ static fv_result create_render_pass(sss *p)
          .srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, .dstStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
          .srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, .dstAccessMask = VK_ACCESS_SHADER_READ_BIT},
     };
-    VkRenderPassCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO, .attachmentCount = 4,
+    VkRenderPassCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO, .attachmentCount = NT + 1,
                                  .pAttachments = att, .subpassCount = 1, .pSubpasses = &sub, .dependencyCount = 2,
                                  .pDependencies = deps};
     FV_VK_CHECK(vkCreateRenderPass(vk->device, &ci, NULL, &p->render_pass));
     FV_VK_NAME(vk, VK_OBJECT_TYPE_RENDER_PASS, p->render_pass, "sss light-view map render pass");
     for (uint32_t l = 0; l < p->count; l++) {
-        VkImageView views[4];
-        for (int k = 0; k < 3; k++) {
+        VkImageView views[NT + 1];
+        for (int k = 0; k < NT; k++) {
             VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO, .image = p->map[k].image,
                                         .viewType = VK_IMAGE_VIEW_TYPE_2D, .format = MAP_FORMAT,
                                         .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, l, 1}};
@@ -166,9 +168,9 @@ static fv_result create_render_pass(sss *p)
             FV_VK_NAME(vk, VK_OBJECT_TYPE_IMAGE_VIEW, p->layer_view[l][k], "sss map %u target %d", l, k);
             views[k] = p->layer_view[l][k];
         }
-        views[3] = p->depth.view;
+        views[NT] = p->depth.view;
         VkFramebufferCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO, .renderPass = p->render_pass,
-                                      .attachmentCount = 4, .pAttachments = views, .width = p->size,
+                                      .attachmentCount = NT + 1, .pAttachments = views, .width = p->size,
                                       .height = p->size, .layers = 1};
         FV_VK_CHECK(vkCreateFramebuffer(vk->device, &fi, NULL, &p->framebuffer[l]));
         FV_VK_NAME(vk, VK_OBJECT_TYPE_FRAMEBUFFER, p->framebuffer[l], "sss map %u framebuffer", l);
@@ -190,7 +192,7 @@ static fv_result create_pipelines(sss *p)
     fv_vk_graphics_desc gd = {.vert = fv_spv_sss_map_vert, .vert_size = sizeof fv_spv_sss_map_vert,
                               .frag = fv_spv_sss_map_frag, .frag_size = sizeof fv_spv_sss_map_frag, .bindings = bind,
                               .binding_count = 1, .attributes = attrs, .attribute_count = 2 /* position, normal */,
-                              .layout = p->map_layout, .render_pass = p->render_pass, .color_attachments = 3,
+                              .layout = p->map_layout, .render_pass = p->render_pass, .color_attachments = FV_SSS_MAP_TARGETS,
                               .depth_test = true, .cull = VK_CULL_MODE_NONE, .name = "sss light-view map"};
     FV_TRY(fv_vk_graphics_pipeline(vk, &gd, &p->map_pipeline));
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -199,6 +201,8 @@ static fv_result create_pipelines(sss *p)
         {FV_SSS_BUILD_BINDING_FLUX, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, NULL},
         {FV_SSS_BUILD_BINDING_NORMAL, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, NULL},
         {FV_SSS_BUILD_BINDING_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
+        {FV_SSS_BUILD_BINDING_EDGE_A, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, NULL},
+        {FV_SSS_BUILD_BINDING_EDGE_B, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared = p->scene->set_layout;
     _Static_assert(FV_SSS_BUILD_SET == 1, "the build's own set follows the scene set");
@@ -207,8 +211,11 @@ static fv_result create_pipelines(sss *p)
                              .binding_count = FV_SSS_BUILD_BINDING_COUNT, .set_count = 1,
                              .push_bytes = sizeof(struct fv_sss_build_push)};
     FV_TRY(fv_vk_compute_init(vk, &cd, &p->build));
-    for (int k = 0; k < 3; k++)
-        fv_vk_write_image(vk, p->build.sets[0], FV_SSS_BUILD_BINDING_POS + (uint32_t)k,
+    static const uint32_t binding[FV_SSS_MAP_TARGETS] = {FV_SSS_BUILD_BINDING_POS, FV_SSS_BUILD_BINDING_FLUX,
+                                                         FV_SSS_BUILD_BINDING_NORMAL, FV_SSS_BUILD_BINDING_EDGE_A,
+                                                         FV_SSS_BUILD_BINDING_EDGE_B};
+    for (int k = 0; k < FV_SSS_MAP_TARGETS; k++)
+        fv_vk_write_image(vk, p->build.sets[0], binding[k],
                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->map[k].view, p->nearest,
                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     fv_vk_write_buffer(vk, p->build.sets[0], FV_SSS_BUILD_BINDING_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -232,8 +239,10 @@ static fv_result sss_init(const fv_pass_env *env, void **out_state)
     p->cutoff_fraction = -1.0f;
     p->nodes_per_map = (uint32_t)(((1ull << (2 * (p->leaf + 1))) - 1) / 3);
     fv_result res = p->count && p->leaf >= 4 && p->leaf <= 9 ? FV_OK : FV_ERR_INVALID_ARG;
-    static const char *const names[3] = {"sss map positions+area", "sss map flux+depth", "sss map normals"};
-    for (int k = 0; k < 3 && res == FV_OK; k++) {
+    static const char *const names[FV_SSS_MAP_TARGETS] = {"sss map positions+area", "sss map flux+depth",
+                                                          "sss map normals", "sss map footprint edge a",
+                                                          "sss map footprint edge b"};
+    for (int k = 0; k < FV_SSS_MAP_TARGETS && res == FV_OK; k++) {
         fv_vk_image_desc d = {.width = p->size, .height = p->size, .layers = p->count, .array = true,
                               .format = MAP_FORMAT,
                               .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
@@ -256,7 +265,7 @@ static fv_result sss_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = create_render_pass(p);
     if (res == FV_OK) res = create_pipelines(p);
     /* The maps start readable (the build's descriptors name that layout even before the first frame draws them). */
-    for (int k = 0; k < 3 && res == FV_OK; k++)
+    for (int k = 0; k < FV_SSS_MAP_TARGETS && res == FV_OK; k++)
         res = fv_vk_image_set_layout(p->vk, &p->map[k], VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     if (res == FV_OK) res = fv_shade_inputs_bind_buffer(p->inputs, FV_SSS_BINDING_HEADER, p->header.buffer, 0, VK_WHOLE_SIZE);
     if (res == FV_OK) res = fv_shade_inputs_bind_buffer(p->inputs, FV_SSS_BINDING_NODES, p->nodes.buffer, 0, VK_WHOLE_SIZE);
@@ -326,11 +335,12 @@ static void sss_record(void *state, const fv_pass_frame *f)
     vkCmdUpdateBuffer(cmd, p->header.buffer, 0, sizeof(fv_gpu_sss), &p->blk[f->slot]);
     /* The maps: one render pass per (light, material) pair, every draw of the scene from the light. */
     for (uint32_t l = 0; l < p->count; l++) {
-        VkClearValue clear[4] = {{.color = {{0, 0, 0, 0}}}, {.color = {{0, 0, 0, 0}}}, {.color = {{0, 0, 0, 0}}},
-                                 {.depthStencil = {1.0f, 0}}};
+        VkClearValue clear[FV_SSS_MAP_TARGETS + 1];
+        memset(clear, 0, sizeof clear); /* empty samples */
+        clear[FV_SSS_MAP_TARGETS].depthStencil = (VkClearDepthStencilValue){1.0f, 0};
         VkRenderPassBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO, .renderPass = p->render_pass,
                                     .framebuffer = p->framebuffer[l], .renderArea = {{0, 0}, {p->size, p->size}},
-                                    .clearValueCount = 4, .pClearValues = clear};
+                                    .clearValueCount = FV_SSS_MAP_TARGETS + 1, .pClearValues = clear};
         vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
         if (lv[l].valid) {
             VkViewport vp = {0, 0, (float)p->size, (float)p->size, 0.0f, 1.0f};

@@ -4,7 +4,8 @@
 // depth area-weighted, and a similarity in [0, 1] (leaves 1): the smallest of the children's, times how alike the
 // children's normals are (the smallest cosine to the mean normal) and how flat they lie (1 - the largest depth
 // offset from the mean over the cluster's size sqrt(area)); and its extent, the radius around the centroid that
-// holds every child's extent (a leaf's: its footprint's largest disk). One dispatch per level; empty children are left out.
+// holds every child's extent (a leaf's: its footprint's half-diagonal); a leaf also its texel's footprint (clusters
+// have none: the gather takes the disk of their area). One dispatch per level; empty children are left out.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_common.glsl"
@@ -14,6 +15,8 @@ layout(local_size_x = FV_SSS_BUILD_GROUP, local_size_y = 1, local_size_z = 1) in
 layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_POS) uniform sampler2DArray map_pos;
 layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_FLUX) uniform sampler2DArray map_flux;
 layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_NORMAL) uniform sampler2DArray map_normal;
+layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_EDGE_A) uniform sampler2DArray map_edge_a;
+layout(set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_EDGE_B) uniform sampler2DArray map_edge_b;
 layout(std430, set = FV_SSS_BUILD_SET, binding = FV_SSS_BUILD_BINDING_NODES) buffer Nodes { fv_gpu_sss_node nodes[]; };
 layout(push_constant) uniform Push { fv_sss_build_push pc; };
 
@@ -42,11 +45,14 @@ void main()
     if (level == leaf) {
         ivec3 t = ivec3(int(compact_bits(i)), int(compact_bits(i >> 1)), int(map));
         vec4 p = texelFetch(map_pos, t, 0), f = texelFetch(map_flux, t, 0), n = texelFetch(map_normal, t, 0);
-        bool ok = p.w > 0.0 && !any(isnan(p)) && !any(isnan(f));
+        vec3 ea = texelFetch(map_edge_a, t, 0).xyz, eb = texelFetch(map_edge_b, t, 0).xyz;
+        bool ok = p.w > 0.0 && !any(isnan(p)) && !any(isnan(f)) && !any(isnan(ea)) && !any(isnan(eb));
         o.pos_area = ok ? p : vec4(0.0);
         o.flux_sim = ok ? vec4(f.rgb, 1.0) : vec4(0.0);
         o.normal_depth = ok ? vec4(n.xyz, f.w) : vec4(0.0);
-        o.extent = vec4(ok ? float(FV_SSS_FOOTPRINT_MAX) * sqrt(p.w * (1.0 / FV_PI)) : 0.0, 0.0, 0.0, 0.0);
+        float half_diagonal = 0.5 * sqrt(max(dot(ea + eb, ea + eb), dot(ea - eb, ea - eb)));
+        o.extent = ok ? vec4(half_diagonal, ea) : vec4(0.0);
+        o.edge_b = ok ? vec4(eb, 0.0) : vec4(0.0);
         nodes[at] = o;
         return;
     }
@@ -66,7 +72,7 @@ void main()
         sim = min(sim, k.flux_sim.w);
     }
     if (!(area > 0.0)) {
-        nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+        nodes[at] = fv_gpu_sss_node(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
         return;
     }
     pos /= area;
@@ -88,5 +94,6 @@ void main()
     o.flux_sim = vec4(flux, sim * alike * flat_);
     o.normal_depth = vec4(nrm, depth);
     o.extent = vec4(reach, 0.0, 0.0, 0.0);
+    o.edge_b = vec4(0.0);
     nodes[at] = o;
 }

@@ -1,8 +1,9 @@
 #version 450
 // @brief Light-view sample map, fragments: where the map's material is the nearest surface seen from the light, a
 // sample of position, the surface area A the texel covers (fv_sss_texel_area), the flux entering the surface
-// E A = Ft(eta, wi) I (n.wi) A (fv_light_irradiance through Schlick's transmittance), the depth along the light
-// and the normal facing the light. Every other surface writes depth and an empty sample, so it occludes.
+// E A = Ft(eta, wi) I (n.wi) A (fv_light_irradiance through Schlick's transmittance), the depth along the light,
+// the normal facing the light and the texel's footprint on the surface (fv_sss_texel_footprint: its edges a, b).
+// Every other surface writes depth and an empty sample, so it occludes.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
@@ -17,12 +18,24 @@ layout(location = 1) in vec3 v_normal_world;
 layout(location = FV_SSS_OUT_POS) out vec4 out_pos;
 layout(location = FV_SSS_OUT_FLUX) out vec4 out_flux;
 layout(location = FV_SSS_OUT_NORMAL) out vec4 out_normal;
+layout(location = FV_SSS_OUT_EDGE_A) out vec4 out_edge_a;
+layout(location = FV_SSS_OUT_EDGE_B) out vec4 out_edge_b;
+
+// v without its component along the unit u, made unit (zero when nothing is left).
+vec3 unit_across(vec3 v, vec3 u)
+{
+    vec3 r = v - u * dot(v, u);
+    float l = length(r);
+    return l > 1e-30 ? r / l : vec3(0.0);
+}
 
 void main()
 {
     out_pos = vec4(0.0);
     out_flux = vec4(0.0);
     out_normal = vec4(0.0);
+    out_edge_a = vec4(0.0);
+    out_edge_b = vec4(0.0);
     uint material = draws[pc.ids.x].info.x;
     if (material != pc.ids.z || pc.ids.w >= uint(lights.length())) return;
     fv_gpu_light L = lights[pc.ids.w];
@@ -53,8 +66,25 @@ void main()
     }
     float ft = fv_sss_fresnel_t(materials[material].sigma_a.w, cos_i);
     vec3 flux = fv_light_irradiance(L, v_pos_world, n) * (ft * area);
-    if (!(area > 0.0) || any(isnan(flux)) || any(isinf(flux))) return;
+    // The footprint (fv_sss_texel_footprint): the texel's sides across the ray (the map's x and y axes, the first
+    // two rows of its view-projection), carried along the ray w onto the plane, tilted toward the light where it
+    // grazes so that |a x b| = area.
+    vec3 axis = pc.axis.xyz;
+    vec3 right = unit_across(vec3(pc.view_proj[0][0], pc.view_proj[1][0], pc.view_proj[2][0]), axis);
+    vec3 up = unit_across(unit_across(vec3(pc.view_proj[0][1], pc.view_proj[1][1], pc.view_proj[2][1]), axis), right);
+    vec3 w = -l;
+    float side = pc.view.x > 0.5 ? 2.0 * pc.view.y / max(pc.axis.w, 1.0) * dot(v_pos_world - pc.origin.xyz, axis)
+                                 : pc.view.y;
+    vec3 nc = n;
+    if (cos_i < c) nc = l * c + unit_across(n, l) * sqrt(1.0 - c * c);
+    vec3 ex = right * side, ey = up * side;
+    vec3 ea = ex + w * (dot(nc, ex) / c), eb = ey + w * (dot(nc, ey) / c);
+    if (!(area > 0.0) || !(side > 0.0) || any(isnan(flux)) || any(isinf(flux)) || any(isnan(ea)) || any(isinf(ea)) ||
+        any(isnan(eb)) || any(isinf(eb)))
+        return;
     out_pos = vec4(v_pos_world, area);
     out_flux = vec4(flux, depth);
     out_normal = vec4(n, 0.0);
+    out_edge_a = vec4(ea, 0.0);
+    out_edge_b = vec4(eb, 0.0);
 }

@@ -130,6 +130,76 @@ double fv_sss_texel_area(const fv_sss_view *v, fv_vec3 p, double cos_i)
     return side * side * cos_axis * cos_axis * cos_axis * dist2 / c;
 }
 
+typedef struct dv3 {
+    double x, y, z;
+} dv3;
+
+static dv3 d3(double x, double y, double z) { return (dv3){x, y, z}; }
+static dv3 d3_add(dv3 a, dv3 b) { return d3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static dv3 d3_scale(dv3 a, double k) { return d3(a.x * k, a.y * k, a.z * k); }
+static double d3_dot(dv3 a, dv3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static dv3 d3_of(fv_vec3 v) { return d3(v.x, v.y, v.z); }
+
+/* v without its component along the unit u, made unit; false when nothing is left. */
+static bool d3_unit_across(dv3 v, dv3 u, dv3 *out)
+{
+    dv3 r = d3_add(v, d3_scale(u, -d3_dot(v, u)));
+    double l = sqrt(d3_dot(r, r));
+    if (!(l > 1e-30) || !isfinite(l)) return false;
+    *out = d3_scale(r, 1.0 / l);
+    return true;
+}
+
+bool fv_sss_texel_footprint(const fv_sss_view *v, fv_vec3 p, fv_vec3 n, fv_vec3 *out_a, fv_vec3 *out_b)
+{
+    *out_a = *out_b = fv_v3(0, 0, 0);
+    if (!v || !v->size) return false;
+    dv3 axis = d3_of(v->axis), pp = d3_of(p), nn = d3_of(n);
+    double nl = sqrt(d3_dot(nn, nn));
+    if (!(nl > 1e-30) || !isfinite(nl)) return false;
+    nn = d3_scale(nn, 1.0 / nl);
+    /* The map's x and y axes: the first two rows of its view-projection, across the axis. */
+    dv3 right, up;
+    const fv_mat4 *m = &v->view_proj;
+    if (!d3_unit_across(d3(m->m[0][0], m->m[1][0], m->m[2][0]), axis, &right) ||
+        !d3_unit_across(d3(m->m[0][1], m->m[1][1], m->m[2][1]), axis, &up) || !d3_unit_across(up, right, &up))
+        return false;
+    /* The texel's sides across the ray, and the ray's direction w (from the light). */
+    double side;
+    dv3 w;
+    if (v->perspective) {
+        dv3 d = d3_add(pp, d3_scale(d3_of(v->origin), -1.0));
+        double len = sqrt(d3_dot(d, d)), along = d3_dot(d, axis);
+        if (!(len > 0.0) || !(along > 0.0) || !isfinite(len)) return false;
+        side = 2.0 * v->tan_half / v->size * along;
+        w = d3_scale(d, 1.0 / len);
+    } else {
+        side = v->texel_m;
+        w = axis;
+    }
+    /* The side facing the light, its cosine clamped (the plane tilted toward the light where it grazes). */
+    dv3 l = d3_scale(w, -1.0);
+    double cos_i = d3_dot(nn, l);
+    if (cos_i < 0.0) {
+        nn = d3_scale(nn, -1.0);
+        cos_i = -cos_i;
+    }
+    double c = cos_i;
+    if (c < FV_SSS_MIN_COS) {
+        c = FV_SSS_MIN_COS;
+        dv3 t;
+        if (!d3_unit_across(nn, l, &t)) return false;
+        nn = d3_add(d3_scale(l, c), d3_scale(t, sqrt(1.0 - c * c)));
+    }
+    /* Each side carried along the ray onto the plane: e + w (n.e) / c. */
+    dv3 ex = d3_scale(right, side), ey = d3_scale(up, side);
+    dv3 a = d3_add(ex, d3_scale(w, d3_dot(nn, ex) / c)), b = d3_add(ey, d3_scale(w, d3_dot(nn, ey) / c));
+    if (!isfinite(d3_dot(a, a)) || !isfinite(d3_dot(b, b)) || !(side > 0.0)) return false;
+    *out_a = fv_v3((float)a.x, (float)a.y, (float)a.z);
+    *out_b = fv_v3((float)b.x, (float)b.y, (float)b.z);
+    return true;
+}
+
 static double per_m(float per_mm) { return isfinite(per_mm) && per_mm > 0.0f ? (double)per_mm * 1000.0 : 0.0; }
 
 double fv_sss_material_dipoles(const fv_translucency *t, fv_dipole out[3])

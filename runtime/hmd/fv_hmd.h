@@ -38,7 +38,8 @@ typedef struct fv_hmd_profile {
 /** The names of the built-in profiles, NULL-terminated (static storage). */
 const char *const *fv_hmd_builtin_names(void);
 
-/** Load a profile: a built-in name (fv_hmd_builtin_names) or a path to a JSON file. On error *out is untouched and
+/** Load a profile: a built-in name (fv_hmd_builtin_names) or a path to a JSON file (a byte-identical copy of a
+ *  built-in profile's file loads as that profile, origin "builtin:NAME ..." included). On error *out is untouched and
  *  err receives one line naming the file, the field and the reason (FV_ERR_NOT_FOUND: no such profile or file;
  *  FV_ERR_IO: unreadable; FV_ERR_PARSE: not JSON or a field missing or of the wrong type; FV_ERR_RANGE: a value out
  *  of range, inconsistent, or a lens that folds the image). */

@@ -257,6 +257,14 @@ fv_result fv_hmd_profile_parse(const char *json, size_t len, const char *origin,
     return res;
 }
 
+static fv_result load_builtin(size_t i, fv_hmd_profile *out, char *err, size_t err_size)
+{
+    char origin[FV_HMD_TEXT_MAX];
+    snprintf(origin, sizeof origin, "builtin:%s (hmd/%s.json)", fv_hmd_builtin_name_list[i], fv_hmd_builtin_name_list[i]);
+    const char *json = (const char *)fv_hmd_builtin_text[i];
+    return fv_hmd_profile_parse(json, strlen(json), origin, out, err, err_size);
+}
+
 fv_result fv_hmd_profile_load(const char *name_or_path, fv_hmd_profile *out, char *err, size_t err_size)
 {
     if (!name_or_path || !name_or_path[0] || !out) {
@@ -264,12 +272,7 @@ fv_result fv_hmd_profile_load(const char *name_or_path, fv_hmd_profile *out, cha
         return FV_ERR_INVALID_ARG;
     }
     for (size_t i = 0; fv_hmd_builtin_name_list[i]; i++)
-        if (strcmp(fv_hmd_builtin_name_list[i], name_or_path) == 0) {
-            char origin[FV_HMD_TEXT_MAX];
-            snprintf(origin, sizeof origin, "builtin:%s (hmd/%s.json)", name_or_path, name_or_path);
-            const char *json = (const char *)fv_hmd_builtin_text[i];
-            return fv_hmd_profile_parse(json, strlen(json), origin, out, err, err_size);
-        }
+        if (strcmp(fv_hmd_builtin_name_list[i], name_or_path) == 0) return load_builtin(i, out, err, err_size);
     char *buf;
     size_t n;
     char why[FV_FILE_ERR_MAX];
@@ -287,6 +290,15 @@ fv_result fv_hmd_profile_load(const char *name_or_path, fv_hmd_profile *out, cha
     if (res != FV_OK) {
         say(err, err_size, "%s%s", why, res == FV_ERR_RANGE ? ": not an HMD profile" : "");
         return res;
+    }
+    /* A byte-identical copy of a built-in profile is that profile, origin included (issue 28: a copy of
+     * hmd/generic.json was labelled by its path, and `fovea compare` refused it against `--hmd generic`). */
+    for (size_t i = 0; fv_hmd_builtin_name_list[i]; i++) {
+        const char *json = (const char *)fv_hmd_builtin_text[i];
+        if (strlen(json) == n && memcmp(json, buf, n) == 0) {
+            free(buf);
+            return load_builtin(i, out, err, err_size);
+        }
     }
     res = fv_hmd_profile_parse(buf, n, name_or_path, out, err, err_size);
     free(buf);

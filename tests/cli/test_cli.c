@@ -319,6 +319,25 @@ static void gaze_runs_replay_every_recording_with_latency(void **state)
     }
 }
 
+/* Recording from a tracker that does not answer says so in words, what was not recorded, and what to do (issue 28
+ * item 6: it printed FV_ERR_NOT_FOUND alone). Port 1: nothing listens there. */
+static void trace_record_from_an_absent_tracker_says_what_to_do(void **state)
+{
+    (void)state;
+    char args[512];
+    const char *out = fv_test_tmp("absent.trace");
+    unlink(out);
+    snprintf(args, sizeof args, "trace record pupil:127.0.0.1:1 '%s' --seconds 1", out);
+    run_result *r = run(NULL, args);
+    assert_int_equal(r->exit_code, 1);
+    assert_contains(r->err, "fovea trace: record: no eye tracker at 'pupil:127.0.0.1:1'");
+    assert_contains(r->err, "nothing was recorded");
+    assert_contains(r->err, "Pupil Capture");
+    assert_contains(r->err, "fovea devices");
+    assert_null(strstr(r->err, "failed (FV_ERR")); /* not the bare code */
+    assert_int_not_equal(access(out, F_OK), 0);  /* no file left behind */
+}
+
 static void unknown_gaze_scheme_fails_naming_known_ones(void **state)
 {
     (void)state;
@@ -480,6 +499,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(eyes_layout_writes_one_png_per_eye),
         cmocka_unit_test(gaze_runs_replay_every_recording_with_latency),
         cmocka_unit_test(unknown_gaze_scheme_fails_naming_known_ones),
+        cmocka_unit_test(trace_record_from_an_absent_tracker_says_what_to_do),
         cmocka_unit_test(gaze_eval_meets_f1_and_prediction_targets),
         cmocka_unit_test(hid_parse_and_decode_the_reference_tracker),
         cmocka_unit_test(pipeline_cache_is_kept_and_a_bad_one_ignored),

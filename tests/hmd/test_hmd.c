@@ -368,6 +368,43 @@ static void hidden_area_mask_covers_only_hidden_pixels(void **state)
     check_mask("oculus-rift-dk2", 1, 96, 108, 0.98);
 }
 
+/* A byte-identical copy of every built-in profile's file loads as that profile, field by field (origin included:
+ * issue 28 item 6); a copy that differs by one byte is a file of its own. */
+static void a_copy_of_a_builtin_profile_is_that_profile(void **state)
+{
+    (void)state;
+    for (const char *const *name = fv_hmd_builtin_names(); *name; name++) {
+        char src[1024], err[512];
+        snprintf(src, sizeof src, "%s/hmd/%s.json", FV_SOURCE_DIR, *name);
+        size_t len = 0;
+        char *text = fv_test_read_file(src, &len);
+        char copy_name[128];
+        snprintf(copy_name, sizeof copy_name, "copy-of-%s.json", *name);
+        const char *copy = fv_test_write_file(copy_name, text, len);
+        fv_hmd_profile a, b;
+        memset(&a, 0xa5, sizeof a);
+        memset(&b, 0x5a, sizeof b);
+        assert_int_equal(fv_hmd_profile_load(*name, &a, err, sizeof err), FV_OK);
+        assert_int_equal(fv_hmd_profile_load(copy, &b, err, sizeof err), FV_OK);
+        assert_string_equal(a.name, b.name);
+        assert_string_equal(a.origin, b.origin);
+        assert_memory_equal(&a.lens, &b.lens, sizeof a.lens);
+        assert_memory_equal(a.fov, b.fov, sizeof a.fov);
+        assert_memory_equal(&a, &b, sizeof a); /* every field */
+        /* One more byte (a trailing newline): the file's own profile, named by its path. */
+        char *more = malloc(len + 1);
+        assert_non_null(more);
+        memcpy(more, text, len);
+        more[len] = '\n';
+        const char *other = fv_test_write_file(copy_name, more, len + 1);
+        assert_int_equal(fv_hmd_profile_load(other, &b, err, sizeof err), FV_OK);
+        fv_assert_contains(b.origin, "copy-of-");
+        assert_memory_equal(&a.lens, &b.lens, sizeof a.lens);
+        free(more);
+        free(text);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -379,6 +416,7 @@ int main(void)
         cmocka_unit_test(too_deep_nesting_and_too_long_text_are_named),
         cmocka_unit_test(extremes_stay_finite),
         cmocka_unit_test(hidden_area_mask_covers_only_hidden_pixels),
+        cmocka_unit_test(a_copy_of_a_builtin_profile_is_that_profile),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

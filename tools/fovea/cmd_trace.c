@@ -298,6 +298,20 @@ fail:
     return FV_EXIT_FAIL;
 }
 
+/* Why a tracker could not be opened, in words (the result's name follows). */
+static const char *open_failure(fv_result r)
+{
+    switch (r) {
+    case FV_ERR_NOT_FOUND: return "nothing answered there: FV_ERR_NOT_FOUND";
+    case FV_ERR_INVALID_ARG: return "the URI is not understood: FV_ERR_INVALID_ARG";
+    case FV_ERR_PARSE: return "the URI is not understood: FV_ERR_PARSE";
+    case FV_ERR_UNSUPPORTED: return "this build has no driver for it: FV_ERR_UNSUPPORTED";
+    case FV_ERR_IO: return "the system refused the connection or file: FV_ERR_IO";
+    case FV_ERR_PROTOCOL: return "it answered, but not in its protocol: FV_ERR_PROTOCOL";
+    default: return fv_result_str(r);
+    }
+}
+
 static int cmd_record(int argc, char **argv)
 {
     const char *uri = NULL, *out = NULL, *v = NULL;
@@ -328,10 +342,22 @@ static int cmd_record(int argc, char **argv)
     fv_device *dev = NULL;
     fv_trace_writer *w = NULL;
     fv_result res = fv_app_device_open(uri, &od, &dev);
-    if (res != FV_OK) goto fail;
+    if (res != FV_OK) {
+        /* The driver's log line above says what it tried; this one says what it means and what to do. */
+        fprintf(stderr, "fovea trace: record: no eye tracker at '%s' (%s); nothing was recorded to '%s'. Check that the "
+                "tracker (or its software: Pupil Capture with Pupil Remote for pupil:) is running and reachable, "
+                "`fovea devices` lists what each driver sees, and sim: records a simulated eye\n",
+                uri, open_failure(res), out);
+        return FV_EXIT_FAIL;
+    }
     fv_trace_writer_desc wd = {.source = uri, .rate_hz = dev->nominal_rate_hz, .gzip = gzip};
     res = fv_trace_writer_create(out, &wd, &w);
-    if (res != FV_OK) goto fail;
+    if (res != FV_OK) {
+        fprintf(stderr, "fovea trace: record: cannot create '%s' (%s); nothing was recorded\n", out,
+                fv_result_str(res));
+        fv_device_close(&dev);
+        return FV_EXIT_FAIL;
+    }
     /* Ctrl-C (caught from main's first line: cli_interrupt.h) ends the recording early and keeps what was recorded
      * (a whole file, exit 130) */
     int64_t t0 = fv_clock_now_ns(clock), end = t0 + (int64_t)llround(seconds * 1e9);

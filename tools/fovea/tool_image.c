@@ -119,12 +119,20 @@ void fv_tool_image_frame_input(const fv_tool_image *o, const fv_scene *scene, co
     out->quality = o->quality;
 }
 
+/* The lens an image was made with: a built-in profile (or a byte-identical copy of one) by its name, a file by its
+ * path. */
+static const char *lens_label(const run_hmd *h)
+{
+    if (h->have && !strncmp(h->profile.origin, "builtin:", 8)) return h->profile.name;
+    return h->name ? h->name : "generic";
+}
+
 fv_tool_image_meta fv_tool_image_meta_of(const fv_tool_image *o, const char *producer, bool sbs_file)
 {
     bool lens = o->quality.distort.lens.valid && o->quality.distort.enabled;
     return (fv_tool_image_meta){.producer = producer, .scene = o->scene, .eye_w = o->eye_w, .eye_h = o->eye_h,
                                 .sbs = sbs_file, .view = fv_debug_view_name(o->view), .exposure = o->exposure,
-                                .lens = !o->quality.distort.lens.valid ? "none" : o->hmd.name ? o->hmd.name : "generic",
+                                .lens = !o->quality.distort.lens.valid ? "none" : lens_label(&o->hmd),
                                 .lens_applied_png = lens, .quality = fv_tool_quality_preset(&o->tq)};
 }
 

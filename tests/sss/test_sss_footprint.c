@@ -1,0 +1,344 @@
+/* @brief The light-view samples' footprints (render/sss: fv_sss_texel_footprint, fv_dipole_tile_kernel) without a
+ * GPU, on surfaces whose samples are cast here as the map's texel rays (the view's inverse, as the reference casts
+ * them): a footprint has the texel's area and lies in the surface's plane, and it spans from one sample to its
+ * neighbour; a uniformly lit plane at any tilt sums to the total diffuse reflectance wherever the receiver lies among
+ * the samples; and the subsurface light along a meridian of a lit marble sphere has no rings (issue 28 item 5: the
+ * map's texel grid aliased against the dipole's sub-millimetre peak), both for a directional and a spot light's map.
+ * The same sums with one disk per sample (fv_dipole_kernel) show the ripple the metric catches. Units: metres. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fv_dipole.h"
+#include "fv_sss_math.h"
+#include "fv_test.h"
+
+#define PI 3.14159265358979323846
+
+/* Marble (Jensen et al. 2001), per metre. */
+static const double MARBLE_SP[3] = {2190.0, 2620.0, 3000.0}, MARBLE_SA[3] = {2.1, 4.1, 7.1};
+
+typedef struct v3d {
+    double x, y, z;
+} v3d;
+
+static v3d vd(double x, double y, double z) { return (v3d){x, y, z}; }
+static v3d vadd(v3d a, v3d b) { return vd(a.x + b.x, a.y + b.y, a.z + b.z); }
+static v3d vsub(v3d a, v3d b) { return vd(a.x - b.x, a.y - b.y, a.z - b.z); }
+static v3d vscale(v3d a, double k) { return vd(a.x * k, a.y * k, a.z * k); }
+static double vdot(v3d a, v3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static v3d vcross(v3d a, v3d b) { return vd(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x); }
+static double vlen(v3d a) { return sqrt(vdot(a, a)); }
+static v3d vunit(v3d a) { return vscale(a, 1.0 / vlen(a)); }
+static v3d of_f(fv_vec3 v) { return vd(v.x, v.y, v.z); }
+static fv_vec3 to_f(v3d v) { return fv_v3((float)v.x, (float)v.y, (float)v.z); }
+
+/* The ray through the centre of texel (i, j) of the view: the inverse view-projection at depths 0 and 1. */
+static void texel_ray(const fv_mat4 *inv, uint32_t size, double i, double j, v3d *o, v3d *d)
+{
+    double x = 2.0 * (i + 0.5) / size - 1.0, y = 2.0 * (j + 0.5) / size - 1.0;
+    v3d p[2];
+    for (int k = 0; k < 2; k++) {
+        double c[4] = {x, y, (double)k, 1.0}, r[4] = {0, 0, 0, 0};
+        for (int row = 0; row < 4; row++)
+            for (int col = 0; col < 4; col++) r[row] += (double)inv->m[col][row] * c[col];
+        p[k] = vd(r[0] / r[3], r[1] / r[3], r[2] / r[3]);
+    }
+    *o = p[0];
+    *d = vunit(vsub(p[1], p[0]));
+}
+
+/* ---- samples -------------------------------------------------------------------------------------------------- */
+typedef struct sample {
+    double c[3], a[3], b[3];
+    double area, flux; /* flux: E * area with E = the cosine to the light (a unit light, no Fresnel) */
+} sample;
+
+typedef struct samples {
+    sample *s;
+    size_t n;
+} samples;
+
+typedef enum surface_kind { PLANE, SPHERE } surface_kind;
+typedef struct surface {
+    surface_kind kind;
+    v3d centre, normal; /* plane: a point and the unit normal; sphere: its centre */
+    double radius;      /* sphere */
+} surface;
+
+static bool hit(const surface *sf, v3d o, v3d d, v3d *p, v3d *n)
+{
+    if (sf->kind == PLANE) {
+        double den = vdot(d, sf->normal);
+        if (fabs(den) < 1e-12) return false;
+        double t = vdot(vsub(sf->centre, o), sf->normal) / den;
+        if (!(t > 0.0)) return false;
+        *p = vadd(o, vscale(d, t));
+        *n = sf->normal;
+        return true;
+    }
+    v3d oc = vsub(o, sf->centre);
+    double b = vdot(oc, d), c = vdot(oc, oc) - sf->radius * sf->radius, disc = b * b - c;
+    if (disc < 0.0) return false;
+    double t = -b - sqrt(disc);
+    if (!(t > 0.0)) return false;
+    *p = vadd(o, vscale(d, t));
+    *n = vunit(vsub(*p, sf->centre));
+    return true;
+}
+
+/* One sample per texel whose ray meets the surface within `reach` of its centre: what sss_map.frag stores. */
+static samples cast(const fv_sss_view *v, const surface *sf, double reach, v3d light_pos, bool directional)
+{
+    fv_mat4 inv;
+    assert_true(fv_mat4_invert(&v->view_proj, &inv));
+    samples out = {calloc((size_t)v->size * v->size, sizeof(sample)), 0};
+    assert_non_null(out.s);
+    for (uint32_t j = 0; j < v->size; j++)
+        for (uint32_t i = 0; i < v->size; i++) {
+            v3d o, d, p, n;
+            texel_ray(&inv, v->size, i, j, &o, &d);
+            if (!hit(sf, o, d, &p, &n) || vlen(vsub(p, sf->centre)) > reach) continue;
+            v3d l = directional ? vscale(of_f(v->axis), -1.0) : vunit(vsub(light_pos, p));
+            double cos_i = vdot(n, l);
+            if (cos_i < 0.0) {
+                n = vscale(n, -1.0);
+                cos_i = -cos_i;
+            }
+            fv_vec3 fa, fb;
+            double area = fv_sss_texel_area(v, to_f(p), cos_i);
+            if (!(area > 0.0) || !fv_sss_texel_footprint(v, to_f(p), to_f(n), &fa, &fb)) continue;
+            sample *s = &out.s[out.n++];
+            const double c[3] = {p.x, p.y, p.z}, a[3] = {fa.x, fa.y, fa.z}, b[3] = {fb.x, fb.y, fb.z};
+            memcpy(s->c, c, sizeof c);
+            memcpy(s->a, a, sizeof a);
+            memcpy(s->b, b, sizeof b);
+            s->area = area;
+            s->flux = cos_i * area;
+        }
+    return out;
+}
+
+/* sum flux x kernel at x: the footprint kernel, or one disk of the sample's area (the isotropic kernel). */
+static double gather(const fv_dipole *d, const samples *ss, v3d x, bool footprint)
+{
+    const double xr[3] = {x.x, x.y, x.z};
+    double sum = 0.0;
+    for (size_t k = 0; k < ss->n; k++) {
+        const sample *s = &ss->s[k];
+        double kern = footprint ? fv_dipole_tile_kernel(d, s->c, s->a, s->b, xr)
+                                : fv_dipole_kernel(d, vlen(vsub(vd(s->c[0], s->c[1], s->c[2]), x)), s->area);
+        sum += s->flux * kern;
+    }
+    return sum;
+}
+
+static fv_sss_view view_of(uint32_t type, v3d light_pos, v3d dir, v3d lo, v3d hi, uint32_t size)
+{
+    fv_sss_view v;
+    assert_true(fv_sss_light_view(type, to_f(light_pos), to_f(dir), to_f(lo), to_f(hi), to_f(lo), to_f(hi), size, &v));
+    return v;
+}
+
+/* ---- tests ---------------------------------------------------------------------------------------------------- */
+static void a_footprint_is_the_texel_on_the_surface(void **state)
+{
+    (void)state;
+    v3d lo = vd(-0.1, -0.1, -0.1), hi = vd(0.1, 0.1, 0.1);
+    for (int persp = 0; persp < 2; persp++) {
+        v3d light = vd(0.05, 0.6, 0.2);
+        fv_sss_view v = persp ? view_of(FV_LIGHT_SPOT, light, vd(0, -1, 0), lo, hi, 128)
+                              : view_of(FV_LIGHT_DIRECTIONAL, light, vd(0.3, -1, 0.2), lo, hi, 128);
+        fv_mat4 inv;
+        assert_true(fv_mat4_invert(&v.view_proj, &inv));
+        /* Planes through the middle texel at cosines to the light from 1 down past the grazing clamp. */
+        const double cosines[] = {1.0, 0.8, 0.5, 0.25, 0.12, 0.05, 0.01};
+        for (size_t k = 0; k < sizeof cosines / sizeof cosines[0]; k++) {
+            v3d o, d;
+            texel_ray(&inv, v.size, 61, 70, &o, &d);
+            v3d l = vscale(d, -1.0), t = vunit(vcross(l, vd(0.3, 0.2, 1.0)));
+            double c = cosines[k];
+            surface pl = {PLANE, vadd(o, vscale(d, persp ? 0.5 : 0.3)), vadd(vscale(l, c), vscale(t, sqrt(1 - c * c))), 0};
+            v3d p, n;
+            assert_true(hit(&pl, o, d, &p, &n));
+            fv_vec3 fa, fb;
+            assert_true(fv_sss_texel_footprint(&v, to_f(p), to_f(n), &fa, &fb));
+            v3d a = of_f(fa), b = of_f(fb);
+            double area = vlen(vcross(a, b)), want = fv_sss_texel_area(&v, to_f(p), c);
+            if (fabs(area - want) > 1e-5 * want)
+                fail_msg("%s, cos %g: |a x b| %.8g, texel area %.8g", persp ? "spot" : "directional", c, area, want);
+            if (c >= FV_SSS_MIN_COS) {
+                /* In the plane, and spanning to the neighbouring texels' samples (to first order in perspective). */
+                if (fabs(vdot(a, n)) > 1e-5 * vlen(a) || fabs(vdot(b, n)) > 1e-5 * vlen(b))
+                    fail_msg("cos %g: the footprint leaves the plane (a.n %g, b.n %g)", c, vdot(a, n), vdot(b, n));
+                v3d px, py, nn;
+                texel_ray(&inv, v.size, 62, 70, &o, &d);
+                assert_true(hit(&pl, o, d, &px, &nn));
+                texel_ray(&inv, v.size, 61, 71, &o, &d);
+                assert_true(hit(&pl, o, d, &py, &nn));
+                v3d sx = vsub(px, p), sy = vsub(py, p);
+                /* a and b are the steps along the map's x and y, up to sign */
+                double ex = fmin(vlen(vsub(sx, a)), vlen(vadd(sx, a))), ey = fmin(vlen(vsub(sy, b)), vlen(vadd(sy, b)));
+                double tol = persp ? 0.005 / c : 1e-4; /* perspective: the texel's first-order footprint */
+                if (ex > tol * vlen(a) || ey > tol * vlen(b))
+                    fail_msg("%s, cos %g: the neighbours lie %.3g and %.3g of a footprint edge off its corners",
+                             persp ? "spot" : "directional", c, ex / vlen(a), ey / vlen(b));
+            }
+        }
+    }
+    /* Degenerate input: false and zero edges. */
+    fv_sss_view v = view_of(FV_LIGHT_DIRECTIONAL, vd(0, 1, 0), vd(0, -1, 0), lo, hi, 64);
+    fv_vec3 fa, fb;
+    assert_false(fv_sss_texel_footprint(&v, fv_v3(0, 0, 0), fv_v3(0, 0, 0), &fa, &fb));
+    assert_true(fa.x == 0.0f && fb.z == 0.0f);
+    assert_false(fv_sss_texel_footprint(NULL, fv_v3(0, 0, 0), fv_v3(0, 1, 0), &fa, &fb));
+    assert_false(fv_sss_texel_footprint(&v, fv_v3(0, 0, 0), fv_v3(NAN, 1, 0), &fa, &fb));
+    fv_sss_texel_footprint(&v, fv_v3(NAN, 0, 0), fv_v3(0, 1, 0), &fa, &fb);
+    assert_true(isfinite(fa.x) && isfinite(fb.x)); /* NaN in, no NaN out */
+}
+
+/* A uniformly lit plane tilted against a directional light: E sum(area x kernel) = E x the total diffuse
+ * reflectance, wherever the receiver lies among the samples. */
+static void a_uniformly_lit_plane_sums_to_the_total_at_any_tilt(void **state)
+{
+    (void)state;
+    fv_dipole d = fv_dipole_make(MARBLE_SA[0], MARBLE_SP[0], 1.5);
+    double total = fv_dipole_rd_total(&d);
+    const double cosines[] = {1.0, 0.7, 0.4, 0.2, 0.1};
+    v3d light_dir = vunit(vd(0.2, -1.0, 0.1));
+    for (size_t k = 0; k < sizeof cosines / sizeof cosines[0]; k++) {
+        double c = cosines[k];
+        v3d l = vscale(light_dir, -1.0), t = vunit(vcross(l, vd(0.4, 0.3, 1.0)));
+        surface pl = {PLANE, vd(0, 0, 0), vadd(vscale(l, c), vscale(t, sqrt(1 - c * c))), 0};
+        /* A map of 2.6 mm texels (marble's mean free path 0.46 mm: 128 texels over the bounding sphere of the cube,
+         * 0.166 m): 60 mm of the plane around the receivers at any tilt (e^(-sigma_tr r) < 1e-3 there). */
+        double half = 0.0026 * 128 / (2.0 * sqrt(3.0) * 1.02);
+        fv_sss_view v = view_of(FV_LIGHT_DIRECTIONAL, vd(0, 0, 0), light_dir, vd(-half, -half, -half),
+                                vd(half, half, half), 128);
+        samples ss = cast(&v, &pl, 0.06 / c + 0.01, vd(0, 0, 0), true);
+        assert_true(ss.n > 1000);
+        double lo = INFINITY, hi = -INFINITY, lo_disk = INFINITY, hi_disk = -INFINITY;
+        v3d u = vunit(vcross(pl.normal, vd(0.3, 0.9, 0.1))), w = vcross(pl.normal, u);
+        for (int i = 0; i < 24; i++) {
+            /* receivers across a few texels, at incommensurate steps */
+            v3d x = vadd(vscale(u, 0.00071 * i), vscale(w, 0.00043 * i));
+            double e = gather(&d, &ss, x, true) / (c * total), e_disk = gather(&d, &ss, x, false) / (c * total);
+            lo = fmin(lo, e);
+            hi = fmax(hi, e);
+            lo_disk = fmin(lo_disk, e_disk);
+            hi_disk = fmax(hi_disk, e_disk);
+        }
+        print_message("cos %.2f: %zu samples; footprint kernel %.5f..%.5f of the total, one disk per sample "
+                      "%.4f..%.4f\n", c, ss.n, lo, hi, lo_disk, hi_disk);
+        if (lo < 0.997 || hi > 1.003) fail_msg("cos %g: the footprints sum to %.5f..%.5f of the total", c, lo, hi);
+        free(ss.s);
+    }
+}
+
+/* The significant local extrema of a profile (a second difference above `rel` of the value), and its
+ * high-frequency part: the rms second difference over the rms value. */
+static int ripples(const double *v, int n, double rel, double *out_hf)
+{
+    int count = 0;
+    double hf = 0.0, en = 0.0;
+    for (int i = 1; i + 1 < n; i++) {
+        double d2 = v[i - 1] - 2.0 * v[i] + v[i + 1];
+        if ((v[i] - v[i - 1]) * (v[i + 1] - v[i]) < 0.0 && fabs(d2) > rel * fabs(v[i])) count++;
+        hf += d2 * d2;
+        en += v[i] * v[i];
+    }
+    *out_hf = en > 0.0 ? sqrt(hf / en) : 0.0;
+    return count;
+}
+
+/* The subsurface light along a meridian of a marble sphere (r 80 mm, the scene's) from under the light to near
+ * the terminator: the map at 128 px (balanced's) against one at 384 px as truth; with footprints the profile is
+ * as smooth as the truth's, with one disk per sample it rings. */
+static void a_lit_sphere_shows_no_rings(void **state)
+{
+    (void)state;
+    const double R = 0.08;
+    surface sph = {SPHERE, vd(0, 0, 0), vd(0, 0, 0), R};
+    v3d lo = vd(-R, -R, -R), hi = vd(R, R, R);
+    fv_dipole d[3];
+    for (int c = 0; c < 3; c++) d[c] = fv_dipole_make(MARBLE_SA[c], MARBLE_SP[c], 1.5);
+    enum { N = 96 };
+    for (int persp = 0; persp < 2; persp++) {
+        v3d light = vd(0.1, 0.45, 0.05);
+        v3d dir = vunit(vsub(vd(0, 0, 0), light));
+        uint32_t type = persp ? FV_LIGHT_SPOT : FV_LIGHT_DIRECTIONAL;
+        fv_sss_view coarse = view_of(type, light, dir, lo, hi, 128), fine = view_of(type, light, dir, lo, hi, 384);
+        samples sc = cast(&coarse, &sph, 1.0, light, !persp), sf = cast(&fine, &sph, 1.0, light, !persp);
+        /* The meridian from the point under the light (angle 0.05 rad) to 1.2 rad from it (cos 0.36; the
+         * terminator is at 1.57 rad; the spot's nearer, at acos(R / distance), and the range shrinks with it), in a plane that crosses the texel grid obliquely. Nearer the terminator the
+         * irradiance changes by tens of percent across one stretched texel, and its constant value per sample
+         * leaves a ripple of a few percent there (docs/rendering.md). */
+        double terminator = persp ? acos(R / vlen(light)) : 0.5 * PI;
+        v3d top = vscale(dir, -1.0), side = vunit(vcross(top, vd(0.37, 0.11, 0.92)));
+        double prof[3][N], truth[3][N], disk[3][N], worst = 0.0;
+        for (int i = 0; i < N; i++) {
+            double t = 0.05 + (1.2 * terminator / (0.5 * PI) - 0.05) * i / (N - 1);
+            v3d x = vscale(vadd(vscale(top, cos(t)), vscale(side, sin(t))), R);
+            for (int c = 0; c < 3; c++) {
+                prof[c][i] = gather(&d[c], &sc, x, true);
+                truth[c][i] = gather(&d[c], &sf, x, true);
+                disk[c][i] = gather(&d[c], &sc, x, false);
+                worst = fmax(worst, fabs(prof[c][i] / truth[c][i] - 1.0));
+            }
+        }
+        for (int c = 0; c < 3; c++) {
+            double hf, hf_truth, hf_disk;
+            int ext = ripples(prof[c], N, 1e-3, &hf), ext_truth = ripples(truth[c], N, 1e-3, &hf_truth),
+                ext_disk = ripples(disk[c], N, 1e-3, &hf_disk);
+            print_message("%s light, channel %d: %zu samples (truth %zu): extrema %d (truth %d, one disk per sample "
+                          "%d), high-frequency part %.2e (truth %.2e, one disk %.2e)\n", persp ? "spot" : "directional",
+                          c, sc.n, sf.n, ext, ext_truth, ext_disk, hf, hf_truth, hf_disk);
+            if (ext > ext_truth) fail_msg("channel %d: %d ripples along the meridian (truth %d)", c, ext, ext_truth);
+            /* What is left is the irradiance held constant over each sample's texel (a fine map has 1/3 of it). */
+            if (hf > 8.0 * hf_truth + 1e-4 || hf > 0.05 * hf_disk)
+                fail_msg("channel %d: high-frequency part %.3g (truth %.3g, one disk %.3g)", c, hf, hf_truth, hf_disk);
+            /* The metric sees the rings of one disk per sample. */
+            assert_true(ext_disk > ext_truth + 5 && hf_disk > 5.0 * hf_truth);
+        }
+        print_message("%s light: largest relative difference from the fine map along the meridian %.4f\n",
+                      persp ? "spot" : "directional", worst);
+        if (worst > 0.05) fail_msg("the 128 px map is %.4f off the 384 px one", worst);
+        free(sc.s);
+        free(sf.s);
+    }
+}
+
+/* Extremes: every kernel finite and non-negative for degenerate footprints and receivers. */
+static void the_tile_kernel_stays_finite(void **state)
+{
+    (void)state;
+    fv_dipole ds[4] = {fv_dipole_make(MARBLE_SA[0], MARBLE_SP[0], 1.5), fv_dipole_make(1e300, 1e300, 1.5),
+                       fv_dipole_make(1e-300, 1e-300, 1.5), fv_dipole_make(0.0, 2000.0, 1.0)};
+    const double c[3] = {0, 0, 0}, a[3] = {1e-3, 0, 0}, b[3] = {0, 2e-3, 0}, zero[3] = {0, 0, 0};
+    const double xs[][3] = {{0, 0, 0}, {5e-4, 1e-3, 0}, {5e-4, 0, 0}, {1e-3, 1e-3, 1e-4}, {1, 1, 1}, {1e300, 0, 0},
+                            {NAN, 0, 0}, {INFINITY, 0, 0}, {-5e-4, -1e-3, 0}};
+    for (int k = 0; k < 4; k++)
+        for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++) {
+            double v = fv_dipole_tile_kernel(&ds[k], c, a, b, xs[i]), z = fv_dipole_tile_kernel(&ds[k], c, zero, zero, xs[i]);
+            if (!isfinite(v) || v < 0.0 || !isfinite(z) || z < 0.0)
+                fail_msg("material %d, receiver %zu: kernel %g, degenerate footprint %g", k, i, v, z);
+        }
+    /* A receiver on a corner, on an edge and at the centre agree with their neighbourhood (no NaN, no jump). */
+    fv_dipole m = ds[0];
+    const double corner[3] = {5e-4, 1e-3, 0}, near_corner[3] = {5e-4 + 1e-9, 1e-3 + 1e-9, 0};
+    double k0 = fv_dipole_tile_kernel(&m, c, a, b, corner), k1 = fv_dipole_tile_kernel(&m, c, a, b, near_corner);
+    if (fabs(k0 - k1) > 1e-3 * k1) fail_msg("on the corner %.9g, beside it %.9g", k0, k1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(a_footprint_is_the_texel_on_the_surface),
+        cmocka_unit_test(a_uniformly_lit_plane_sums_to_the_total_at_any_tilt),
+        cmocka_unit_test(a_lit_sphere_shows_no_rings),
+        cmocka_unit_test(the_tile_kernel_stays_finite),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
