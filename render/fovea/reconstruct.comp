@@ -160,10 +160,11 @@ void soft_reps(ivec3 b, ivec2 size)
         ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
         bool hit = texelFetch(g_material, q, 0).r != 0u;
         vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
-        uint nrm = hit ? packSnorm2x16(texelFetch(g_normal, q, 0).rg) : FV_RECON_NONE;
+        vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, q, 0).rg) : vec3(0.0);
         vec3 c = imageLoad(color_img, q).rgb;
-        reps[base + 1u + 2u * m] = uvec4(floatBitsToUint(c), uint(q.x) | (uint(q.y) << 16));
-        reps[base + 2u + 2u * m] = uvec4(floatBitsToUint(pos), nrm);
+        uint packed = uint(q.x) | (uint(q.y) << 16) | (hit ? 0u : FV_RECON_SOFT_NOTHING);
+        reps[base + 1u + 2u * m] = uvec4(floatBitsToUint(c), packed);
+        reps[base + 2u + 2u * m] = uvec4(floatBitsToUint(nrm), floatBitsToUint(dot(nrm, pos)));
         m++;
     }
     reps[base] = uvec4(count, m, floatBitsToUint(sigma), 0u);
@@ -202,6 +203,8 @@ void soft_fill(ivec3 p, ivec2 size)
     vec4 te = frame.eye_tan[p.z];
     vec2 dt = abs(vec2(te.y - te.x, te.w - te.z)) / vec2(size);
     float foot = length(pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px
+    // (t / (foot d PLANE))^2 = t^2 kplane / d^2: no root or division per tap but one
+    float kplane = 1.0 / max(foot * foot * float(FV_RECON_SOFT_PLANE * FV_RECON_SOFT_PLANE), 1e-30);
     float cap = -log(float(FV_RECON_SOFT_EDGE_FLOOR));
     vec3 sum = vec3(0.0), best_col = vec3(0.0);
     float wsum = 0.0;
@@ -212,23 +215,22 @@ void soft_fill(ivec3 p, ivec2 size)
         for (uint i = 0u; i < n; i++) {
             uvec4 qa = reps[base[k] + 1u + 2u * i];
             vec3 qc = uintBitsToFloat(qa.xyz);
-            uint packed = qa.w;
+            uint packed = qa.w & ~FV_RECON_SOFT_NOTHING;
+            bool qhit = (qa.w & FV_RECON_SOFT_NOTHING) == 0u;
             ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
             uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
             if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc;
             float fd2 = float(d2);
-            uvec4 qb = reps[base[k] + 2u + 2u * i];
-            bool qhit = qb.w != FV_RECON_NONE;
             float e2; // -log of the edge weight
             if (hit != qhit) {
                 e2 = cap;
             } else if (!hit) {
                 e2 = 0.0;
             } else {
-                vec3 qn = fv_oct_decode(unpackSnorm2x16(qb.w));
-                float e = abs(dot(nrm, uintBitsToFloat(qb.xyz) - pos)) /
-                          max(foot * sqrt(fd2) * float(FV_RECON_SOFT_PLANE), 1e-30);
-                e2 = e * e + (1.0 - dot(nrm, qn)) / float(FV_RECON_SOFT_NORMAL);
+                uvec4 qb = reps[base[k] + 2u + 2u * i];
+                vec3 qn = uintBitsToFloat(qb.xyz);
+                float t = dot(qn, pos) - uintBitsToFloat(qb.w); // p's distance from the tap's tangent plane
+                e2 = t * t * kplane / max(fd2, 1.0) + (1.0 - dot(nrm, qn)) * float(1.0 / FV_RECON_SOFT_NORMAL);
             }
             if (isnan(e2)) e2 = cap;
             float wt = tent[k] * exp(-fd2 * inv2s2 - min(e2, cap));

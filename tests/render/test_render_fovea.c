@@ -985,8 +985,8 @@ static void soft_ref(const soft_in *si, int x, int y, double out[3])
             else if (!si->hit[pi]) g = 0;
             else {
                 const double *qp = si->pos[qi], *qn = si->nrm[qi];
-                double pl = fabs(pn[0] * (qp[0] - pp[0]) + pn[1] * (qp[1] - pp[1]) + pn[2] * (qp[2] - pp[2]));
-                double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE);
+                double pl = fabs(qn[0] * (pp[0] - qp[0]) + qn[1] * (pp[1] - qp[1]) + qn[2] * (pp[2] - qp[2]));
+                double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE); /* off the tap's tangent plane */
                 g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
             }
             double wt = tent[k] * exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap));
