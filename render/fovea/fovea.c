@@ -147,8 +147,8 @@ static void recon_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         snprintf(vor, sizeof vor, "the 1+JFA Voronoi, steps %s px", list);
     if (f->recon == FV_FOVEA_RECON_SOFT)
         snprintf(out->reason, sizeof out->reason,
-                 "unshaded pixels by an edge-aware Gaussian (G-buffer plane, normal) of the 3x3 blocks' known "
-                 "pixels, as wide as their spacing (soft)");
+                 "unshaded pixels by an edge-aware Gaussian (G-buffer plane, normal) of the 2x2 nearest blocks' "
+                 "known pixels, bilinear over the blocks (soft)");
     else if (f->recon == FV_FOVEA_RECON_IDW)
         snprintf(out->reason, sizeof out->reason,
                  "unshaded pixels by inverse-distance weights of the samples of the neighbouring blocks (idw)");

@@ -137,24 +137,25 @@ struct fv_compact_push {
 /* The soft fill (FV_RECON_METHOD_SOFT), two dispatches, no Voronoi, a bounded number of taps per pixel:
  * SOFT_REPS, one thread per block: the block's known pixels as at most FV_RECON_SOFT_SLOTS representatives (all of
  * them when they are that few, else in each quadrant of the block the one nearest its centre) with their colour,
- * world position and normal, the block's count of known pixels and its sigma (below), into the reps buffer; SOFT_FILL, one thread per
- * pixel: every unknown pixel takes the weighted mean of the representatives of the (2 reach + 1)^2 blocks around
- * its own (reach 1 for B <= 5, else 2): w = exp(-d^2 / (2 sigma^2)) (1 - d^2 / R^2)^2 max(g, FV_RECON_SOFT_EDGE_FLOOR)
- * for d < R = reach B + 1 (a compact support no farther than the blocks it reads: no seams at block edges; the own
- * block's representatives are always inside it); sigma = FV_RECON_SOFT_SIGMA times the local sample spacing,
- * sqrt(area / known pixels) of the 3x3 blocks, at least FV_RECON_SOFT_SIGMA_MIN px (the band limit of the local
- * sampling rate); the edge weight g = exp(-(t / FV_RECON_SOFT_PLANE)^2 - (1 - n.n') / FV_RECON_SOFT_NORMAL), t the
- * tap's distance from the pixel's tangent plane over d times the pixel's footprint (its distance from the eye times
- * the angle of a pixel), n, n' the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1.
- * No weight at all (underflow): the nearest representative's colour. Reads the colour only at known pixels and
- * writes it only at unknown ones. */
+ * normal and tangent plane, the block's count of known pixels and its sigma (below), into the reps buffer;
+ * SOFT_FILL, one thread per pixel: every unknown pixel takes the weighted mean of the representatives of the 2x2
+ * blocks whose centres surround it (at most 4 x FV_RECON_SOFT_SLOTS = 16 taps, for every block size):
+ * w = b_k exp(-d^2 / (2 sigma^2)) max(g, FV_RECON_SOFT_EDGE_FLOOR), b_k the bilinear tent of block k over the block
+ * grid (its weight reaches 0 exactly where the 2x2 set changes: no seams at block edges); sigma = the tents' blend
+ * of the 4 blocks' sigmas, each FV_RECON_SOFT_SIGMA times the local sample spacing, sqrt(area / known pixels) of the
+ * 3x3 blocks around it, at least FV_RECON_SOFT_SIGMA_MIN px (the band limit of the local sampling rate); the edge
+ * weight g = exp(-(t / (d foot FV_RECON_SOFT_PLANE))^2 - (1 - n.n') / FV_RECON_SOFT_NORMAL), t the pixel's distance
+ * from the tap's tangent plane, foot the pixel's footprint (its distance from the eye times the angle of a pixel),
+ * n, n' the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1. No weight at all
+ * (underflow): the nearest representative's colour. Reads the colour only at known pixels and writes it only at
+ * unknown ones. */
 #define FV_RECON_STAGE_SOFT_REPS 4
 #define FV_RECON_STAGE_SOFT_FILL 5
 #define FV_RECON_SOFT_SLOTS 4
 #define FV_RECON_SOFT_REP_UVEC4S 9 /* per block: (known pixels, representatives n, sigma as bits, -), then per
-                                    * representative (colour rgb as bits, x | y << 16), (world position as bits,
-                                    * packSnorm2x16 of the G-buffer's octahedral normal, FV_RECON_NONE: nothing
-                                    * drawn) */
+                                    * representative (colour rgb as bits, x | y << 16 | FV_RECON_SOFT_NOTHING where
+                                    * nothing was drawn), (unit normal as bits, normal . world position as bits) */
+#define FV_RECON_SOFT_NOTHING 0x80000000u
 #define FV_RECON_SOFT_SIGMA 0.5
 #define FV_RECON_SOFT_SIGMA_MIN 0.5
 #define FV_RECON_SOFT_PLANE 2.0

@@ -160,69 +160,84 @@ void soft_reps(ivec3 b, ivec2 size)
         ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
         bool hit = texelFetch(g_material, q, 0).r != 0u;
         vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
-        uint nrm = hit ? packSnorm2x16(texelFetch(g_normal, q, 0).rg) : FV_RECON_NONE;
+        vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, q, 0).rg) : vec3(0.0);
         vec3 c = imageLoad(color_img, q).rgb;
-        reps[base + 1u + 2u * m] = uvec4(floatBitsToUint(c), uint(q.x) | (uint(q.y) << 16));
-        reps[base + 2u + 2u * m] = uvec4(floatBitsToUint(pos), nrm);
+        uint packed = uint(q.x) | (uint(q.y) << 16) | (hit ? 0u : FV_RECON_SOFT_NOTHING);
+        reps[base + 1u + 2u * m] = uvec4(floatBitsToUint(c), packed);
+        reps[base + 2u + 2u * m] = uvec4(floatBitsToUint(nrm), floatBitsToUint(dot(nrm, pos)));
         m++;
     }
     reps[base] = uvec4(count, m, floatBitsToUint(sigma), 0u);
 }
 
-// SOFT_FILL: pixel p (inside the image).
+// SOFT_FILL: pixel p (inside the image). The 2x2 blocks whose centres surround p, each weighted by its bilinear tent
+// over the block grid (so a block's weight reaches 0 exactly where it leaves the set: no seams), times per
+// representative a Gaussian of its distance and the edge weight; sigma the tents' blend of the blocks' sigmas.
 void soft_fill(ivec3 p, ivec2 size)
 {
     if (imageLoad(mask_img, p).x != 0u) { // known: kept
         if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(uint(p.x) | (uint(p.y) << 16)));
         return;
     }
-    int B = int(pc.block), reach = int(pc.reach);
-    ivec2 nb = (size + B - 1) / B, b = p.xy / B;
-    float sigma = uintBitsToFloat(reps[rep_base(b, p.z, nb)].z);
-    float R = float(reach * B + 1);
-    float inv2s2 = 0.5 / (sigma * sigma), invR2 = 1.0 / (R * R);
+    int B = int(pc.block);
+    ivec2 nb = (size + B - 1) / B;
+    vec2 g = (vec2(p.xy) + 0.5) / float(B) - 0.5; // p in block-centre coordinates
+    ivec2 b0 = ivec2(floor(g));
+    vec2 f = g - vec2(b0);
+    uint base[4];
+    float tent[4];
+    float ssum = 0.0, tsum = 0.0;
+    for (int k = 0; k < 4; k++) {
+        ivec2 bb = b0 + ivec2(k & 1, k >> 1);
+        float t = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y);
+        bool in_image = all(greaterThanEqual(bb, ivec2(0))) && all(lessThan(bb, nb)) && t > 0.0;
+        base[k] = in_image ? rep_base(bb, p.z, nb) : 0xffffffffu;
+        tent[k] = in_image ? t : 0.0;
+        if (in_image) ssum += t * uintBitsToFloat(reps[base[k]].z), tsum += t;
+    }
+    float sigma = ssum / tsum;
+    float inv2s2 = 0.5 / (sigma * sigma);
     bool hit = texelFetch(g_material, p, 0).r != 0u;
     vec3 pos = fv_gbuffer_position(uvec3(p), texelFetch(g_depth, p, 0).r);
     vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, p, 0).rg) : vec3(0.0);
-    vec4 t = frame.eye_tan[p.z];
-    vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / vec2(size);
+    vec4 te = frame.eye_tan[p.z];
+    vec2 dt = abs(vec2(te.y - te.x, te.w - te.z)) / vec2(size);
     float foot = length(pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px
+    // (t / (foot d PLANE))^2 = t^2 kplane / d^2: no root or division per tap but one
+    float kplane = 1.0 / max(foot * foot * float(FV_RECON_SOFT_PLANE * FV_RECON_SOFT_PLANE), 1e-30);
     float cap = -log(float(FV_RECON_SOFT_EDGE_FLOOR));
     vec3 sum = vec3(0.0), best_col = vec3(0.0);
     float wsum = 0.0;
     uint best = FV_RECON_NONE, bd = 0xffffffffu;
-    for (int by = max(b.y - reach, 0); by <= min(b.y + reach, nb.y - 1); by++)
-        for (int bx = max(b.x - reach, 0); bx <= min(b.x + reach, nb.x - 1); bx++) {
-            uint base = rep_base(ivec2(bx, by), p.z, nb);
-            uint n = min(reps[base].y, uint(FV_RECON_SOFT_SLOTS));
-            for (uint i = 0u; i < n; i++) {
-                uvec4 qa = reps[base + 1u + 2u * i];
-                vec3 qc = uintBitsToFloat(qa.xyz);
-                uint packed = qa.w;
-                ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
-                uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
-                if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc;
-                float fd2 = float(d2), win = 1.0 - fd2 * invR2;
-                if (win <= 0.0) continue;
-                uvec4 qb = reps[base + 2u + 2u * i];
-                bool qhit = qb.w != FV_RECON_NONE;
-                float g; // -log of the edge weight
-                if (hit != qhit) {
-                    g = cap;
-                } else if (!hit) {
-                    g = 0.0;
-                } else {
-                    vec3 qn = fv_oct_decode(unpackSnorm2x16(qb.w));
-                    float e = abs(dot(nrm, uintBitsToFloat(qb.xyz) - pos)) /
-                              max(foot * sqrt(fd2) * float(FV_RECON_SOFT_PLANE), 1e-30);
-                    g = e * e + (1.0 - dot(nrm, qn)) / float(FV_RECON_SOFT_NORMAL);
-                }
-                if (isnan(g)) g = cap;
-                float wt = exp(-fd2 * inv2s2 - min(g, cap)) * win * win;
-                sum += wt * qc;
-                wsum += wt;
+    for (int k = 0; k < 4; k++) {
+        if (base[k] == 0xffffffffu) continue;
+        uint n = min(reps[base[k]].y, uint(FV_RECON_SOFT_SLOTS));
+        for (uint i = 0u; i < n; i++) {
+            uvec4 qa = reps[base[k] + 1u + 2u * i];
+            vec3 qc = uintBitsToFloat(qa.xyz);
+            uint packed = qa.w & ~FV_RECON_SOFT_NOTHING;
+            bool qhit = (qa.w & FV_RECON_SOFT_NOTHING) == 0u;
+            ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
+            uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
+            if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc;
+            float fd2 = float(d2);
+            float e2; // -log of the edge weight
+            if (hit != qhit) {
+                e2 = cap;
+            } else if (!hit) {
+                e2 = 0.0;
+            } else {
+                uvec4 qb = reps[base[k] + 2u + 2u * i];
+                vec3 qn = uintBitsToFloat(qb.xyz);
+                float t = dot(qn, pos) - uintBitsToFloat(qb.w); // p's distance from the tap's tangent plane
+                e2 = t * t * kplane / max(fd2, 1.0) + (1.0 - dot(nrm, qn)) * float(1.0 / FV_RECON_SOFT_NORMAL);
             }
+            if (isnan(e2)) e2 = cap;
+            float wt = tent[k] * exp(-fd2 * inv2s2 - min(e2, cap));
+            sum += wt * qc;
+            wsum += wt;
         }
+    }
     if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(best));
     if (best == FV_RECON_NONE) return;
     vec3 c = wsum > 1e-30 ? sum / wsum : best_col;

@@ -923,11 +923,11 @@ static int soft_reps_of(const soft_in *si, int bx, int by, size_t out[FV_RECON_S
     return n;
 }
 
-/* The soft fill of unknown pixel (x, y) in double (fovea_interface.h SOFT_FILL). */
-static void soft_ref(const soft_in *si, int x, int y, double out[3])
+/* sigma of block (bx, by) (fovea_interface.h SOFT_REPS): FV_RECON_SOFT_SIGMA times sqrt(area / known pixels) of the
+ * 3x3 blocks around it, at least FV_RECON_SOFT_SIGMA_MIN. */
+static double soft_sigma_of(const soft_in *si, int bx0, int by0)
 {
-    int B = si->B, nbx = (si->w + B - 1) / B, nby = (si->h + B - 1) / B, bx0 = x / B, by0 = y / B;
-    int reach = B <= 5 ? 1 : 2;
+    int B = si->B, nbx = (si->w + B - 1) / B, nby = (si->h + B - 1) / B;
     double known = 0, area = 0;
     for (int by = by0 - 1; by <= by0 + 1; by++)
         for (int bx = bx0 - 1; bx <= bx0 + 1; bx++) {
@@ -938,8 +938,30 @@ static void soft_ref(const soft_in *si, int x, int y, double out[3])
             known += count;
             area += sx * sy;
         }
-    double sigma = fmax(FV_RECON_SOFT_SIGMA * sqrt(area / fmax(known, 1.0)), FV_RECON_SOFT_SIGMA_MIN);
-    double R = reach * B + 1, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
+    return fmax(FV_RECON_SOFT_SIGMA * sqrt(area / fmax(known, 1.0)), FV_RECON_SOFT_SIGMA_MIN);
+}
+
+/* The soft fill of unknown pixel (x, y) in double (fovea_interface.h SOFT_FILL): the 2x2 blocks whose centres
+ * surround the pixel, each by its bilinear tent, times per representative a Gaussian (sigma: the tents' blend of the
+ * blocks' sigmas) and the edge weight. */
+static void soft_ref(const soft_in *si, int x, int y, double out[3])
+{
+    int B = si->B, nbx = (si->w + B - 1) / B, nby = (si->h + B - 1) / B;
+    double gx = (x + 0.5) / B - 0.5, gy = (y + 0.5) / B - 0.5;
+    int bx0 = (int)floor(gx), by0 = (int)floor(gy);
+    double fx = gx - bx0, fy = gy - by0, tent[4], ssum = 0, tsum = 0;
+    for (int k = 0; k < 4; k++) {
+        int bx = bx0 + (k & 1), by = by0 + (k >> 1);
+        tent[k] = ((k & 1) ? fx : 1.0 - fx) * ((k >> 1) ? fy : 1.0 - fy);
+        if (bx < 0 || by < 0 || bx >= nbx || by >= nby || tent[k] <= 0) {
+            tent[k] = 0;
+            continue;
+        }
+        ssum += tent[k] * soft_sigma_of(si, bx, by);
+        tsum += tent[k];
+    }
+    assert_true(tsum > 0);
+    double sigma = ssum / tsum, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
     size_t pi = (size_t)y * si->w + x;
     const double *pp = si->pos[pi], *pn = si->nrm[pi];
     double dist = sqrt((pp[0] - si->eye[0]) * (pp[0] - si->eye[0]) + (pp[1] - si->eye[1]) * (pp[1] - si->eye[1]) +
@@ -948,33 +970,30 @@ static void soft_ref(const soft_in *si, int x, int y, double out[3])
     double sum[3] = {0, 0, 0}, wsum = 0;
     long bd = -1;
     uint32_t best = NONE;
-    for (int by = by0 - reach; by <= by0 + reach; by++)
-        for (int bx = bx0 - reach; bx <= bx0 + reach; bx++) {
-            if (bx < 0 || by < 0 || bx >= nbx || by >= nby) continue;
-            size_t idx[FV_RECON_SOFT_SLOTS];
-            int count, n = soft_reps_of(si, bx, by, idx, &count);
-            for (int i = 0; i < n; i++) {
-                size_t qi = idx[i];
-                int xx = (int)(qi % (size_t)si->w), yy = (int)(qi / (size_t)si->w);
-                long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
-                uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
-                if (bd < 0 || d2 < bd || (d2 == bd && packed < best)) bd = d2, best = packed;
-                double win = 1.0 - (double)d2 / (R * R);
-                if (win <= 0) continue;
-                double g;
-                if (si->hit[pi] != si->hit[qi]) g = cap;
-                else if (!si->hit[pi]) g = 0;
-                else {
-                    const double *qp = si->pos[qi], *qn = si->nrm[qi];
-                    double pl = fabs(pn[0] * (qp[0] - pp[0]) + pn[1] * (qp[1] - pp[1]) + pn[2] * (qp[2] - pp[2]));
-                    double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE);
-                    g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
-                }
-                double wt = exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap)) * win * win;
-                for (int k = 0; k < 3; k++) sum[k] += wt * si->rgba[qi * 4 + k];
-                wsum += wt;
+    for (int k = 0; k < 4; k++) {
+        if (tent[k] <= 0) continue;
+        size_t idx[FV_RECON_SOFT_SLOTS];
+        int count, n = soft_reps_of(si, bx0 + (k & 1), by0 + (k >> 1), idx, &count);
+        for (int i = 0; i < n; i++) {
+            size_t qi = idx[i];
+            int xx = (int)(qi % (size_t)si->w), yy = (int)(qi / (size_t)si->w);
+            long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
+            uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
+            if (bd < 0 || d2 < bd || (d2 == bd && packed < best)) bd = d2, best = packed;
+            double g;
+            if (si->hit[pi] != si->hit[qi]) g = cap;
+            else if (!si->hit[pi]) g = 0;
+            else {
+                const double *qp = si->pos[qi], *qn = si->nrm[qi];
+                double pl = fabs(qn[0] * (pp[0] - qp[0]) + qn[1] * (pp[1] - qp[1]) + qn[2] * (pp[2] - qp[2]));
+                double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE); /* off the tap's tangent plane */
+                g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
             }
+            double wt = tent[k] * exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap));
+            for (int c = 0; c < 3; c++) sum[c] += wt * si->rgba[qi * 4 + c];
+            wsum += wt;
         }
+    }
     assert_true(best != NONE); /* every block holds a sample */
     for (int k = 0; k < 3; k++)
         out[k] = wsum > 1e-30 ? sum[k] / wsum : si->rgba[((size_t)(best >> 16) * si->w + (best & 0xffffu)) * 4 + k];
