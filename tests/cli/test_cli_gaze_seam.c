@@ -102,14 +102,22 @@ static void check_run_eyes(const char *what, const char *scene_json, const char 
     char *text = fv_test_read_file(log, NULL);
     static const char *const cols[4] = {"left_gaze_yaw_deg", "left_gaze_pitch_deg", "right_gaze_yaw_deg",
                                         "right_gaze_pitch_deg"};
+    /* A frame latched before the source's first sample arrived (a loaded machine) has no gaze: it shows the view
+     * centre, as the runtime should; every frame from the first with a gaze on, and the last, must show this one. */
+    double valid[2][16];
+    assert_int_equal(log_column(text, "left_gaze_valid", valid[0], 16), 4);
+    assert_int_equal(log_column(text, "right_gaze_valid", valid[1], 16), 4);
     for (int c = 0; c < 4; c++) {
         double v[16];
         int n = log_column(text, cols[c], v, 16);
         assert_int_equal(n, 4);
         fv_vec3 d = want[c / 2];
         double expect = (c % 2 == 0 ? atan2(d.x, -d.z) : atan2(d.y, sqrt(d.x * d.x + d.z * d.z))) * 180.0 / FV_PI;
-        for (int i = 0; i < n; i++)
-            if (fabs(v[i] - expect) > 0.01)
+        int first = 0;
+        while (first < n - 1 && valid[c / 2][first] == 0) first++;
+        if (first > 0) print_message("%s: frames 0..%d latched before the first sample\n", what, first - 1);
+        for (int i = first; i < n; i++)
+            if (valid[c / 2][i] == 0 || fabs(v[i] - expect) > 0.01)
                 fail_msg("%s: frame %d: %s = %.4f, want %.4f (the gaze turned with the head)", what, i, cols[c], v[i],
                          expect);
     }
@@ -321,19 +329,19 @@ static void sim_eye_truth_lands_in_the_eyes_with_a_turned_head(void **state)
     snprintf(log, sizeof log, "%s", fv_test_tmp("seam_sim_frames.csv"));
     snprintf(dir, sizeof dir, "%s", fv_test_tmp("seam_sim_out"));
     snprintf(args, sizeof args,
-             "run --scene '%s' --gaze '%s' --predict off --frames 40 --eye-size 32x32 --hmd none --frame-log '%s'",
+             "run --scene '%s' --gaze '%s' --predict off --frames 120 --eye-size 32x32 --hmd none --frame-log '%s'",
              scene, sim, log);
     fv_test_run_cmd(&r, NULL, g_fovea, args);
     if (r.exit_code != 0) fail_msg("fovea %s exited %d:\n%s", args, r.exit_code, r.err);
     trace_rows t;
     trace_rows_load(&t, trace);
     char *text = fv_test_read_file(log, NULL);
-    double seq[64], ly[64], lp[64], ry[64], rp[64];
-    int n = log_column(text, "sample_seq", seq, 64);
-    log_column(text, "left_gaze_yaw_deg", ly, 64);
-    log_column(text, "left_gaze_pitch_deg", lp, 64);
-    log_column(text, "right_gaze_yaw_deg", ry, 64);
-    log_column(text, "right_gaze_pitch_deg", rp, 64);
+    double seq[128], ly[128], lp[128], ry[128], rp[128];
+    int n = log_column(text, "sample_seq", seq, 128);
+    log_column(text, "left_gaze_yaw_deg", ly, 128);
+    log_column(text, "left_gaze_pitch_deg", lp, 128);
+    log_column(text, "right_gaze_yaw_deg", ry, 128);
+    log_column(text, "right_gaze_pitch_deg", rp, 128);
     free(text);
     int steady = 0;
     double worst = 0;
@@ -363,7 +371,7 @@ static void sim_eye_truth_lands_in_the_eyes_with_a_turned_head(void **state)
         }
     }
     print_message("sim: %d eye-frames in steady fixations, worst %.4f deg from the truth\n", steady, worst);
-    assert_true(steady >= 10);
+    assert_true(steady >= 30); /* 240 eye-frames over ~3 s of gaze: seed 5 fixates for about half of it */
     free(t.text);
 }
 
