@@ -117,7 +117,7 @@ fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **
     fv_vk_desc d = {.app_name = "fovea OpenXR compositor",
                     .optional_device_extensions = g_optional_exts,
                     .optional_device_extension_count = 1};
-    fv_result res = fv_xr_present_create(inst->app_name, inst->view_w, inst->view_h, &c->present);
+    fv_result res = fv_xr_present_create(inst->app_name, inst->run.eye_w, inst->run.eye_h, &c->present);
     if (res == FV_OK) {
         fv_xr_present_configure_vk(c->present, &d);
         res = fv_vk_create(&d, &c->vk);
@@ -147,7 +147,12 @@ fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **
     pthread_condattr_destroy(&ca);
     pthread_mutex_init(&c->mu, NULL);
     pthread_mutex_init(&c->gpu_mu, NULL);
-    c->input.quality = fv_quality_default();
+    int failed;
+    char err[256];
+    if (FV_FAILED(fv_app_run_quality(&inst->run, &c->input.quality, &failed, err, sizeof err))) {
+        FV_ERROR(FV_XR_LOG, "the session's quality: %s; using balanced", err);
+        c->input.quality = fv_quality_default();
+    }
     c->input.quality.distort.lens = inst->hmd.lens;
     const char *dist = getenv("FOVEA_XR_DISTORT");
     c->input.quality.distort.enabled = !(dist && !strcmp(dist, "0"));
