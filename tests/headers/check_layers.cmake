@@ -7,7 +7,7 @@
 #    "<target>|<room>|lib|<dep>|<dep's folder>");
 #    none may be a folder of a room above it.
 # Rules (room: the rooms it may not see): runtime/ (the API, the knobs, gaze, core, app), drivers/ and sim/: render/,
-# xr/, tools/; render/: xr/, tools/, drivers/ (render knows no devices); xr/: tools/.
+# xr/, tools/; render/: xr/, tools/, drivers/ (render knows no devices); xr/: tools/ and any pass's folder.
 # Every violation is one line naming the file and line (or the target) and the header (or folder); exit 1 if any.
 cmake_minimum_required(VERSION 3.20)
 if(NOT ROOT)
@@ -28,6 +28,19 @@ function(room_of path out)
   string(REGEX MATCH "^[^/]+" top "${rel}")
   set(${out} "${top}" PARENT_SCOPE)
 endfunction()
+
+# And passes are driven only by the renderer: xr/ (and tools/) include no pass's folder (render/<pass>/, the list of
+# render/CMakeLists.txt's FV_RENDER_PASSES); the renderer's post chain (render/fv_post_chain.h) runs them for xr/.
+file(STRINGS "${ROOT}/render/CMakeLists.txt" pass_line REGEX "^set\\(FV_RENDER_PASSES ")
+string(REGEX REPLACE "^set\\(FV_RENDER_PASSES ([^)]*)\\).*" "\\1" pass_names "${pass_line}")
+string(REPLACE " " ";" pass_names "${pass_names}")
+if(NOT pass_names)
+  message(FATAL_ERROR "check_layers: render/CMakeLists.txt: no set(FV_RENDER_PASSES ...) line")
+endif()
+set(PASS_DIRS)
+foreach(p ${pass_names})
+  list(APPEND PASS_DIRS "render/${p}/")
+endforeach()
 
 # Every header of the tree (not the build folders, not tests).
 file(GLOB_RECURSE all_headers LIST_DIRECTORIES false
@@ -63,11 +76,22 @@ foreach(room ${RULE_ROOMS})
       set(bad)
       foreach(hit ${hits})
         room_of("${hit}" hroom)
+        file(RELATIVE_PATH hrel "${ROOT}" "${hit}")
         list(FIND FORBID_${room} "${hroom}" idx)
-        if(idx EQUAL -1)
+        set(in_pass FALSE)
+        if(room STREQUAL "xr")
+          foreach(pd ${PASS_DIRS})
+            string(FIND "${hrel}" "${pd}" ppos)
+            if(ppos EQUAL 0)
+              set(in_pass TRUE)
+            endif()
+          endforeach()
+        endif()
+        if(idx EQUAL -1 AND NOT in_pass)
           set(allowed TRUE)
+        elseif(in_pass)
+          list(APPEND bad "${hrel}, a pass's header: xr/ runs passes through the renderer's post chain, fv_post_chain.h")
         else()
-          file(RELATIVE_PATH hrel "${ROOT}" "${hit}")
           list(APPEND bad "${hrel}")
         endif()
       endforeach()
@@ -85,8 +109,12 @@ foreach(room ${RULE_ROOMS})
         endforeach()
         list(JOIN bad ", " bad_s)
         list(JOIN FORBID_${room} "/, " forbid_s)
+        set(forbid_s "${forbid_s}/")
+        if(room STREQUAL "xr")
+          set(forbid_s "${forbid_s} or a pass's folder render/<pass>/")
+        endif()
         message("layering: ${src_rel}:${at}: ${room}/ includes \"${inc}\" (${bad_s}): ${room}/ may not see "
-                "${forbid_s}/ (docs/architecture.md, Layers)")
+                "${forbid_s} (docs/architecture.md, Layers)")
         math(EXPR violations "${violations} + 1")
       endif()
     endforeach()
