@@ -16,10 +16,10 @@
 
 #include "compose_comp.spv.h"
 #include "compose_interface.h"
-#include "distort.h"
 #include "fv_images.h"
 #include "fv_math.h"
 #include "fv_pass.h"
+#include "fv_post_chain.h"
 #include "fv_target.h"
 #include "fv_vk.h"
 #include "xr_internal.h"
@@ -38,7 +38,7 @@ fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **
     fv_vk_desc d = {.app_name = "fovea OpenXR compositor",
                     .optional_device_extensions = g_optional_exts,
                     .optional_device_extension_count = 1};
-    fv_result res = fv_xr_present_create(inst->app_name, inst->view_w, inst->view_h, &c->present);
+    fv_result res = fv_xr_present_create(inst->app_name, inst->run.eye_w, inst->run.eye_h, &c->present);
     if (res == FV_OK) {
         fv_xr_present_configure_vk(c->present, &d);
         res = fv_vk_create(&d, &c->vk);
@@ -68,7 +68,12 @@ fv_result fv_xr_compositor_create(struct XrInstance_T *inst, fv_xr_compositor **
     pthread_condattr_destroy(&ca);
     pthread_mutex_init(&c->mu, NULL);
     pthread_mutex_init(&c->gpu_mu, NULL);
-    c->input.quality = fv_quality_default();
+    int failed;
+    char err[256];
+    if (FV_FAILED(fv_app_run_quality(&inst->run, &c->input.quality, &failed, err, sizeof err))) {
+        FV_ERROR(FV_XR_LOG, "the session's quality: %s; using balanced", err);
+        c->input.quality = fv_quality_default();
+    }
     c->input.quality.distort.lens = inst->hmd.lens;
     const char *dist = getenv("FOVEA_XR_DISTORT");
     c->input.quality.distort.enabled = !(dist && !strcmp(dist, "0"));
@@ -167,17 +172,11 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
         res = fv_vk_timer_init(&c->timer, c->vk, 1);
         c->timer_ready = res == FV_OK;
     }
-    /* fovea's lens-distortion pass, planned like the renderer plans it (on when the HMD has a lens) */
-    if (res == FV_OK) {
-        fv_plan_context pc = {.quality = &c->input.quality, .target = "headless"};
-        fv_distort_pass.plan(&pc, &c->distort_plan);
-        if (c->distort_plan.enabled) {
-            fv_pass_env env = {.vk = c->vk, .images = &c->images, .width = width, .height = height, .slots = 1,
-                               .plan = &c->distort_plan};
-            res = fv_distort_pass.init(&env, &c->distort);
-        }
-        FV_INFO(FV_XR_LOG, "distort: %s", c->distort_plan.reason);
-    }
+    /* the renderer's post chain (lens pre-distortion, on when the HMD has a lens), planned by the renderer's rules */
+    if (res == FV_OK && (res = fv_post_chain_create(c->vk, &c->images, width, height, &c->input.quality,
+                                                    &c->post)) == FV_OK)
+        for (uint32_t k = 0; k < fv_post_chain_planned(c->post); k++)
+            FV_INFO(FV_XR_LOG, "%s: %s", fv_post_chain_pass_id(c->post, k), fv_post_chain_reason(c->post, k));
     /* the target: the window when presenting in one (xr_present.h), PNG files of the last frame with
      * FOVEA_XR_OUT=dir, else headless */
     const char *out = getenv("FOVEA_XR_OUT");
@@ -229,8 +228,7 @@ void fv_xr_compositor_session_end(fv_xr_compositor *c)
     fv_xr_compositor_drain(c);
     vkDeviceWaitIdle(c->vk->device);
     fv_target_destroy(&c->target);
-    if (c->distort) fv_distort_pass.fini(c->distort);
-    c->distort = NULL;
+    fv_post_chain_destroy(&c->post);
     if (c->sem_ready) vkDestroySemaphore(c->vk->device, c->sem_ready, NULL);
     if (c->sem_done) vkDestroySemaphore(c->vk->device, c->sem_done, NULL);
     if (c->fence) vkDestroyFence(c->vk->device, c->fence, NULL);
@@ -557,16 +555,10 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     if (nrel)
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
                              NULL, 0, NULL, nrel, rel);
-    /* fovea's lens pre-distortion, then the target's hand-over */
-    fv_pass_counters counters = {0};
+    /* the renderer's post chain (lens pre-distortion), then the target's hand-over */
     c->input.frame_id = c->frame_id;
     c->input.t_photon_ns = j->display_time;
-    fv_pass_frame pf = {.cmd = cmd, .slot = 0, .input = &c->input, .images = &c->images, .counters = &counters};
-    if (c->distort) {
-        int tp = fv_vk_timer_begin(&c->timer, cmd, 0, "distort");
-        fv_distort_pass.record(c->distort, &pf);
-        fv_vk_timer_end(&c->timer, cmd, 0, tp);
-    }
+    fv_post_chain_record(c->post, cmd, &c->input, &c->timer, 0);
     fv_target_frame tf = {.vk = vk, .images = &c->images, .width = c->width, .height = c->height, .slot = 0,
                           .frame_id = c->frame_id, .cmd = cmd, .image_ready = c->sem_ready,
                           .frame_done = c->sem_done};
@@ -592,7 +584,7 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     char names[2][FV_VK_TIMER_NAME_MAX];
     if (fv_vk_timer_collect(&c->timer, vk, 0, ms, names, 2, &total) > 0) {
         c->gpu_ms_sum[0] += ms[0];
-        c->gpu_ms_sum[1] += c->distort ? ms[1] : 0.0;
+        c->gpu_ms_sum[1] += fv_post_chain_count(c->post) ? ms[1] : 0.0;
         c->gpu_frames++;
     }
     for (uint32_t i = 0; i < nsrc; i++) {

@@ -11,6 +11,7 @@
 #include "compose_interface.h"
 #include "fv_images.h"
 #include "fv_pass.h"
+#include "fv_post_chain.h"
 #include "fv_target.h"
 #include "fv_vk.h"
 #include "xr_internal.h"
@@ -62,8 +63,7 @@ struct fv_xr_compositor {
     uint32_t width, height;
     fv_images images;
     bool images_ready;
-    void *distort;
-    fv_plan_entry distort_plan;
+    fv_post_chain *post;         /* the renderer's post chain: lens pre-distortion of the display image */
     fv_target *target;
     fv_xr_present *present;      /* a window when there is a display (xr_present.h), else headless */
     char out_dir[1024];

@@ -154,24 +154,25 @@ struct fv_xr_budget {
  * rungs would save nothing here. */
 static const char *const g_xr_knobs[] = {"fovea.mar_slope", "fovea.mar_w0_deg", NULL};
 
-fv_xr_budget *fv_xr_budget_create(double refresh_hz)
+fv_xr_budget *fv_xr_budget_create(fv_app_run *run, double refresh_hz)
 {
     const char *env = getenv("FOVEA_XR_BUDGET");
-    if (env && !strcmp(env, "off")) return NULL;
-    double scale = 1.0;
-    if (env && *env && strcmp(env, "auto") != 0) {
-        char *end;
-        scale = strtod(env, &end);
-        if (end == env || *end || !(scale >= 0.01 && scale <= 1000)) {
-            FV_ERROR(FV_XR_LOG, "FOVEA_XR_BUDGET='%s': expected auto, off or a period scale in 0.01..1000; using auto",
-                     env);
-            scale = 1.0;
-        }
+    char err[128];
+    if (FV_FAILED(fv_app_run_budget_parse(run, env, err, sizeof err))) {
+        FV_ERROR(FV_XR_LOG, "FOVEA_XR_BUDGET='%s': %s; using auto", env, err);
+        (void)fv_app_run_budget_parse(run, "auto", err, sizeof err);
     }
+    if (!run->budget) return NULL;
     fv_xr_budget *xb = calloc(1, sizeof *xb);
     if (!xb) return NULL;
-    xb->q = fv_quality_default();
-    if (fv_app_budget_start(&xb->b, FV_XR_LOG, &xb->q, "balanced", refresh_hz, scale, NULL) != FV_OK ||
+    int failed;
+    if (FV_FAILED(fv_app_run_quality(run, &xb->q, &failed, err, sizeof err))) {
+        FV_ERROR(FV_XR_LOG, "the session's quality: %s; no frame budget", err);
+        free(xb);
+        return NULL;
+    }
+    if (fv_app_budget_start(&xb->b, FV_XR_LOG, &xb->q, fv_app_quality_choice_preset(&run->quality), refresh_hz,
+                            run->budget_scale > 0 ? run->budget_scale : 1.0, NULL) != FV_OK ||
         fv_app_budget_keep_knobs(&xb->b, g_xr_knobs) != FV_OK) {
         free(xb);
         return NULL;

@@ -119,10 +119,13 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
     snprintf(inst->app_name, sizeof inst->app_name, "%s", app->applicationName);
     inst->api_version = app->apiVersion;
     inst->ext = ext;
-    /* The HMD: fovea's profile (FOVEA_XR_HMD: a built-in name or a JSON file; default generic). */
+    /* The description of the session's runs (runtime/app's, as `fovea run` fills it from its options): the HMD
+     * (FOVEA_XR_HMD: a built-in name or a JSON file; default generic), the per-eye size from it, the gaze source. */
+    fv_app_run_defaults(&inst->run);
     const char *hmd = getenv("FOVEA_XR_HMD");
+    inst->run.hmd = hmd && *hmd ? hmd : "generic";
     char err[256];
-    if (fv_hmd_profile_load(hmd && *hmd ? hmd : "generic", &inst->hmd, err, sizeof err) != FV_OK) {
+    if (fv_hmd_profile_load(inst->run.hmd, &inst->hmd, err, sizeof err) != FV_OK) {
         FV_ERROR(FV_XR_LOG, "FOVEA_XR_HMD: %s", err);
         pthread_mutex_destroy(&inst->lock);
         free(inst);
@@ -141,8 +144,8 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
         w *= k;
         h *= k;
     }
-    inst->view_w = w < 16.0 ? 16u : (uint32_t)fmin(round(w), FV_XR_MAX_IMAGE_SIZE);
-    inst->view_h = h < 16.0 ? 16u : (uint32_t)fmin(round(h), FV_XR_MAX_IMAGE_SIZE);
+    inst->run.eye_w = w < 16.0 ? 16u : (uint32_t)fmin(round(w), FV_XR_MAX_IMAGE_SIZE);
+    inst->run.eye_h = h < 16.0 ? 16u : (uint32_t)fmin(round(h), FV_XR_MAX_IMAGE_SIZE);
     XrResult r = fv_xr_input_instance_init(inst);
     if (r != XR_SUCCESS) {
         pthread_mutex_destroy(&inst->lock);
@@ -152,8 +155,9 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
     /* Eye gaze: fovea's gaze pipeline on the source named by FOVEA_XR_GAZE (any --gaze URI). A source that fails to
      * open is reported; the system then says it has no eye-gaze interaction. */
     const char *gaze = getenv("FOVEA_XR_GAZE");
-    if (gaze && *gaze && fv_xr_gaze_create(gaze, &inst->gaze) != FV_OK)
-        FV_ERROR(FV_XR_LOG, "FOVEA_XR_GAZE='%s' could not be opened: no eye gaze", gaze);
+    inst->run.gaze_uri = gaze && *gaze ? gaze : NULL;
+    if (inst->run.gaze_uri && fv_xr_gaze_create(inst->run.gaze_uri, &inst->gaze) != FV_OK)
+        FV_ERROR(FV_XR_LOG, "FOVEA_XR_GAZE='%s' could not be opened: no eye gaze", inst->run.gaze_uri);
     fv_xr_handle_add(inst);
     if (!fv_xr_handle_live(inst, FV_XR_MAGIC_INSTANCE)) {
         fv_xr_gaze_destroy(&inst->gaze);
@@ -162,7 +166,7 @@ FV_XR_DECL(xrCreateInstance)(const XrInstanceCreateInfo *info, XrInstance *out)
         return XR_ERROR_OUT_OF_MEMORY;
     }
     FV_INFO(FV_XR_LOG, "instance for '%s': HMD %s, %ux%u per eye, gaze %s", inst->app_name, inst->hmd.name,
-            inst->view_w, inst->view_h, inst->gaze ? gaze : "none");
+            inst->run.eye_w, inst->run.eye_h, inst->gaze ? inst->run.gaze_uri : "none");
     *out = inst;
     return XR_SUCCESS;
 }
@@ -330,8 +334,8 @@ FV_XR_DECL(xrEnumerateViewConfigurationViews)(XrInstance instance, XrSystemId sy
                                                                 : XR_TYPE_UNKNOWN,
                              "xrEnumerateViewConfigurationViews", (const void **)&fv) != XR_SUCCESS)
             return XR_ERROR_VALIDATION_FAILURE;
-        views[i].recommendedImageRectWidth = inst->view_w;
-        views[i].recommendedImageRectHeight = inst->view_h;
+        views[i].recommendedImageRectWidth = inst->run.eye_w;
+        views[i].recommendedImageRectHeight = inst->run.eye_h;
         if (n == 4) {
             fv_xr_quad_view_size(inst, i, fv && fv->foveatedRenderingActive, &views[i].recommendedImageRectWidth,
                                  &views[i].recommendedImageRectHeight);

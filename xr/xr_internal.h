@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "fv_openxr.h"
+#include "fv_app_run.h"
 #include "fv_hmd.h"
 #include "fv_log.h"
 #include "fovea/fv_display.h"
@@ -57,7 +58,11 @@ struct XrInstance_T {
     fv_xr_exts ext;
     fv_hmd_profile hmd;
     float render_scale;        /* FOVEA_XR_SCALE: recommended image size = the HMD's per-eye panel x this */
-    uint32_t view_w, view_h;   /* recommended per-eye image size */
+    fv_app_run run;            /* the description of the session's runs, as `fovea run` has it (runtime/app): the HMD
+                                  (FOVEA_XR_HMD, default generic, its field of view applied), the recommended per-eye
+                                  image size (run.eye_w/eye_h: the panel x FOVEA_XR_SCALE), the gaze source
+                                  (FOVEA_XR_GAZE), the quality (balanced) and the budget (FOVEA_XR_BUDGET, read when
+                                  the session is created) */
     bool graphics_requirements_queried;
     struct { bool gl, gles; } gl_requirements_queried; /* xrGetOpenGL(ES)GraphicsRequirementsKHR called */
     fv_xr_compositor *comp;    /* the compositor's device (fovea's fv_vk), created on first graphics call */
@@ -403,9 +408,10 @@ typedef struct fv_xr_gaze_stats {
     double sum_ms, max_ms;
 } fv_xr_gaze_stats;
 void fv_xr_gaze_get_stats(fv_xr_gaze *g, fv_xr_gaze_stats *out);
-/* xr_gaze.c: the session's frame budget (runtime/app's fv_app_budget over foveation's knobs; FOVEA_XR_BUDGET=off,
- * auto (default) or a period scale). NULL when off; every call accepts NULL. Instance lock held. */
-fv_xr_budget *fv_xr_budget_create(double refresh_hz);
+/* xr_gaze.c: the session's frame budget (runtime/app's fv_app_budget over foveation's knobs, from the run's quality;
+ * FOVEA_XR_BUDGET=off, auto (default) or a period scale, read into run->budget and run->budget_scale here). NULL when
+ * off; every call accepts NULL. Instance lock held. */
+fv_xr_budget *fv_xr_budget_create(fv_app_run *run, double refresh_hz);
 void fv_xr_budget_destroy(fv_xr_budget **b);
 /** One ended frame's time (ms: the app's frame and the composite). */
 void fv_xr_budget_frame(fv_xr_budget *b, double frame_ms);

@@ -71,16 +71,16 @@ void fv_xr_quad_view_size(const struct XrInstance_T *inst, uint32_t view, bool f
 {
     if (view < 2) {
         double s = foveated ? FV_XR_QUAD_WIDE_DENSITY : 1.0;
-        *out_w = (uint32_t)fmax(16.0, round(inst->view_w * s));
-        *out_h = (uint32_t)fmax(16.0, round(inst->view_h * s));
+        *out_w = (uint32_t)fmax(16.0, round(inst->run.eye_w * s));
+        *out_h = (uint32_t)fmax(16.0, round(inst->run.eye_h * s));
         return;
     }
     /* the inset at the display's density: its tangent extent times the recommended pixels per tangent unit */
     XrFovf wide = wide_fov(&inst->hmd, view);
     double r = fv_xr_quad_inset_radius_deg(inst, FV_XR_QUAD_NOMINAL_UNCERTAINTY_DEG) / DEG_PER_RAD;
     XrFovf in = inset_fov(wide, 0.0, 0.0, r);
-    double px_per_tan_x = inst->view_w / (tan((double)wide.angleRight) - tan((double)wide.angleLeft));
-    double px_per_tan_y = inst->view_h / (tan((double)wide.angleUp) - tan((double)wide.angleDown));
+    double px_per_tan_x = inst->run.eye_w / (tan((double)wide.angleRight) - tan((double)wide.angleLeft));
+    double px_per_tan_y = inst->run.eye_h / (tan((double)wide.angleUp) - tan((double)wide.angleDown));
     *out_w = (uint32_t)fmax(16.0, round((tan((double)in.angleRight) - tan((double)in.angleLeft)) * px_per_tan_x));
     *out_h = (uint32_t)fmax(16.0, round((tan((double)in.angleUp) - tan((double)in.angleDown)) * px_per_tan_y));
 }

@@ -126,7 +126,7 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
         r = XR_ERROR_RUNTIME_FAILURE;
         goto fail;
     }
-    s->budget = fv_xr_budget_create(s->display->refresh_hz); /* the application layer's frame budget (xr_gaze.c) */
+    s->budget = fv_xr_budget_create(&inst->run, s->display->refresh_hz); /* runtime/app's frame budget (xr_gaze.c) */
     if (vkb) {
         s->vk.instance = vkb->instance;
         s->vk.phys = vkb->physicalDevice;
@@ -142,7 +142,7 @@ FV_XR_DECL(xrCreateSession)(XrInstance instance, const XrSessionCreateInfo *info
             goto fail;
         }
     }
-    if (!s->headless && fv_xr_compositor_session_begin(inst->comp, inst->view_w, inst->view_h) != FV_OK) {
+    if (!s->headless && fv_xr_compositor_session_begin(inst->comp, inst->run.eye_w, inst->run.eye_h) != FV_OK) {
         r = XR_ERROR_RUNTIME_FAILURE;
         goto fail;
     }

@@ -1,4 +1,4 @@
-/* @brief The knob table (render/knobs/fv_knobs.h, generated from fv_knob_list.h): every row well formed, every preset
+/* @brief The knob table (runtime/knobs/fv_knobs.h, generated from fv_knob_list.h): every row well formed, every preset
  * in range, balanced is fv_quality_default(), NAME=VALUE errors name the knob, the value and the range, format -> set
  * round trips, sanitising brings each refused knob back to balanced, each group's equality sees its knobs. */
 #include "fv_knobs.h" /* first: the header compiles on its own */

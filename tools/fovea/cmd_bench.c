@@ -83,11 +83,11 @@ static const char *usage_text(void)
 typedef enum ref_kind { REF_MODEL, REF_PATH, REF_NONE } ref_kind;
 
 typedef struct bench_opts {
-    const char *scene;
+    fv_app_run run;       /* the description of the run (runtime/app), as `fovea run` has it: scene, eye size, HMD
+                             (here "none" by default: no lens); its quality choice is the plan's (plan.tq) */
     fv_bench_plan plan;
     fv_quality base;      /* --quality then --set: what is_preset compares with */
     int64_t frames;
-    uint32_t eye_w, eye_h;
     bool has_gaze;
     double gaze_deg[2];
     ref_kind ref;
@@ -95,7 +95,6 @@ typedef struct bench_opts {
     int64_t bounces; /* --bounces: the path reference's indirect bounces */
     const char *out_dir;
     bool json;
-    const char *hmd;      /* --hmd: the lens every point (and exact) is drawn with; NULL = none */
     bool no_exact;        /* --exact off */
     fv_lens lens;
     const char *baseline_sets[8]; /* --baseline-set: the baseline is o->base with these (none: the exact preset) */
@@ -105,9 +104,9 @@ typedef struct bench_opts {
 static int parse_args(int argc, char **argv, bench_opts *o)
 {
     memset(o, 0, sizeof *o);
-    o->scene = "cornell";
+    fv_app_run_defaults(&o->run);
+    o->run.hmd = "none"; /* --hmd: the lens every point (and exact) is drawn with */
     o->frames = 10;
-    o->eye_w = 720, o->eye_h = 800;
     o->ref = REF_MODEL;
     o->spp = 64;
     o->bounces = 8;
@@ -134,7 +133,7 @@ static int parse_args(int argc, char **argv, bench_opts *o)
             continue;
         }
         if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;
-        else if (r) { o->scene = v; continue; }
+        else if (r) { o->run.scene = v; continue; }
         if ((r = OPT("--frames")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (!fv_cli_parse_i64(v, WARMUP_FRAMES + 1, 100000, &o->frames))
@@ -144,10 +143,10 @@ static int parse_args(int argc, char **argv, bench_opts *o)
         }
         if ((r = OPT("--eye-size")) == -2) return FV_EXIT_USAGE;
         else if (r) {
-            if (!fv_cli_parse_size(v, 8192, &o->eye_w, &o->eye_h) || o->eye_w < FV_METRICS_SSIM_WIN ||
-                o->eye_h < FV_METRICS_SSIM_WIN)
-                return fv_cli_usage_error("bench", USAGE, "--eye-size: '%s' is not WxH with each in %d..8192", v,
-                                          FV_METRICS_SSIM_WIN);
+            if (!fv_cli_parse_size(v, FV_APP_RUN_MAX_EYE_SIZE, &o->run.eye_w, &o->run.eye_h) ||
+                o->run.eye_w < FV_METRICS_SSIM_WIN || o->run.eye_h < FV_METRICS_SSIM_WIN)
+                return fv_cli_usage_error("bench", USAGE, "--eye-size: '%s' is not WxH with each in %d..%u", v,
+                                          FV_METRICS_SSIM_WIN, FV_APP_RUN_MAX_EYE_SIZE);
             continue;
         }
         if ((r = OPT("--gaze-deg")) == -2) return FV_EXIT_USAGE;
@@ -198,7 +197,7 @@ static int parse_args(int argc, char **argv, bench_opts *o)
         if ((r = OPT("--hmd")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (run_hmd_lens("bench", v, &o->lens) != 0) return FV_EXIT_FAIL;
-            o->hmd = v;
+            o->run.hmd = v;
             continue;
         }
 #undef OPT
@@ -290,7 +289,7 @@ static fv_result bench_point(bench_state *st, const fv_quality *q, fv_bench_poin
     for (uint32_t i = 0; i < nd; i++)
         if (strcmp(d[i].key, "cache_hit_fraction") == 0)
             out->cache_hit_fraction[0] = d[i].value[0], out->cache_hit_fraction[1] = d[i].value[1];
-    uint32_t w = o->eye_w, h = o->eye_h;
+    uint32_t w = o->run.eye_w, h = o->run.eye_h;
     for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++) {
         res = fv_renderer_read_linear(st->r, eye, st->rgba, (size_t)w * h * 4);
         for (uint32_t y = 0; y < h && !FV_FAILED(res); y++)
@@ -308,7 +307,7 @@ static fv_result render_reference(const bench_opts *o, const fv_scene *scene, co
                                   const fv_quality *exact, fv_rgb_image *img, double *out_s, uint32_t *out_spp,
                                   uint32_t *out_bounces)
 {
-    uint32_t w = o->eye_w, h = o->eye_h;
+    uint32_t w = o->run.eye_w, h = o->run.eye_h;
     /* model: the same model as the points' exact counterpart (its GI and SSS settings, its lens mask), so that the
      * error measures the knob and not a missing term; path: the ground truth, the model's own bias included */
     fv_frame_input in_exact = *views;
@@ -490,7 +489,7 @@ int fv_cmd_bench(int argc, char **argv)
 
     int exit_code = FV_EXIT_FAIL;
     size_t n = fv_bench_plan_points(&o.plan);
-    uint32_t w = o.eye_w, h = o.eye_h;
+    uint32_t w = o.run.eye_w, h = o.run.eye_h;
     fv_scene *scene = NULL;
     fv_renderer *r = NULL;
     fv_bench_point *points = calloc(n, sizeof *points);
@@ -509,8 +508,8 @@ int fv_cmd_bench(int argc, char **argv)
         FV_ERROR(MOD, "--out %s: cannot create directory (%s)", o.out_dir, strerror(errno));
         goto done;
     }
-    if (FV_FAILED(fv_scene_load(o.scene, &scene))) {
-        fprintf(stderr, "fovea bench: cannot load scene '%s' (see the messages above)\n", o.scene);
+    if (FV_FAILED(fv_scene_load(o.run.scene, &scene))) {
+        fprintf(stderr, "fovea bench: cannot load scene '%s' (see the messages above)\n", o.run.scene);
         goto done;
     }
     fv_renderer_desc desc = {.eye_width = w, .eye_height = h};
@@ -530,7 +529,7 @@ int fv_cmd_bench(int argc, char **argv)
     o.base.distort.lens = o.lens; /* the preset's own point is still recognised */
     if (FV_FAILED(fv_renderer_set_quality(r, &exact))) goto done;
     if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
-        fprintf(stderr, "fovea bench: cannot upload scene '%s'\n", o.scene);
+        fprintf(stderr, "fovea bench: cannot upload scene '%s'\n", o.run.scene);
         goto done;
     }
     /* Frame 0's views (scene time 0), as `fovea run` and `fovea reference` see them; the gaze as given. */
@@ -538,12 +537,12 @@ int fv_cmd_bench(int argc, char **argv)
        * scene's head, near/far from its bounds, a named HMD's frusta */
         fv_tool_image img;
         fv_tool_image_defaults(&img);
-        img.scene = o.scene;
-        img.eye_w = w;
-        img.eye_h = h;
+        img.run.scene = o.run.scene;
+        img.run.eye_w = w;
+        img.run.eye_h = h;
         fv_quality lens_q = exact;
-        if (o.hmd && strcmp(o.hmd, "none") != 0) {
-            img.hmd.name = o.hmd;
+        if (strcmp(o.run.hmd, "none") != 0) {
+            img.run.hmd = o.run.hmd;
             if (run_hmd_load(&img.hmd, &lens_q) != 0) goto done;
         }
         img.quality = exact;
@@ -560,7 +559,7 @@ int fv_cmd_bench(int argc, char **argv)
             fv_metrics_eccentricity_deg(&st.views.eye[e], st.views.gaze[e].dir_eye, w, h, ecc + (size_t)e * w, 2 * w);
     }
 
-    fv_bench_result res = {.scene = scene->name[0] ? scene->name : o.scene, .device = fv_renderer_device_name(r),
+    fv_bench_result res = {.scene = scene->name[0] ? scene->name : o.run.scene, .device = fv_renderer_device_name(r),
                            .preset = fv_tool_quality_preset(&o.plan.tq), .eye_width = w, .eye_height = h,
                            .frames = (uint32_t)o.frames, .warmup_frames = WARMUP_FRAMES, .has_gaze = o.has_gaze,
                            .gaze_deg = {o.gaze_deg[0], o.gaze_deg[1]}, .has_reference = o.ref != REF_NONE,

@@ -139,19 +139,19 @@ static int parse_args(int argc, char **argv, ref_opts *o)
         return fv_cli_usage_error("reference", USAGE, "unknown option '%s'", a);
     }
     if (!o->spp_set) o->desc.spp = o->desc.mode == FV_REFERENCE_PATH ? 64 : 1;
-    if (o->img.hmd.budget || o->img.hmd.budget_scale > 0)
+    if (o->img.run.budget || o->img.run.budget_scale > 0)
         return fv_cli_usage_error("reference", USAGE, "--budget and --budget-scale pace `fovea run`'s frames; the "
                                   "reference renders one image (drop them)");
     int built = fv_tool_image_finish(&o->img, "reference", USAGE);
     if (built != 0) return built;
-    const char *view = fv_debug_view_name(o->img.view);
+    const char *view = fv_debug_view_name(o->img.run.view);
     if (!fv_reference_view_parse(view, &o->desc.view))
         return fv_cli_usage_error("reference", USAGE, "--view %s: the reference has no such view (it renders color, "
                                   "direct, shadow, albedo, normal, depth, gi, sss)", view);
     if (o->desc.mode == FV_REFERENCE_PATH && (o->desc.view == FV_REFERENCE_VIEW_GI || o->desc.view == FV_REFERENCE_VIEW_SSS))
         return fv_cli_usage_error("reference", USAGE, "--view %s is a term of the model: it needs --mode model", view);
-    o->desc.eye_width = o->img.eye_w;
-    o->desc.eye_height = o->img.eye_h;
+    o->desc.eye_width = o->img.run.eye_w;
+    o->desc.eye_height = o->img.run.eye_h;
     o->desc.gi = o->img.quality.gi.enabled; /* the GPU's model at these settings: GI when it is on */
     return 0;
 }
@@ -258,13 +258,13 @@ static fv_result write_frame(const ref_opts *o, const fv_frame_input *in, const 
     size_t n = (size_t)w * h * 3;
     uint8_t *disp = malloc(n), *panel = malloc(2 * n), *both = malloc(2 * n);
     fv_result res = disp && panel && both ? FV_OK : FV_ERR_NO_MEMORY;
-    bool tone = fv_tool_image_radiance_view(o->img.view);
+    bool tone = fv_tool_image_radiance_view(o->img.run.view);
     for (int e = 0; res == FV_OK && e < 2; e++) {
-        for (size_t i = 0; i < n; i++) disp[i] = fv_tool_image_srgb8(eye_rgb[e][i], o->img.exposure, tone);
+        for (size_t i = 0; i < n; i++) disp[i] = fv_tool_image_srgb8(eye_rgb[e][i], o->img.run.exposure, tone);
         fv_tool_image_lens_srgb8(in, e, disp, w, h, panel + (size_t)e * n);
     }
     char base[1100];
-    if (res == FV_OK && o->img.sbs) {
+    if (res == FV_OK && o->img.run.sbs) {
         for (uint32_t y = 0; y < h; y++)
             for (int e = 0; e < 2; e++)
                 memcpy(&both[((size_t)y * 2 * w + (size_t)e * w) * 3], &panel[(size_t)e * n + (size_t)y * w * 3], (size_t)w * 3);
@@ -334,8 +334,8 @@ int fv_cmd_reference(int argc, char **argv)
     }
     if (o.out_dir && !fv_cli_output_dir("reference", "--out", o.out_dir)) goto done;
     if (o.cache_dir && !fv_cli_output_dir("reference", "--cache", o.cache_dir)) goto done;
-    if (FV_FAILED(fv_scene_load(o.img.scene, &scene))) {
-        fprintf(stderr, "fovea reference: cannot load scene '%s' (see the messages above)\n", o.img.scene);
+    if (FV_FAILED(fv_scene_load(o.img.run.scene, &scene))) {
+        fprintf(stderr, "fovea reference: cannot load scene '%s' (see the messages above)\n", o.img.run.scene);
         goto done;
     }
 
@@ -386,7 +386,7 @@ int fv_cmd_reference(int argc, char **argv)
         const float *eye_rgb[2] = {left, right};
         if (FV_FAILED(write_frame(&o, &in, eye_rgb, sbs, w, h))) goto done;
     }
-    const char *name = scene->name[0] ? scene->name : o.img.scene;
+    const char *name = scene->name[0] ? scene->name : o.img.run.scene;
     if (o.json) {
         cJSON *j = cJSON_CreateObject();
         fv_cli_json_add_string(j, "scene", name);

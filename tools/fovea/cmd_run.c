@@ -121,11 +121,10 @@ typedef enum { SAVE_LAST, SAVE_EVERY, SAVE_NONE } save_mode;
 #define RUN_WINDOW_MAX_FRAMES 108000
 
 typedef struct run_opts {
-    fv_tool_image img;        /* what the images show: scene, size, layout, quality, view, exposure, HMD (tool_image.h) */
+    fv_tool_image img;        /* the run (scene, size, layout, quality, view, exposure, HMD, --gaze, --head, budget) */
     int64_t frames;
     const char *out_dir;
     save_mode save;
-    const char *gaze_uri;
     double hz;
     bool explain, json, float_out;
     bool window;              /* --present window (or auto with a display) */
@@ -135,7 +134,6 @@ typedef struct run_opts {
     bool overlay;
     const char *frame_log;    /* --frame-log FILE.csv */
     bool no_predict, predict_given; /* --predict off: the latest filtered sample, no prediction (geometry alone) */
-    run_head_mode head;       /* --head */
     bool head_given, hz_given, save_given; /* to refuse options that would have no effect */
     bool size_given;          /* --eye-size (a software device's interactive start keeps it) */
 } run_opts;
@@ -172,7 +170,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
             continue;
         }
         if ((r = OPT("--gaze")) == -2) return FV_EXIT_USAGE;
-        else if (r) { o->gaze_uri = v; continue; }
+        else if (r) { o->img.run.gaze_uri = v; continue; }
         if ((r = OPT("--hz")) == -2) return FV_EXIT_USAGE;
         else if (r) {
             if (!fv_cli_parse_f64(v, 1, 1000, &o->hz))
@@ -204,7 +202,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         }
         if ((r = OPT("--head")) == -2) return FV_EXIT_USAGE;
         else if (r) {
-            if (!run_head_mode_parse(v, &o->head))
+            if (!fv_app_head_parse(v, &o->img.run.head))
                 return fv_cli_usage_error("run", USAGE, "--head: '%s' is not one of trace, scene, fixed", v);
             o->head_given = true;
             continue;
@@ -229,7 +227,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         if (strcmp(a, "--overlay") == 0) { o->overlay = true; continue; }
         return fv_cli_usage_error("run", USAGE, "unknown option '%s'", a);
     }
-    if (o->img.hmd.budget_scale > 0 && !o->img.hmd.budget)
+    if (o->img.run.budget_scale > 0 && !o->img.run.budget)
         return fv_cli_usage_error("run", USAGE, "--budget-scale scales the budget of --budget auto (add it or drop "
                                   "--budget-scale)");
     int built = fv_tool_image_finish(&o->img, "run", USAGE);
@@ -242,16 +240,16 @@ static int parse_args(int argc, char **argv, run_opts *o)
         return fv_cli_usage_error("run", USAGE, "--out writes files from a headless run; it cannot be combined with "
                                   "--present window");
     /* Options that would have no effect are refused: the user meant something else. */
-    if (o->hz_given && !o->gaze_uri)
+    if (o->hz_given && !o->img.run.gaze_uri)
         return fv_cli_usage_error("run", USAGE, "--hz is the refresh rate of the display that paces --gaze runs; "
                                   "without --gaze frames run unpaced (add --gaze URI or drop --hz)");
     if (o->hz_given && o->window)
         return fv_cli_usage_error("run", USAGE, "--hz has no effect with --present window: its swapchain paces the "
                                   "frames at the display's own rate");
-    if (o->predict_given && !o->gaze_uri)
+    if (o->predict_given && !o->img.run.gaze_uri)
         return fv_cli_usage_error("run", USAGE, "--predict chooses how a --gaze run's gaze reaches the frame; "
                                   "without --gaze there is no gaze to predict");
-    if (o->head_given && !o->gaze_uri)
+    if (o->head_given && !o->img.run.gaze_uri)
         return fv_cli_usage_error("run", USAGE, "--head chooses the head of a --gaze run (the scene's or the "
                                   "tracker's); without --gaze the scene's head is used");
     if (o->save_given && !o->out_dir)
@@ -344,7 +342,7 @@ static void window_title(fv_window *w, const run_state *st, double fps)
 {
     char title[192];
     snprintf(title, sizeof title, "fovea — %.1f fps, GPU %.2f ms, %s%s%s%s", fps, st->m.last_stats.frame_gpu_ms,
-             fv_tool_quality_preset(&st->o->img.tq), st->keys_changed ? " (keys changed it)" : "",
+             fv_tool_quality_preset(&st->o->img.run.quality), st->keys_changed ? " (keys changed it)" : "",
              st->quality.debug_view ? ", view " : "",
              st->quality.debug_view ? fv_debug_view_name(st->quality.debug_view) : "");
     fv_window_set_title(w, title);
@@ -386,7 +384,7 @@ static fv_result draw_frame(run_state *st, fv_frame_input *in, bool keep_gaze, f
         row->gaze[1] = in->gaze[1];
         row->pupil_mm = keep_gaze ? in->pupil_mm : NAN;
         row->head = head;
-        row->head_source = keep_gaze ? run_head_mode_name(st->head.mode) : "scene";
+        row->head_source = keep_gaze ? fv_app_head_name(st->head.mode) : "scene";
         row->head_recorded = hp && st->head.applied;
         row->head_seq = st->head.seq;
     }
@@ -419,12 +417,12 @@ static fv_result render_cb(void *user, fv_frame_input *in, fv_frame_render_times
 /* The settings beside every image --out wrote (tool_image.h: `fovea compare` checks them). */
 static void write_image_settings(const run_opts *o, int64_t frames_done)
 {
-    fv_tool_image_meta m = fv_tool_image_meta_of(&o->img, "fovea run", o->img.sbs);
+    fv_tool_image_meta m = fv_tool_image_meta_of(&o->img, "fovea run", o->img.run.sbs);
     for (int64_t f = o->save == SAVE_EVERY ? 0 : frames_done - 1; f >= 0 && f < frames_done; f++) {
         char path[4200];
-        for (int e = 0; e < (o->img.sbs ? 1 : 2); e++) {
+        for (int e = 0; e < (o->img.run.sbs ? 1 : 2); e++) {
             snprintf(path, sizeof path, "%s/frame_%05lld%s.png", o->out_dir, (long long)f,
-                     o->img.sbs ? "" : e ? "_right" : "_left");
+                     o->img.run.sbs ? "" : e ? "_right" : "_left");
             (void)fv_tool_image_write_meta(path, &m);
         }
     }
@@ -507,7 +505,7 @@ static fv_result write_frame_log(run_state *st, const run_gaze *gaze, const char
  * the size or the budget (fv_app_interactive.h); one line says so and how to override it. */
 static void software_start(run_opts *o)
 {
-    if (!o->window && !o->gaze_uri) return;
+    if (!o->window && !o->img.run.gaze_uri) return;
     if (o->size_given || o->img.hmd.budget_given) return;
     fv_vk_device_info devs[16];
     uint32_t n = 0;
@@ -517,17 +515,17 @@ static void software_start(run_opts *o)
         (uint32_t)chosen >= n)
         return; /* the renderer says why when it is made */
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    double hz = o->gaze_uri && !o->window ? o->hz : o->img.hmd.have ? (double)o->img.hmd.profile.refresh_hz : 90.0;
+    double hz = o->img.run.gaze_uri && !o->window ? o->hz : o->img.hmd.have ? (double)o->img.hmd.profile.refresh_hz : 90.0;
     fv_app_interactive_in in = {.software = devs[chosen].type == VK_PHYSICAL_DEVICE_TYPE_CPU, .interactive = true,
-                                .eye_w = o->img.eye_w, .eye_h = o->img.eye_h, .hz = hz,
+                                .eye_w = o->img.run.eye_w, .eye_h = o->img.run.eye_h, .hz = hz,
                                 .cpu_cores = cores > 0 ? (uint32_t)cores : 1};
     fv_app_interactive st;
     fv_app_interactive_start(&in, &st);
     if (!st.applied) return;
-    o->img.eye_w = st.eye_w;
-    o->img.eye_h = st.eye_h;
-    o->img.hmd.budget = st.budget;
-    o->img.hmd.budget_scale = st.budget_scale;
+    o->img.run.eye_w = st.eye_w;
+    o->img.run.eye_h = st.eye_h;
+    o->img.run.budget = st.budget;
+    o->img.run.budget_scale = st.budget_scale;
     fprintf(stderr, "fovea run: %s is %s\n", devs[chosen].name, st.line);
 }
 
@@ -536,7 +534,7 @@ static void software_start(run_opts *o)
  * the same follows nothing, and without a word the user cannot tell it from a head held still. */
 static void check_head_moves(run_state *st, bool at_end)
 {
-    if (st->head_warned || st->head.mode != RUN_HEAD_TRACE || !st->gaze || !st->gaze->tracker ||
+    if (st->head_warned || st->head.mode != FV_APP_HEAD_TRACE || !st->gaze || !st->gaze->tracker ||
         strncmp(st->gaze->uri, "trace:", 6) != 0)
         return;
     fv_app_head_report hr;
@@ -578,7 +576,7 @@ int fv_cmd_run(int argc, char **argv)
     memset(&gaze, 0, sizeof gaze);
     bool gaze_open = false;
     st.gaze = &gaze;
-    st.head.mode = o.head;
+    st.head.mode = o.img.run.head;
     char out_created[4096] = ""; /* the directory --out made, removed again if no frame is drawn */
     bool interrupted = false;
     fv_progress *progress = NULL;
@@ -590,16 +588,16 @@ int fv_cmd_run(int argc, char **argv)
             return FV_EXIT_FAIL;
         }
     }
-    if (!scene_exists_or_say(o.img.scene)) {
+    if (!scene_exists_or_say(o.img.run.scene)) {
         free(st.rows);
         return FV_EXIT_FAIL;
     }
     /* The tracker first: a source that is not there fails the run before any rendering work. Only the mouse, a gaze
      * source made of the window's cursor, opens once the window is there. */
-    bool gaze_after_window = o.gaze_uri && !strncmp(o.gaze_uri, "mouse:", 6);
-    if (o.gaze_uri && !gaze_after_window) {
+    bool gaze_after_window = o.img.run.gaze_uri && !strncmp(o.img.run.gaze_uri, "mouse:", 6);
+    if (o.img.run.gaze_uri && !gaze_after_window) {
         gaze_open = true;
-        if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.no_predict))) goto done; /* one line said why */
+        if (FV_FAILED(run_gaze_open(&gaze, o.img.run.gaze_uri, o.no_predict))) goto done; /* one line said why */
     }
     software_start(&o);
     if (FV_FAILED(fv_measure_init(&st.m, (size_t)o.frames))) {
@@ -611,18 +609,18 @@ int fv_cmd_run(int argc, char **argv)
     if (saving) {
         first_missing_dir(o.out_dir, out_created, sizeof out_created);
         if (!fv_cli_output_dir("run", "--out", o.out_dir)) goto done;
-        fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.img.sbs, .linear_pfm = o.float_out,
+        fv_target_files_desc fd = {.dir = o.out_dir, .side_by_side = o.img.run.sbs, .linear_pfm = o.float_out,
                                    .save = o.save == SAVE_EVERY ? FV_TARGET_SAVE_EVERY : FV_TARGET_SAVE_LAST};
         if (FV_FAILED(fv_target_files_create(&fd, &files))) goto done;
     }
-    if (FV_FAILED(fv_scene_load(o.img.scene, &scene))) {
-        fprintf(stderr, "fovea run: cannot load scene '%s' (see the messages above)\n", o.img.scene);
+    if (FV_FAILED(fv_scene_load(o.img.run.scene, &scene))) {
+        fprintf(stderr, "fovea run: cannot load scene '%s' (see the messages above)\n", o.img.run.scene);
         goto done;
     }
     if (o.window) {
-        fv_window_desc wd = {.width = o.win_w, .height = o.win_h, .eye_width = o.img.eye_w, .eye_height = o.img.eye_h,
+        fv_window_desc wd = {.width = o.win_w, .height = o.win_h, .eye_width = o.img.run.eye_w, .eye_height = o.img.run.eye_h,
                              .title = "fovea", .present_mode = o.present_mode};
-        if (!o.win_w && o.img.hmd.have && o.img.hmd.name) { /* a named HMD: its panel, scaled to fit the screen */
+        if (!o.win_w && o.img.hmd.have && o.img.run.hmd) { /* a named HMD: its panel, scaled to fit the screen */
             wd.width = o.img.hmd.profile.panel_width_px;
             wd.height = o.img.hmd.profile.panel_height_px;
             wd.fit_to_screen = true;
@@ -632,7 +630,7 @@ int fv_cmd_run(int argc, char **argv)
             goto done;
         }
     }
-    fv_renderer_desc desc = {.eye_width = o.img.eye_w, .eye_height = o.img.eye_h,
+    fv_renderer_desc desc = {.eye_width = o.img.run.eye_w, .eye_height = o.img.run.eye_h,
                              .target = window ? fv_window_target(window) : files};
     if (FV_FAILED(fv_renderer_create(&desc, &r))) {
         fprintf(stderr, "fovea run: cannot create the renderer (see the messages above)\n");
@@ -652,12 +650,12 @@ int fv_cmd_run(int argc, char **argv)
     /* The quality first, so that the scene's passes start once, with the settings they will run with. */
     if (FV_FAILED(fv_renderer_set_quality(r, &o.img.quality))) goto done;
     if (FV_FAILED(fv_renderer_load_scene(r, scene))) {
-        fprintf(stderr, "fovea run: cannot upload scene '%s'\n", o.img.scene);
+        fprintf(stderr, "fovea run: cannot upload scene '%s'\n", o.img.run.scene);
         goto done;
     }
     if (o.explain) print_plan(o.json ? stderr : stdout, fv_renderer_plan(r));
-    if (run_hmd_budget_start(&o.img.hmd, &o.img.quality, fv_tool_quality_preset(&o.img.tq),
-                             o.gaze_uri ? o.hz : o.img.hmd.have ? (double)o.img.hmd.profile.refresh_hz : 90.0,
+    if (run_hmd_budget_start(&o.img.hmd, &o.img.quality, fv_tool_quality_preset(&o.img.run.quality),
+                             o.img.run.gaze_uri ? o.hz : o.img.hmd.have ? (double)o.img.hmd.profile.refresh_hz : 90.0,
                              fv_renderer_plan(r)) != 0)
         goto done;
     if (window) { /* the cursor over the window is a gaze source (mouse:) with these eyes */
@@ -674,13 +672,13 @@ int fv_cmd_run(int argc, char **argv)
     }
     if (gaze_after_window) {
         gaze_open = true;
-        if (FV_FAILED(run_gaze_open(&gaze, o.gaze_uri, o.no_predict))) goto done; /* one line said why */
+        if (FV_FAILED(run_gaze_open(&gaze, o.img.run.gaze_uri, o.no_predict))) goto done; /* one line said why */
     }
-    if (o.gaze_uri) {
+    if (o.img.run.gaze_uri) {
         fv_display *shown_on = window ? fv_window_display(window) : NULL; /* NULL: a simulated display */
         if (FV_FAILED(run_gaze_start(&gaze, shown_on, o.hz, (size_t)o.frames, render_cb, &st, scene->head.ipd_mm))) {
             fprintf(stderr, "fovea run: cannot start the frame loop of gaze source '%s' (see the messages above)\n",
-                    o.gaze_uri);
+                    o.img.run.gaze_uri);
             goto done;
         }
     }
@@ -714,7 +712,7 @@ int fv_cmd_run(int argc, char **argv)
             title_frames++;
         }
         int64_t t0 = fv_time_monotonic_ns();
-        if (o.gaze_uri) {
+        if (o.img.run.gaze_uri) {
             if (FV_FAILED(run_gaze_step(&gaze))) goto done;
         } else {
             fv_frame_input in;
@@ -736,7 +734,7 @@ int fv_cmd_run(int argc, char **argv)
     fv_progress_update(progress, frames_done, (int64_t)st.m.measured, fv_measure_gpu_ms_sum(&st.m));
     fv_progress_stop(&progress);
     check_head_moves(&st, true);
-    if (o.frame_log && FV_FAILED(write_frame_log(&st, o.gaze_uri ? &gaze : NULL, o.frame_log))) goto done;
+    if (o.frame_log && FV_FAILED(write_frame_log(&st, o.img.run.gaze_uri ? &gaze : NULL, o.frame_log))) goto done;
     if (files && o.save == SAVE_LAST && FV_FAILED(fv_target_files_flush(files))) goto done;
     if (files) write_image_settings(&o, frames_done);
     double wall_s = (double)(fv_time_monotonic_ns() - t_start) / 1e9;
@@ -746,11 +744,11 @@ int fv_cmd_run(int argc, char **argv)
 
     if (o.json) {
         cJSON *j = cJSON_CreateObject();
-        fv_cli_json_add_string(j, "scene", scene->name[0] ? scene->name : o.img.scene);
+        fv_cli_json_add_string(j, "scene", scene->name[0] ? scene->name : o.img.run.scene);
         fv_cli_json_add_string(j, "device", fv_renderer_device_name(r));
         cJSON_AddNumberToObject(j, "frames", (double)frames_done);
-        cJSON_AddNumberToObject(j, "eye_width", o.img.eye_w);
-        cJSON_AddNumberToObject(j, "eye_height", o.img.eye_h);
+        cJSON_AddNumberToObject(j, "eye_width", o.img.run.eye_w);
+        cJSON_AddNumberToObject(j, "eye_height", o.img.run.eye_h);
         cJSON_AddNumberToObject(j, "triangles", (double)fv_scene_triangle_count(scene));
         fv_measure_add_json(&st.m, j);
         fv_measure_add_fovea_json(&st.m, r, j);
@@ -761,7 +759,7 @@ int fv_cmd_run(int argc, char **argv)
         cJSON *jq = cJSON_AddObjectToObject(j, "quality");
         cJSON_AddNumberToObject(jq, "exposure", o.img.quality.exposure);
         fv_cli_json_add_string(jq, "debug_view", fv_debug_view_name(o.img.quality.debug_view));
-        fv_tool_quality_add_json(jq, fv_tool_quality_preset(&o.img.tq), &o.img.quality);
+        fv_tool_quality_add_json(jq, fv_tool_quality_preset(&o.img.run.quality), &o.img.quality);
         run_hmd_add_json(&o.img.hmd, r, j);
         if (o.explain) {
             const fv_frame_plan *plan = fv_renderer_plan(r);
@@ -788,8 +786,8 @@ int fv_cmd_run(int argc, char **argv)
                 cJSON_AddItemToArray(pl, e);
             }
         }
-        if (o.gaze_uri && window) snprintf(gaze.clock, sizeof gaze.clock, "swapchain: %s", fv_window_clock_name(window));
-        if (o.gaze_uri) run_gaze_add_json(&gaze, j);
+        if (o.img.run.gaze_uri && window) snprintf(gaze.clock, sizeof gaze.clock, "swapchain: %s", fv_window_clock_name(window));
+        if (o.img.run.gaze_uri) run_gaze_add_json(&gaze, j);
         if (window) {
             fv_window_stats ws;
             fv_window_get_stats(window, &ws);
@@ -817,18 +815,18 @@ int fv_cmd_run(int argc, char **argv)
         if (printed != FV_EXIT_OK) goto done;
     } else {
         printf("fovea run: scene '%s' on %s, %lld frame%s at %ux%u per eye (%llu triangles), %.2f s\n",
-               scene->name[0] ? scene->name : o.img.scene, fv_renderer_device_name(r), (long long)frames_done,
-               frames_done == 1 ? "" : "s", o.img.eye_w, o.img.eye_h, (unsigned long long)fv_scene_triangle_count(scene),
+               scene->name[0] ? scene->name : o.img.run.scene, fv_renderer_device_name(r), (long long)frames_done,
+               frames_done == 1 ? "" : "s", o.img.run.eye_w, o.img.run.eye_h, (unsigned long long)fv_scene_triangle_count(scene),
                wall_s);
         fv_measure_print(&st.m, stdout);
         fv_measure_print_fovea(&st.m, r, stdout);
         fv_measure_print_gi(&st.m, r, stdout);
-        fv_tool_quality_print(stdout, fv_tool_quality_preset(&o.img.tq), &o.img.quality);
+        fv_tool_quality_print(stdout, fv_tool_quality_preset(&o.img.run.quality), &o.img.quality);
         run_hmd_print(&o.img.hmd, r, stdout);
         printf("  memory: %.1f MiB device (peak), %.1f MiB host RSS (peak); validation messages: %u\n",
                (double)st.m.last_stats.peak_device_memory_bytes / 1048576.0, (double)ru.ru_maxrss / 1024.0, vmsg);
-        if (o.gaze_uri && window) snprintf(gaze.clock, sizeof gaze.clock, "swapchain: %s", fv_window_clock_name(window));
-        if (o.gaze_uri) run_gaze_print(&gaze, stdout);
+        if (o.img.run.gaze_uri && window) snprintf(gaze.clock, sizeof gaze.clock, "swapchain: %s", fv_window_clock_name(window));
+        if (o.img.run.gaze_uri) run_gaze_print(&gaze, stdout);
         if (saving) printf("  images: %s/\n", o.out_dir);
         if (window) {
             fv_window_stats ws;

@@ -4,29 +4,12 @@
 #include <math.h>
 #include <string.h>
 
-
-bool run_head_mode_parse(const char *s, run_head_mode *out)
-{
-    static const char *const names[] = {"trace", "scene", "fixed"};
-    for (int i = 0; i < 3; i++)
-        if (strcmp(s, names[i]) == 0) {
-            *out = (run_head_mode)i;
-            return true;
-        }
-    return false;
-}
-
-const char *run_head_mode_name(run_head_mode m)
-{
-    return m == RUN_HEAD_SCENE ? "scene" : m == RUN_HEAD_FIXED ? "fixed" : "trace";
-}
-
 void run_head_apply(run_head *h, const fv_quat *pdq, const fv_vec3 *pdp_m, uint64_t seq, const fv_head *scene,
                     fv_head *out)
 {
     *out = *scene;
     h->applied = false;
-    if (h->mode != RUN_HEAD_TRACE || !pdq || !pdp_m) return;
+    if (h->mode != FV_APP_HEAD_TRACE || !pdq || !pdp_m) return;
     fv_quat dq = *pdq;
     fv_vec3 dp_m = *pdp_m;
     /* applied to the scene's head: in its frame */

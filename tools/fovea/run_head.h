@@ -8,21 +8,17 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "fv_app_run.h"
 #include "fv_math.h"
 #include "fv_scene.h"
 
-typedef enum run_head_mode { RUN_HEAD_TRACE = 0, RUN_HEAD_SCENE, RUN_HEAD_FIXED } run_head_mode;
-
 typedef struct run_head {
-    run_head_mode mode;
+    fv_app_head mode;     /* the run's (fv_app_run.head: trace, scene, fixed; fv_app_head_parse, fv_app_head_name) */
     bool applied;         /* the last run_head_apply used a recorded pose */
     uint64_t seq;         /* and this sample's sequence number */
     uint64_t frames_moved;
 } run_head;
 
-/** "trace", "scene", "fixed"; false for anything else. */
-bool run_head_mode_parse(const char *s, run_head_mode *out);
-const char *run_head_mode_name(run_head_mode m);
 /** The head of a frame: `scene` moved by the tracker's recorded pose relative to its first (dq, dp_m: the application
  *  layer's fv_app_tracker_head; dq NULL: none yet, the scene's head), in trace mode; `scene` as is otherwise. seq:
  *  the head sample's sequence number, for the frame log. Finite for any input. */

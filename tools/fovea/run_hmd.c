@@ -15,8 +15,7 @@ int run_hmd_option(run_hmd *h, int argc, char **argv, int *i, const char *usage)
     int r = fv_cli_option(argc, argv, i, "--hmd", &v);
     if (r < 0) return fv_cli_usage_error("run", usage, "option --hmd needs a value");
     if (r) {
-        h->name = v;
-        h->none = strcmp(v, "none") == 0;
+        h->run->hmd = v;
         return 1;
     }
     r = fv_cli_option(argc, argv, i, "--budget", &v);
@@ -24,7 +23,7 @@ int run_hmd_option(run_hmd *h, int argc, char **argv, int *i, const char *usage)
     if (r) {
         if (strcmp(v, "auto") && strcmp(v, "off"))
             return fv_cli_usage_error("run", usage, "--budget: '%s' is not one of auto, off", v);
-        h->budget = strcmp(v, "auto") == 0;
+        h->run->budget = strcmp(v, "auto") == 0;
         h->budget_given = true;
         return 1;
     }
@@ -32,9 +31,10 @@ int run_hmd_option(run_hmd *h, int argc, char **argv, int *i, const char *usage)
     if (r < 0) return fv_cli_usage_error("run", usage, "option --budget-scale needs a value");
     if (r) {
         double x;
-        if (!fv_cli_parse_f64(v, 0.01, 1000, &x))
-            return fv_cli_usage_error("run", usage, "--budget-scale: '%s' is not a number in 0.01..1000", v);
-        h->budget_scale = x;
+        if (!fv_cli_parse_f64(v, FV_APP_RUN_BUDGET_SCALE_MIN, FV_APP_RUN_BUDGET_SCALE_MAX, &x))
+            return fv_cli_usage_error("run", usage, "--budget-scale: '%s' is not a number in %g..%g", v,
+                                      FV_APP_RUN_BUDGET_SCALE_MIN, FV_APP_RUN_BUDGET_SCALE_MAX);
+        h->run->budget_scale = x;
         h->budget_given = true;
         return 1;
     }
@@ -44,9 +44,9 @@ int run_hmd_option(run_hmd *h, int argc, char **argv, int *i, const char *usage)
 int run_hmd_load(run_hmd *h, fv_quality *q)
 {
     q->distort.lens = (fv_lens){0};
-    if (h->none) return 0;
+    if (h->run->hmd && strcmp(h->run->hmd, "none") == 0) return 0;
     char err[512];
-    fv_result res = fv_hmd_profile_load(h->name ? h->name : "generic", &h->profile, err, sizeof err);
+    fv_result res = fv_hmd_profile_load(h->run->hmd ? h->run->hmd : "generic", &h->profile, err, sizeof err);
     if (res != FV_OK) {
         fprintf(stderr, "fovea run: --hmd: %s\n", err);
         return FV_EXIT_FAIL;
@@ -72,7 +72,7 @@ int run_hmd_lens(const char *cmd, const char *name, fv_lens *out)
 
 void run_hmd_views(const run_hmd *h, fv_frame_input *in)
 {
-    if (!h->have || !h->name) return;
+    if (!h->have || !h->run->hmd) return;
     float fov[8];
     for (int e = 0; e < 2; e++) {
         const fv_hmd_fov *f = &h->profile.fov[e];
@@ -87,13 +87,13 @@ void run_hmd_views(const run_hmd *h, fv_frame_input *in)
 int run_hmd_budget_start(run_hmd *h, const fv_quality *base, const char *preset, double hz,
                          const fv_frame_plan *plan)
 {
-    if (!h->budget) return 0;
+    if (!h->run->budget) return 0;
     const char *off[FV_MAX_PASSES + 1] = {NULL};
     for (uint32_t i = 0, n = 0; plan && i < plan->count; i++)
         if (!plan->entries[i].enabled) off[n++] = plan->entries[i].pass;
-    if (FV_FAILED(fv_app_budget_start(&h->bud, "run", base, preset, hz, h->budget_scale, off))) {
+    if (FV_FAILED(fv_app_budget_start(&h->bud, "run", base, preset, hz, h->run->budget_scale, off))) {
         fprintf(stderr, "fovea run: --budget: a period of %g ms cannot be budgeted\n",
-                1e3 / hz * (h->budget_scale > 0 ? h->budget_scale : 1.0));
+                1e3 / hz * (h->run->budget_scale > 0 ? h->run->budget_scale : 1.0));
         return FV_EXIT_FAIL;
     }
     return 0;
@@ -101,7 +101,7 @@ int run_hmd_budget_start(run_hmd *h, const fv_quality *base, const char *preset,
 
 void run_hmd_budget_update(run_hmd *h, const fv_measure *m, uint64_t frame_id, fv_quality *q)
 {
-    if (!h->budget) return;
+    if (!h->run->budget) return;
     size_t n = m->measured < m->cap ? m->measured : m->cap;
     for (; h->pushed < n; h->pushed++) (void)fv_app_budget_push(&h->bud, frame_id, m->frame_gpu_ms[h->pushed], q);
 }
@@ -122,7 +122,7 @@ void run_hmd_add_json(const run_hmd *h, const fv_renderer *r, cJSON *j)
         fv_cli_json_add_string(jh, "name", h->profile.name);
         fv_cli_json_add_string(jh, "origin", h->profile.origin);
         fv_cli_json_number(jh, "refresh_hz", h->profile.refresh_hz);
-        cJSON_AddBoolToObject(jh, "fov_applied", h->name != NULL);
+        cJSON_AddBoolToObject(jh, "fov_applied", h->run->hmd != NULL);
         double m0 = mask_fraction(r, 0), m1 = mask_fraction(r, 1);
         if (isfinite(m0) && isfinite(m1)) {
             cJSON *a = cJSON_AddArrayToObject(jh, "masked_fraction");
@@ -135,8 +135,8 @@ void run_hmd_add_json(const run_hmd *h, const fv_renderer *r, cJSON *j)
         cJSON_AddNullToObject(jh, "name");
     }
     cJSON *jb = cJSON_AddObjectToObject(j, "budget");
-    fv_cli_json_add_string(jb, "mode", h->budget ? "auto" : "off");
-    if (!h->budget) return;
+    fv_cli_json_add_string(jb, "mode", h->run->budget ? "auto" : "off");
+    if (!h->run->budget) return;
     const fv_app_budget *b = &h->bud;
     fv_cli_json_number(jb, "hz", b->hz);
     fv_cli_json_number(jb, "scale", b->scale);
@@ -168,13 +168,13 @@ void run_hmd_print(const run_hmd *h, const fv_renderer *r, FILE *f)
     if (h->have) {
         double m0 = mask_fraction(r, 0), m1 = mask_fraction(r, 1);
         fprintf(f, "  hmd: %s (%s), %g Hz%s", h->profile.name, h->profile.origin, (double)h->profile.refresh_hz,
-                h->name ? ", its field of view" : "");
+                h->run->hmd ? ", its field of view" : "");
         if (isfinite(m0)) fprintf(f, "; hidden-area mask %.1f%% / %.1f%% of the pixels", 100 * m0, 100 * m1);
         fputc('\n', f);
     } else {
         fprintf(f, "  hmd: none (undistorted)\n");
     }
-    if (!h->budget) return;
+    if (!h->run->budget) return;
     const fv_app_budget *b = &h->bud;
     fprintf(f, "  budget: %.2f ms per frame (%g Hz x %g), level %u of %zu after %llu change%s (%llu down, %llu up), "
             "%llu of %llu frames over the period\n", fv_app_budget_target_ms(b), b->hz, b->scale, b->ctl.level,

@@ -13,6 +13,7 @@
 #include <cjson/cJSON.h>
 
 #include "fv_app_budget.h"
+#include "fv_app_run.h"
 #include "fv_hmd.h"
 #include "run_measure.h"
 
@@ -29,14 +30,12 @@
     "  --budget-scale  multiply the budget's period by X (e.g. 10 on a software rasteriser; default 1)\n"
 
 typedef struct run_hmd {
-    const char *name;      /* --hmd as given; NULL = generic (the default, its fov not applied) */
-    bool none;             /* --hmd none */
+    fv_app_run *run;       /* the description of the run: --hmd (run->hmd: NULL = generic, the default, its fov not
+                              applied; "none"), --budget (run->budget), --budget-scale (run->budget_scale: the period
+                              x this, a stand-in for a slower GPU; 0 = 1) */
     bool have;             /* a profile is loaded */
     fv_hmd_profile profile;
-    /* --budget */
-    bool budget;           /* auto */
     bool budget_given;     /* --budget or --budget-scale was given (a software device's interactive start keeps it) */
-    double budget_scale;   /* --budget-scale: the period x this (a stand-in for a slower GPU); 0 = 1 */
     fv_app_budget bud;     /* the application layer's budget (runtime/app) */
     size_t pushed;         /* measured frames given to the controller */
 } run_hmd;

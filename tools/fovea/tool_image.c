@@ -18,12 +18,8 @@
 void fv_tool_image_defaults(fv_tool_image *o)
 {
     memset(o, 0, sizeof *o);
-    o->scene = "cornell";
-    o->eye_w = 720;
-    o->eye_h = 800;
-    o->sbs = true;
-    o->exposure = fv_quality_default().exposure;
-    o->view = fv_quality_default().debug_view;
+    fv_app_run_defaults(&o->run);
+    o->hmd.run = &o->run;
 }
 
 /* "+1ev" / "-2EV": stops, 2^EV; otherwise a linear scale. */
@@ -49,19 +45,20 @@ int fv_tool_image_option(fv_tool_image *o, int argc, char **argv, int *i, const 
 #define OPT(name) ((r = fv_cli_option(argc, argv, i, name, &v)) < 0 ? (fv_cli_usage_error(cmd, usage, "option %s needs a value", name), -2) : r)
     if ((r = OPT("--scene")) == -2) return FV_EXIT_USAGE;
     else if (r) {
-        o->scene = v;
+        o->run.scene = v;
         return 1;
     }
     if ((r = OPT("--eye-size")) == -2) return FV_EXIT_USAGE;
     else if (r) {
-        if (!fv_cli_parse_size(v, 8192, &o->eye_w, &o->eye_h))
-            return fv_cli_usage_error(cmd, usage, "--eye-size: '%s' is not WxH with each in 1..8192", v);
+        if (!fv_cli_parse_size(v, FV_APP_RUN_MAX_EYE_SIZE, &o->run.eye_w, &o->run.eye_h))
+            return fv_cli_usage_error(cmd, usage, "--eye-size: '%s' is not WxH with each in 1..%u", v,
+                                      FV_APP_RUN_MAX_EYE_SIZE);
         return 1;
     }
     if ((r = OPT("--layout")) == -2) return FV_EXIT_USAGE;
     else if (r) {
-        if (strcmp(v, "sbs") == 0) o->sbs = true;
-        else if (strcmp(v, "eyes") == 0) o->sbs = false;
+        if (strcmp(v, "sbs") == 0) o->run.sbs = true;
+        else if (strcmp(v, "eyes") == 0) o->run.sbs = false;
         else return fv_cli_usage_error(cmd, usage, "--layout: '%s' is not one of sbs, eyes", v);
         o->layout_given = true;
         return 1;
@@ -71,7 +68,7 @@ int fv_tool_image_option(fv_tool_image *o, int argc, char **argv, int *i, const 
         char names[512] = "";
         for (int k = 0; k < FV_DEBUG_VIEW_COUNT; k++) {
             if (strcmp(v, fv_debug_view_name((fv_debug_view)k)) == 0) {
-                o->view = (fv_debug_view)k;
+                o->run.view = (fv_debug_view)k;
                 return 1;
             }
             snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? ", " : "",
@@ -89,22 +86,21 @@ int fv_tool_image_option(fv_tool_image *o, int argc, char **argv, int *i, const 
                                               "followed by EV", v)
                          : fv_cli_usage_error(cmd, usage, "--exposure: '%s' is not a number in 1e-6..1e6 (a linear "
                                               "scale) or stops such as +1EV", v);
-        o->exposure = (float)x;
+        o->run.exposure = (float)x;
         return 1;
     }
 #undef OPT
     if ((r = run_hmd_option(&o->hmd, argc, argv, i, usage)) != 0) return r;
-    return fv_tool_quality_option(&o->tq, argc, argv, i, cmd, usage);
+    return fv_tool_quality_option(&o->run.quality, argc, argv, i, cmd, usage);
 }
 
 int fv_tool_image_finish(fv_tool_image *o, const char *cmd, const char *usage)
 {
-    int built = fv_tool_quality_build(&o->tq, cmd, usage, &o->quality);
-    if (built != 0) return built;
-    if ((built = run_hmd_load(&o->hmd, &o->quality)) != 0) return built;
-    o->quality.exposure = o->exposure;
-    o->quality.debug_view = o->view;
-    return 0;
+    char err[512];
+    int failed;
+    if (FV_FAILED(fv_app_run_quality(&o->run, &o->quality, &failed, err, sizeof err)))
+        return fv_cli_usage_error(cmd, usage, "%s: %s", failed < 0 ? "--quality" : "--set", err);
+    return run_hmd_load(&o->hmd, &o->quality);
 }
 
 void fv_tool_image_frame_input(const fv_tool_image *o, const fv_scene *scene, const fv_head *head, uint64_t frame_id,
@@ -114,26 +110,27 @@ void fv_tool_image_frame_input(const fv_tool_image *o, const fv_scene *scene, co
     fv_vec3 bmin, bmax;
     float near_m = 0, far_m = 0;
     if (fv_scene_world_bounds(scene, 0.0, &bmin, &bmax)) fv_frame_near_far_from_bounds(h, bmin, bmax, &near_m, &far_m);
-    fv_frame_input_from_head(h, near_m, far_m, o->eye_w, o->eye_h, frame_id, time_s, out);
+    fv_frame_input_from_head(h, near_m, far_m, o->run.eye_w, o->run.eye_h, frame_id, time_s, out);
     run_hmd_views(&o->hmd, out);
     out->quality = o->quality;
 }
 
 /* The lens an image was made with: a built-in profile (or a byte-identical copy of one) by its name, a file by its
  * path. */
-static const char *lens_label(const run_hmd *h)
+static const char *lens_label(const run_hmd *h, const fv_app_run *r)
 {
     if (h->have && !strncmp(h->profile.origin, "builtin:", 8)) return h->profile.name;
-    return h->name ? h->name : "generic";
+    return r->hmd ? r->hmd : "generic";
 }
 
 fv_tool_image_meta fv_tool_image_meta_of(const fv_tool_image *o, const char *producer, bool sbs_file)
 {
     bool lens = o->quality.distort.lens.valid && o->quality.distort.enabled;
-    return (fv_tool_image_meta){.producer = producer, .scene = o->scene, .eye_w = o->eye_w, .eye_h = o->eye_h,
-                                .sbs = sbs_file, .view = fv_debug_view_name(o->view), .exposure = o->exposure,
-                                .lens = !o->quality.distort.lens.valid ? "none" : lens_label(&o->hmd),
-                                .lens_applied_png = lens, .quality = fv_tool_quality_preset(&o->tq)};
+    const fv_app_run *r = &o->run;
+    return (fv_tool_image_meta){.producer = producer, .scene = r->scene, .eye_w = r->eye_w, .eye_h = r->eye_h,
+                                .sbs = sbs_file, .view = fv_debug_view_name(r->view), .exposure = r->exposure,
+                                .lens = !o->quality.distort.lens.valid ? "none" : lens_label(&o->hmd, r),
+                                .lens_applied_png = lens, .quality = fv_app_quality_choice_preset(&r->quality)};
 }
 
 /* The settings file of an image: its path with the extension replaced by .json; false when it does not fit. */

@@ -26,17 +26,15 @@
     "  --exposure  linear scale of the colour before tonemapping (default 1; 1e-6..1e6), or stops: +2EV = 4\n"
 
 typedef struct fv_tool_image {
-    const char *scene;
-    uint32_t eye_w, eye_h;
-    bool sbs, layout_given;
-    fv_tool_quality tq;
-    float exposure;
-    fv_debug_view view;
-    run_hmd hmd;
+    fv_app_run run;     /* the description of the run (runtime/app): scene, size, layout, quality, view, exposure, HMD,
+                           gaze, head, budget; its defaults and limits */
+    bool layout_given;
+    run_hmd hmd;        /* the HMD profile loaded for run.hmd, and the budget's controller (its run: &run) */
     fv_quality quality; /* fv_tool_image_finish: the preset, the --set knobs, the lens, then the view settings */
 } fv_tool_image;
 
-/** The defaults: cornell, 720x800, side by side, balanced, color, exposure 1, the generic HMD. */
+/** The defaults (fv_app_run_defaults): cornell, 720x800, side by side, balanced, color, exposure 1, the generic HMD.
+ *  The image is not copied afterwards (its hmd points at its run). */
 void fv_tool_image_defaults(fv_tool_image *o);
 /** Take one of the options above (and --hmd, --budget, --budget-scale: run_hmd_option) at argv[*i]: 0 when it is
  *  none of them, 1 when taken (*i advanced past its value), FV_EXIT_USAGE after the one-line error and the usage. */

@@ -19,22 +19,19 @@ int fv_tool_quality_option(fv_tool_quality *tq, int argc, char **argv, int *i, c
         tq->preset = v;
         return 1;
     }
-    if (tq->set_count >= FV_TOOL_MAX_SETS)
+    if (!fv_app_quality_choice_add(tq, v))
         return fv_cli_usage_error(cmd, usage, "--set: more than %d of them", FV_TOOL_MAX_SETS);
-    tq->sets[tq->set_count++] = v;
     return 1;
 }
 
-const char *fv_tool_quality_preset(const fv_tool_quality *tq) { return tq->preset ? tq->preset : "balanced"; }
+const char *fv_tool_quality_preset(const fv_tool_quality *tq) { return fv_app_quality_choice_preset(tq); }
 
 int fv_tool_quality_build(const fv_tool_quality *tq, const char *cmd, const char *usage, fv_quality *out)
 {
     char err[512];
-    if (FV_FAILED(fv_quality_preset(fv_tool_quality_preset(tq), out, err, sizeof err)))
-        return fv_cli_usage_error(cmd, usage, "--quality: %s", err);
-    for (size_t i = 0; i < tq->set_count; i++)
-        if (FV_FAILED(fv_quality_set(out, tq->sets[i], err, sizeof err)))
-            return fv_cli_usage_error(cmd, usage, "--set: %s", err);
+    int failed;
+    if (FV_FAILED(fv_app_quality_choice_build(tq, out, &failed, err, sizeof err)))
+        return fv_cli_usage_error(cmd, usage, "%s: %s", failed < 0 ? "--quality" : "--set", err);
     return 0;
 }
 

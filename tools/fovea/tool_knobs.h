@@ -8,17 +8,15 @@
 
 #include <cjson/cJSON.h>
 
+#include "fv_app_run.h"
 #include "fv_knobs.h"
 
-/** The most --set options one command line may hold. */
-#define FV_TOOL_MAX_SETS 64
+/** The most --set options one command line may hold (a run's, fv_app_run.h). */
+#define FV_TOOL_MAX_SETS FV_APP_RUN_MAX_SETS
 
-/** --quality and --set as given (pointers into argv), applied by fv_tool_quality_build. Zero-initialise. */
-typedef struct fv_tool_quality {
-    const char *preset; /* NULL: balanced */
-    const char *sets[FV_TOOL_MAX_SETS];
-    size_t set_count;
-} fv_tool_quality;
+/** --quality and --set as given (pointers into argv), applied by fv_tool_quality_build: the quality choice of the
+ *  description of a run (fv_app_run.h). Zero-initialise. */
+typedef fv_app_quality_choice fv_tool_quality;
 
 /** Take --quality PRESET or --set NAME=VALUE (also as --opt=VALUE) at argv[*i]. Returns 0 when argv[*i] is neither,
  *  1 when taken (*i advanced past a separate value), FV_EXIT_USAGE after printing "fovea CMD: ..." and the usage

@@ -8,7 +8,7 @@
 
 #include "fv_math.h"
 #include "fv_lens.h"
-#include "fv_quality.h" /* fv_quality: defined by the knobs room (render/knobs), carried here */
+#include "fv_quality.h" /* fv_quality: defined by the knobs room (runtime/knobs), carried here */
 
 typedef struct fv_eye_view {
     fv_mat4 view;        /* world -> eye view space (-z forward) */

@@ -149,7 +149,7 @@ typedef struct fv_quality_interp {
 } fv_quality_interp;
 
 /** The settings a frame is drawn with. Zero is not a valid value: start from fv_quality_default() (the `balanced`
- *  preset) or fv_quality_preset() (render/knobs/fv_knobs.h).
+ *  preset) or fv_quality_preset() (runtime/knobs/fv_knobs.h).
  *  Every speed/accuracy trade is a knob of the one knob list (fv_knob_list.h; `fovea knobs` lists it). `exposure`,
  *  `debug_view` and `overlay` are view settings, not speed/accuracy trades, and are deliberately not knobs (`fovea
  *  run` sets them with --exposure, --debug-view and --overlay). */

@@ -1,6 +1,6 @@
 /* @brief THE knob list: every speed/accuracy knob of fovea, one entry each. Everything else is derived from it: the
  * fields of fv_quality and fv_quality_default() (fv_quality.h), the knob table with its presets, parsing, formatting,
- * validation and sanitising (render/knobs/knobs.c), equality per group (fv_quality_<group>_equal, e.g. the GI pass's
+ * validation and sanitising (runtime/knobs/knobs.c), equality per group (fv_quality_<group>_equal, e.g. the GI pass's
  * cache key) and `fovea knobs`, --help, --set, --quality and the JSON summaries. docs/knobs.md: how to add a knob.
  *
  * One entry per knob, in the order of --help, `fovea knobs` and the JSON summaries (the struct's field order too):
