@@ -675,6 +675,21 @@ static void recon_prepare(void *state, const fv_pass_frame *f)
     }
 }
 
+/* The fill stage closes the "voronoi" timer range t and is timed as "fill"; what was recorded is kept for the details. */
+static void recon_fill(recon *rc, const fv_pass_frame *f, int t, uint32_t stage, const struct fv_recon_push *pc,
+                       uint32_t steps, uint32_t src, uint32_t method)
+{
+    if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+    t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
+    recon_stage(rc, f, stage, pc);
+    if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+    rc->recorded[f->slot] = true;
+    rc->last_steps = steps;
+    rc->last_final = src;
+    rc->last_method = method;
+    fv_vk_label_end(rc->vk, f->cmd);
+}
+
 static void recon_record(void *state, const fv_pass_frame *f)
 {
     recon *rc = state;
@@ -701,15 +716,7 @@ static void recon_record(void *state, const fv_pass_frame *f)
         src = FV_RECON_SRC_SEARCH;
         pc.flags = f->input->quality.debug_view == FV_DEBUG_VIEW_VORONOI ? FV_RECON_FLAG_VORONOI : 0u;
         recon_stage(rc, f, RSTAGE_SOFT_REPS, &pc);
-        if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
-        t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
-        recon_stage(rc, f, RSTAGE_SOFT_FILL, &pc);
-        if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
-        rc->recorded[f->slot] = true;
-        rc->last_steps = n;
-        rc->last_final = src;
-        rc->last_method = method;
-        fv_vk_label_end(rc->vk, f->cmd);
+        recon_fill(rc, f, t, RSTAGE_SOFT_FILL, &pc, n, src, method);
         return;
     }
     if (method != FV_RECON_METHOD_IDW && jfa) {
@@ -724,17 +731,9 @@ static void recon_record(void *state, const fv_pass_frame *f)
     } else {
         src = FV_RECON_SRC_SEARCH; /* nearest or idw: the fill searches the blocks itself, one pass */
     }
-    if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
     pc.step = 0;
     pc.src = src;
-    t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
-    recon_stage(rc, f, RSTAGE_RESOLVE, &pc);
-    if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
-    rc->recorded[f->slot] = true;
-    rc->last_steps = n;
-    rc->last_final = src;
-    rc->last_method = method;
-    fv_vk_label_end(rc->vk, f->cmd);
+    recon_fill(rc, f, t, RSTAGE_RESOLVE, &pc, n, src, method);
 }
 
 static uint32_t recon_details(void *state, fv_pass_detail *out, uint32_t cap)
