@@ -530,10 +530,9 @@ typedef struct recon {
     uint32_t width, height, block;
     fv_vk_compute cs, soft;
     fv_images *images;
-    fv_image_id mask, blocks, voronoi; /* voronoi: FV_IMAGE_MAX until made (mask, blocks: the fovea pass's) */
+    fv_image_id mask, blocks, voronoi, reps; /* voronoi, reps: FV_IMAGE_MAX until made (mask, blocks: the fovea pass's) */
     VkSampler nearest;                 /* the G-buffer's reads (soft) */
     fv_vk_buffer seeds[2];
-    fv_vk_buffer reps; /* the soft fill's per-block representatives */
     uint32_t slots;
     fv_vk_timer timer;             /* its stages: "voronoi" (1+JFA or the block search), "fill" */
     bool recorded[FV_MAX_FRAMES_IN_FLIGHT];
@@ -550,9 +549,9 @@ static void recon_fini(void *state)
     fv_vk_compute_fini(rc->vk, &rc->soft);
     fv_vk_timer_fini(&rc->timer, rc->vk);
     for (int i = 0; i < 2; i++) fv_vk_buffer_destroy(rc->vk, &rc->seeds[i]);
-    fv_vk_buffer_destroy(rc->vk, &rc->reps);
     if (rc->nearest) vkDestroySampler(rc->vk->device, rc->nearest, NULL);
     if (rc->voronoi != FV_IMAGE_MAX) fv_images_release(rc->images, rc->voronoi);
+    if (rc->reps != FV_IMAGE_MAX) fv_images_release(rc->images, rc->reps);
     free(rc);
 }
 
@@ -564,7 +563,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     rc->width = env->width;
     rc->height = env->height;
     rc->images = env->images;
-    rc->voronoi = FV_IMAGE_MAX;
+    rc->voronoi = rc->reps = FV_IMAGE_MAX;
     rc->slots = env->slots;
     const fv_vk_image *color;
     fv_result res = fv_images_find(env->images, "fovea mask", &rc->mask); /* the fovea pass (earlier) made it */
@@ -575,12 +574,14 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         res = fv_vk_buffer_create(env->vk, seed_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
                                   i ? "fovea seeds b" : "fovea seeds a", &rc->seeds[i]);
     uint32_t B = env->plan->variant >= 2 ? env->plan->variant : 2; /* the block (the fovea pass checks it) */
-    VkDeviceSize rep_bytes = (VkDeviceSize)((env->width + B - 1) / B) * ((env->height + B - 1) / B) * 2u *
-                             FV_RECON_SOFT_REP_UVEC4S * 16u;
     rc->block = B;
-    if (res == FV_OK)
-        res = fv_vk_buffer_create(env->vk, rep_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
-                                  "fovea soft reps", &rc->reps);
+    if (res == FV_OK) { /* the soft fill's representatives: FV_RECON_SOFT_REP_UVEC4S texels per block in a row */
+        fv_vk_image_desc d = {.width = (env->width + B - 1) / B * FV_RECON_SOFT_REP_UVEC4S,
+                              .height = (env->height + B - 1) / B, .layers = 2, .format = VK_FORMAT_R32G32B32A32_UINT,
+                              .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              .name = "fovea soft reps"};
+        res = fv_images_scratch(env->images, &d, &rc->reps);
+    }
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
@@ -598,7 +599,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_DEPTH + 1, cis, 1, cs, NULL},
         {FV_RECON_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
-        {FV_RECON_BINDING_REPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
+        {FV_RECON_BINDING_REPS, si, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
     const uint32_t soft_spec[2] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL};
@@ -632,8 +633,8 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_BLOCKS, si, fv_images_image(env->images, rc->blocks)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_images_bind_gbuffer(env->images, set, FV_RECON_BINDING_DEPTH, rc->nearest);
-        fv_vk_write_buffer(env->vk, set, FV_RECON_BINDING_REPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->reps.buffer, 0,
-                           VK_WHOLE_SIZE);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_REPS, si, fv_images_image(env->images, rc->reps)->view,
+                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     }
     *out_state = rc;
     return FV_OK;
@@ -649,6 +650,7 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->voronoi, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
+    fv_images_use(f->images, cmd, rc->reps, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
     buffers_barrier(cmd, CS, RW, CS, RW);
@@ -754,6 +756,6 @@ const fv_pass fv_reconstruct_pass = {
     .record = recon_record,
     .fini = recon_fini,
     .details = recon_details,
-    .makes = FV_PASS_NAMES("fovea voronoi"),
+    .makes = FV_PASS_NAMES("fovea voronoi", "fovea soft reps"),
     .needs = FV_PASS_NAMES("fovea mask", "fovea blocks"),
 };

@@ -124,7 +124,8 @@ struct fv_compact_push {
                                     * representative only for the voronoi view, FV_RECON_FLAG_VORONOI) */
 #define FV_RECON_BINDING_BLOCKS 5  /* uimage2DArray r32ui: the fovea pass's block masks (read) */
 #define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
-#define FV_RECON_BINDING_REPS 10   /* storage uvec4[FV_RECON_SOFT_REP_UVEC4S per block, both eyes]: soft's representatives */
+#define FV_RECON_BINDING_REPS 10   /* uimage2DArray rgba32ui: soft's slots, FV_RECON_SOFT_REP_UVEC4S texels per block
+                                    * in a row (an image: cheaper loads than a buffer on lavapipe) */
 #define FV_RECON_BINDING_COUNT 11
 #define FV_RECON_NONE 0xffffffffu
 
@@ -135,32 +136,36 @@ struct fv_compact_push {
 #define FV_RECON_STAGE_RESOLVE 2
 #define FV_RECON_STAGE_BLOCKS 3  /* seeds A = every pixel's exact nearest sample, from the neighbouring block masks */
 /* The soft fill (FV_RECON_METHOD_SOFT), two dispatches, no Voronoi, a bounded number of taps per pixel:
- * SOFT_REPS, one thread per block: the block's known pixels as at most FV_RECON_SOFT_SLOTS representatives (all of
- * them when they are that few, else in each quadrant of the block the one nearest its centre) with their colour,
- * normal and tangent plane, the block's count of known pixels and its sigma (below), into the reps buffer;
- * SOFT_FILL, one thread per pixel: every unknown pixel takes the weighted mean of the representatives of the 2x2
- * blocks whose centres surround it (at most 4 x FV_RECON_SOFT_SLOTS = 16 taps, for every block size):
+ * SOFT_REPS, one thread per block: per quadrant of the block a slot, the block's known pixel nearest the quadrant's
+ * centre (in a sparse block one sample fills every slot), with its colour, position, unit normal (octahedral,
+ * 2x16 snorm) and tangent plane's offset n.x, and the block's sigma (below), into the "fovea soft reps" image;
+ * SOFT_FILL, one thread per pixel: every unknown pixel takes the weighted mean of the 2x2 blocks whose centres
+ * surround it, of each the slot of its quadrant that faces the pixel (the four facing quadrants tile the square
+ * between the four centres, so the choice never changes inside it): 4 taps.
  * w = b_k exp(-d^2 / (2 sigma^2)) max(g, FV_RECON_SOFT_EDGE_FLOOR), b_k the bilinear tent of block k over the block
  * grid (its weight reaches 0 exactly where the 2x2 set changes: no seams at block edges); sigma = the tents' blend
  * of the 4 blocks' sigmas, each FV_RECON_SOFT_SIGMA times the local sample spacing, sqrt(area / known pixels) of the
- * 3x3 blocks around it, at least FV_RECON_SOFT_SIGMA_MIN px (the band limit of the local sampling rate); the edge
- * weight g = exp(-(t / (d foot FV_RECON_SOFT_PLANE))^2 - (1 - n.n') / FV_RECON_SOFT_NORMAL), t the pixel's distance
- * from the tap's tangent plane, foot the pixel's footprint (its distance from the eye times the angle of a pixel),
- * n, n' the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1. No weight at all
- * (underflow): the nearest representative's colour. Reads the colour only at known pixels and writes it only at
- * unknown ones. */
+ * 3x3 blocks around it, at least FV_RECON_SOFT_SIGMA_MIN px (the band limit of the local sampling rate), and for
+ * the facing slots at least FV_RECON_SOFT_SIGMA times their spacing, half a block; the edge weight
+ * g = exp(-(t / (d foot FV_RECON_SOFT_PLANE))^2 - (1 - n.n') / FV_RECON_SOFT_NORMAL), t the pixel's distance from
+ * the tap's tangent plane, foot the pixel's footprint (its distance from the eye times the angle of a pixel), n, n'
+ * the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1. At an edge (a facing slot's
+ * -log g over FV_RECON_SOFT_EDGE_SPLIT) the pixel takes every distinct slot of the four blocks instead (at most
+ * 16 taps, sigma the sample spacing's): the same surface is found where the facing slots miss it. No weight at all
+ * (underflow): the nearest tap's colour. Reads the colour only at known pixels and writes it only at unknown ones. */
 #define FV_RECON_STAGE_SOFT_REPS 4
 #define FV_RECON_STAGE_SOFT_FILL 5
 #define FV_RECON_SOFT_SLOTS 4
-#define FV_RECON_SOFT_REP_UVEC4S 9 /* per block: (known pixels, representatives n, sigma as bits, -), then per
-                                    * representative (colour rgb as bits, x | y << 16 | FV_RECON_SOFT_NOTHING where
-                                    * nothing was drawn), (unit normal as bits, normal . world position as bits) */
+#define FV_RECON_SOFT_REP_UVEC4S 8 /* per block, per slot: (colour rgb as bits, x | y << 16 | FV_RECON_SOFT_NOTHING
+                                    * where nothing was drawn; FV_RECON_NONE: no slot), (oct normal as 2x16 snorm,
+                                    * n . world position as bits, the block's sigma as bits, 0) */
 #define FV_RECON_SOFT_NOTHING 0x80000000u
 #define FV_RECON_SOFT_SIGMA 0.5
 #define FV_RECON_SOFT_SIGMA_MIN 0.5
 #define FV_RECON_SOFT_PLANE 2.0
 #define FV_RECON_SOFT_NORMAL 0.1
 #define FV_RECON_SOFT_EDGE_FLOOR 1e-3
+#define FV_RECON_SOFT_EDGE_SPLIT 0.69314718 /* a facing slot with an edge weight under 1/2: every slot is read */
 #define FV_RECON_GROUP 8
 
 #define FV_RECON_METHOD_NEAREST 0u

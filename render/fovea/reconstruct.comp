@@ -98,9 +98,11 @@ void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout
 
 
 // ---- the soft fill (fovea_interface.h) ---------------------------------------------------------------------------
-layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS) buffer Reps { uvec4 reps[]; };
+// the representatives: FV_RECON_SOFT_REP_UVEC4S texels per block in a row (an image: cheaper loads than a buffer on
+// some devices, lavapipe)
+layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS, rgba32ui) uniform uimage2DArray reps_img;
 
-uint rep_base(ivec2 b, int layer, ivec2 nb) { return uint((layer * nb.y + b.y) * nb.x + b.x) * FV_RECON_SOFT_REP_UVEC4S; }
+ivec3 rep_at(ivec2 b, int layer, uint j) { return ivec3(b.x * FV_RECON_SOFT_REP_UVEC4S + int(j), b.y, layer); }
 
 uint block_count(ivec2 b, int layer)
 {
@@ -110,7 +112,9 @@ uint block_count(ivec2 b, int layer)
     return k;
 }
 
-// SOFT_REPS: block b (inside the image) of layer z.
+// SOFT_REPS: block b (inside the image) of layer z. Per quadrant slot the known pixel nearest the quadrant's centre
+// (of the whole block: in a sparse block one sample fills every slot), with its colour, position, surface (unit
+// normal, tangent plane's offset n.x) and the block's sigma.
 void soft_reps(ivec3 b, ivec2 size)
 {
     int B = int(pc.block), words = int(pc.block_words);
@@ -131,48 +135,78 @@ void soft_reps(ivec3 b, ivec2 size)
             area += float(cs.x * cs.y);
         }
     float sigma = max(float(FV_RECON_SOFT_SIGMA) * sqrt(area / max(known, 1.0)), float(FV_RECON_SOFT_SIGMA_MIN));
-    // the slots: every known pixel when there are few, else per quadrant the one nearest its centre
+    // each slot: the known pixel nearest its quadrant's centre, (2 h + 1) bs / 4 (ties: the first in row order)
     int pick[FV_RECON_SOFT_SLOTS];
     int bestd[FV_RECON_SOFT_SLOTS];
     for (int k = 0; k < FV_RECON_SOFT_SLOTS; k++) pick[k] = -1, bestd[k] = 0x7fffffff;
-    uint n = 0u;
     for (int w = 0; w < words; w++) {
         uint bits = wv[w];
         while (bits != 0u) {
             int k = w * 32 + findLSB(bits);
             bits &= bits - 1u;
             ivec2 l = ivec2(k % B, k / B);
-            if (count <= uint(FV_RECON_SOFT_SLOTS)) {
-                pick[n++] = k;
-                continue;
+            for (int qd = 0; qd < FV_RECON_SOFT_SLOTS; qd++) {
+                ivec2 h = ivec2(qd & 1, qd >> 1);
+                ivec2 dc = l * 4 + 2 - (2 * h + 1) * bs; // 4 (l + 0.5) - (2 h + 1) bs, in quarter pixels
+                int d = dc.x * dc.x + dc.y * dc.y;
+                if (d < bestd[qd]) bestd[qd] = d, pick[qd] = k; // bits rise: ties keep the first
             }
-            ivec2 h = ivec2(greaterThanEqual(l * 2, bs)); // the quadrant; its centre at (2 h + 1) bs / 4
-            int qd = h.x + 2 * h.y;
-            ivec2 dc = l * 4 + 2 - (2 * h + 1) * bs; // 4 (l + 0.5) - (2 h + 1) bs, in quarter pixels
-            int d = dc.x * dc.x + dc.y * dc.y;
-            if (d < bestd[qd]) bestd[qd] = d, pick[qd] = k; // bits rise: ties keep the first
         }
     }
-    uint base = rep_base(b.xy, b.z, nb);
-    uint m = 0u;
     for (int s = 0; s < FV_RECON_SOFT_SLOTS; s++) {
-        if (pick[s] < 0) continue;
+        if (pick[s] < 0) { // no known pixel (cannot happen: every block holds a sample): not a tap
+            imageStore(reps_img, rep_at(b.xy, b.z, 2u * uint(s)), uvec4(0u, 0u, 0u, FV_RECON_NONE));
+            continue;
+        }
         ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
         bool hit = texelFetch(g_material, q, 0).r != 0u;
         vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
-        vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, q, 0).rg) : vec3(0.0);
+        vec2 oct = texelFetch(g_normal, q, 0).rg;
+        vec3 nrm = hit ? fv_oct_decode(oct) : vec3(0.0);
         vec3 c = imageLoad(color_img, q).rgb;
         uint packed = uint(q.x) | (uint(q.y) << 16) | (hit ? 0u : FV_RECON_SOFT_NOTHING);
-        reps[base + 1u + 2u * m] = uvec4(floatBitsToUint(c), packed);
-        reps[base + 2u + 2u * m] = uvec4(floatBitsToUint(nrm), floatBitsToUint(dot(nrm, pos)));
-        m++;
+        imageStore(reps_img, rep_at(b.xy, b.z, 2u * uint(s)), uvec4(floatBitsToUint(c), packed));
+        imageStore(reps_img, rep_at(b.xy, b.z, 2u * uint(s) + 1u),
+                   uvec4(packSnorm2x16(oct), floatBitsToUint(dot(nrm, pos)), floatBitsToUint(sigma), 0u));
     }
-    reps[base] = uvec4(count, m, floatBitsToUint(sigma), 0u);
+}
+
+// The squared distance of pixel p from the slot's pixel.
+float soft_d2(uvec4 qa, ivec3 p)
+{
+    uint packed = qa.w & ~FV_RECON_SOFT_NOTHING;
+    ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
+    return float(dq.x * dq.x + dq.y * dq.y);
+}
+
+// -log of the edge weight of pixel p (drawn: hit, at pos with normal nrm) against a slot (qa, qb), capped; the
+// nearest slot so far (ties: the smaller packed position) updated.
+float soft_tap(uvec4 qa, uvec4 qb, ivec3 p, bool hit, vec3 pos, vec3 nrm, float kplane, float cap, inout uint best,
+               inout uint bd, inout vec3 best_col)
+{
+    uint packed = qa.w & ~FV_RECON_SOFT_NOTHING;
+    bool qhit = (qa.w & FV_RECON_SOFT_NOTHING) == 0u;
+    float fd2 = soft_d2(qa, p);
+    uint d2 = uint(fd2);
+    if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = uintBitsToFloat(qa.xyz);
+    float e2;
+    if (hit != qhit) {
+        e2 = cap;
+    } else if (!hit) {
+        e2 = 0.0;
+    } else {
+        vec3 qn = fv_oct_decode(unpackSnorm2x16(qb.x));
+        float t = dot(qn, pos) - uintBitsToFloat(qb.y); // p's distance from the tap's tangent plane
+        e2 = t * t * kplane / max(fd2, 1.0) + (1.0 - dot(nrm, qn)) * float(1.0 / FV_RECON_SOFT_NORMAL);
+    }
+    return isnan(e2) ? cap : min(e2, cap);
 }
 
 // SOFT_FILL: pixel p (inside the image). The 2x2 blocks whose centres surround p, each weighted by its bilinear tent
-// over the block grid (so a block's weight reaches 0 exactly where it leaves the set: no seams), times per
-// representative a Gaussian of its distance and the edge weight; sigma the tents' blend of the blocks' sigmas.
+// over the block grid (so a block's weight reaches 0 exactly where it leaves the set: no seams), and of each the
+// slot of its quadrant that faces p (the four facing quadrants tile the square between the four centres, so the
+// choice never changes inside it), times a Gaussian of the distance and the edge weight; sigma the tents' blend of
+// the blocks' sigmas.
 void soft_fill(ivec3 p, ivec2 size)
 {
     if (imageLoad(mask_img, p).x != 0u) { // known: kept
@@ -184,19 +218,23 @@ void soft_fill(ivec3 p, ivec2 size)
     vec2 g = (vec2(p.xy) + 0.5) / float(B) - 0.5; // p in block-centre coordinates
     ivec2 b0 = ivec2(floor(g));
     vec2 f = g - vec2(b0);
-    uint base[4];
+    uvec4 ta[4], tb[4];
     float tent[4];
     float ssum = 0.0, tsum = 0.0;
     for (int k = 0; k < 4; k++) {
-        ivec2 bb = b0 + ivec2(k & 1, k >> 1);
-        float t = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y);
+        ivec2 kk = ivec2(k & 1, k >> 1);
+        ivec2 bb = b0 + kk;
+        float t = (kk.x != 0 ? f.x : 1.0 - f.x) * (kk.y != 0 ? f.y : 1.0 - f.y);
         bool in_image = all(greaterThanEqual(bb, ivec2(0))) && all(lessThan(bb, nb)) && t > 0.0;
-        base[k] = in_image ? rep_base(bb, p.z, nb) : 0xffffffffu;
+        uint slot = 2u * uint((1 - kk.x) + 2 * (1 - kk.y)); // the quadrant facing p
+        ta[k] = in_image ? imageLoad(reps_img, rep_at(bb, p.z, slot)) : uvec4(0u, 0u, 0u, FV_RECON_NONE);
+        in_image = in_image && ta[k].w != FV_RECON_NONE;
+        tb[k] = in_image ? imageLoad(reps_img, rep_at(bb, p.z, slot + 1u)) : uvec4(0u);
         tent[k] = in_image ? t : 0.0;
-        if (in_image) ssum += t * uintBitsToFloat(reps[base[k]].z), tsum += t;
+        if (in_image) ssum += t * uintBitsToFloat(tb[k].z), tsum += t;
     }
-    float sigma = ssum / tsum;
-    float inv2s2 = 0.5 / (sigma * sigma);
+    if (!(tsum > 0.0)) return; // cannot happen: every block holds a sample
+    float sigma_d = ssum / tsum; // the local sample spacing's
     bool hit = texelFetch(g_material, p, 0).r != 0u;
     vec3 pos = fv_gbuffer_position(uvec3(p), texelFetch(g_depth, p, 0).r);
     vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, p, 0).rg) : vec3(0.0);
@@ -207,35 +245,38 @@ void soft_fill(ivec3 p, ivec2 size)
     float kplane = 1.0 / max(foot * foot * float(FV_RECON_SOFT_PLANE * FV_RECON_SOFT_PLANE), 1e-30);
     float cap = -log(float(FV_RECON_SOFT_EDGE_FLOOR));
     vec3 sum = vec3(0.0), best_col = vec3(0.0);
-    float wsum = 0.0;
+    float wsum = 0.0, emax = 0.0;
     uint best = FV_RECON_NONE, bd = 0xffffffffu;
+    // the facing slots, as wide as their spacing (half a block) at least
+    float inv2s2 = 0.5 / pow(max(sigma_d, float(FV_RECON_SOFT_SIGMA) * 0.5 * float(B)), 2.0);
     for (int k = 0; k < 4; k++) {
-        if (base[k] == 0xffffffffu) continue;
-        uint n = min(reps[base[k]].y, uint(FV_RECON_SOFT_SLOTS));
-        for (uint i = 0u; i < n; i++) {
-            uvec4 qa = reps[base[k] + 1u + 2u * i];
-            vec3 qc = uintBitsToFloat(qa.xyz);
-            uint packed = qa.w & ~FV_RECON_SOFT_NOTHING;
-            bool qhit = (qa.w & FV_RECON_SOFT_NOTHING) == 0u;
-            ivec2 dq = ivec2(int(packed & 0xffffu), int(packed >> 16)) - p.xy;
-            uint d2 = uint(dq.x * dq.x + dq.y * dq.y);
-            if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = qc;
-            float fd2 = float(d2);
-            float e2; // -log of the edge weight
-            if (hit != qhit) {
-                e2 = cap;
-            } else if (!hit) {
-                e2 = 0.0;
-            } else {
-                uvec4 qb = reps[base[k] + 2u + 2u * i];
-                vec3 qn = uintBitsToFloat(qb.xyz);
-                float t = dot(qn, pos) - uintBitsToFloat(qb.w); // p's distance from the tap's tangent plane
-                e2 = t * t * kplane / max(fd2, 1.0) + (1.0 - dot(nrm, qn)) * float(1.0 / FV_RECON_SOFT_NORMAL);
+        if (!(tent[k] > 0.0)) continue;
+        float e2 = soft_tap(ta[k], tb[k], p, hit, pos, nrm, kplane, cap, best, bd, best_col);
+        emax = max(emax, e2);
+        float wt = tent[k] * exp(-soft_d2(ta[k], p) * inv2s2 - e2);
+        sum += wt * uintBitsToFloat(ta[k].xyz);
+        wsum += wt;
+    }
+    if (emax > float(FV_RECON_SOFT_EDGE_SPLIT)) {
+        // an edge among the facing slots: every distinct slot of the four blocks, as wide as the sample spacing
+        sum = vec3(0.0), wsum = 0.0;
+        inv2s2 = 0.5 / (sigma_d * sigma_d);
+        for (int k = 0; k < 4; k++) {
+            if (!(tent[k] > 0.0)) continue;
+            ivec2 bb = b0 + ivec2(k & 1, k >> 1);
+            uint seen[FV_RECON_SOFT_SLOTS];
+            for (uint s = 0u; s < uint(FV_RECON_SOFT_SLOTS); s++) {
+                uvec4 qa = imageLoad(reps_img, rep_at(bb, p.z, 2u * s));
+                seen[s] = qa.w;
+                bool dup = qa.w == FV_RECON_NONE;
+                for (uint r = 0u; r < s; r++) dup = dup || seen[r] == qa.w;
+                if (dup) continue;
+                uvec4 qb = imageLoad(reps_img, rep_at(bb, p.z, 2u * s + 1u));
+                float e2 = soft_tap(qa, qb, p, hit, pos, nrm, kplane, cap, best, bd, best_col);
+                float wt = tent[k] * exp(-soft_d2(qa, p) * inv2s2 - e2);
+                sum += wt * uintBitsToFloat(qa.xyz);
+                wsum += wt;
             }
-            if (isnan(e2)) e2 = cap;
-            float wt = tent[k] * exp(-fd2 * inv2s2 - min(e2, cap));
-            sum += wt * qc;
-            wsum += wt;
         }
     }
     if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(best));

@@ -895,32 +895,24 @@ static void soft_in_fill(soft_in *si, const fv_frame_input *in, int e, const flo
     si->w_px = 2.0 * atan(0.5 * fmin(dtx, dty));
 }
 
-/* The representatives of block (bx, by) (fovea_interface.h SOFT_REPS): its known pixels when there are at most
- * FV_RECON_SOFT_SLOTS, else per quadrant the one nearest the quadrant's centre (ties: the first in row order).
- * Returns how many, their pixel indices in out[]; *count = the block's known pixels. */
-static int soft_reps_of(const soft_in *si, int bx, int by, size_t out[FV_RECON_SOFT_SLOTS], int *count)
+/* The slots of block (bx, by) (fovea_interface.h SOFT_REPS): per quadrant the known pixel nearest its centre (of the
+ * whole block; ties: the first in row order), as pixel indices; returns the block's known pixels. */
+static int soft_slots_of(const soft_in *si, int bx, int by, size_t out[FV_RECON_SOFT_SLOTS])
 {
     int B = si->B, sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B;
-    int n = 0, k = 0, pick[FV_RECON_SOFT_SLOTS], bestd[FV_RECON_SOFT_SLOTS];
-    for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++) pick[q] = -1, bestd[q] = 1 << 30;
-    *count = 0;
-    for (int ly = 0; ly < sy; ly++)
-        for (int lx = 0; lx < sx; lx++) *count += si->mask[(size_t)(by * B + ly) * si->w + bx * B + lx] != 0;
+    int count = 0, bestd[FV_RECON_SOFT_SLOTS];
+    for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++) out[q] = SIZE_MAX, bestd[q] = 1 << 30;
     for (int ly = 0; ly < sy; ly++)
         for (int lx = 0; lx < sx; lx++) {
-            if (!si->mask[(size_t)(by * B + ly) * si->w + bx * B + lx]) continue;
-            if (*count <= FV_RECON_SOFT_SLOTS) {
-                pick[k++] = ly * B + lx;
-                continue;
+            size_t i = (size_t)(by * B + ly) * si->w + bx * B + lx;
+            if (!si->mask[i]) continue;
+            count++;
+            for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++) {
+                int dx = 4 * lx + 2 - (2 * (q & 1) + 1) * sx, dy = 4 * ly + 2 - (2 * (q >> 1) + 1) * sy;
+                if (dx * dx + dy * dy < bestd[q]) bestd[q] = dx * dx + dy * dy, out[q] = i;
             }
-            int hx = 2 * lx >= sx, hy = 2 * ly >= sy, qd = hx + 2 * hy;
-            double cx = (2 * hx + 1) * sx / 4.0, cy = (2 * hy + 1) * sy / 4.0;
-            int d = (int)(16.0 * ((lx + 0.5 - cx) * (lx + 0.5 - cx) + (ly + 0.5 - cy) * (ly + 0.5 - cy)) + 0.5);
-            if (d < bestd[qd]) bestd[qd] = d, pick[qd] = ly * B + lx;
         }
-    for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++)
-        if (pick[q] >= 0) out[n++] = (size_t)(by * B + pick[q] / B) * si->w + bx * B + pick[q] % B;
-    return n;
+    return count;
 }
 
 /* sigma of block (bx, by) (fovea_interface.h SOFT_REPS): FV_RECON_SOFT_SIGMA times sqrt(area / known pixels) of the
@@ -932,24 +924,54 @@ static double soft_sigma_of(const soft_in *si, int bx0, int by0)
     for (int by = by0 - 1; by <= by0 + 1; by++)
         for (int bx = bx0 - 1; bx <= bx0 + 1; bx++) {
             if (bx < 0 || by < 0 || bx >= nbx || by >= nby) continue;
-            int sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B, count;
+            int sx = si->w - bx * B < B ? si->w - bx * B : B, sy = si->h - by * B < B ? si->h - by * B : B;
             size_t idx[FV_RECON_SOFT_SLOTS];
-            soft_reps_of(si, bx, by, idx, &count);
-            known += count;
+            known += soft_slots_of(si, bx, by, idx);
             area += sx * sy;
         }
     return fmax(FV_RECON_SOFT_SIGMA * sqrt(area / fmax(known, 1.0)), FV_RECON_SOFT_SIGMA_MIN);
 }
 
+/* One tap of the soft fill at pixel pi (fovea_interface.h SOFT_FILL): adds its weight (tent, Gaussian of
+ * 1 / (2 sigma^2) = inv2s2, edge weight) and weighted colour, keeps the nearest tap; returns the edge exponent. */
+static double soft_tap_ref(const soft_in *si, size_t pi, size_t qi, double tent, double inv2s2, double sum[3],
+                           double *wsum, long *bd, uint32_t *best)
+{
+    int x = (int)(pi % (size_t)si->w), y = (int)(pi / (size_t)si->w);
+    int xx = (int)(qi % (size_t)si->w), yy = (int)(qi / (size_t)si->w);
+    long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
+    uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
+    if (*bd < 0 || d2 < *bd || (d2 == *bd && packed < *best)) *bd = d2, *best = packed;
+    double g, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
+    const double *pp = si->pos[pi], *pn = si->nrm[pi];
+    if (si->hit[pi] != si->hit[qi]) g = cap;
+    else if (!si->hit[pi]) g = 0;
+    else {
+        double dist = sqrt((pp[0] - si->eye[0]) * (pp[0] - si->eye[0]) + (pp[1] - si->eye[1]) * (pp[1] - si->eye[1]) +
+                           (pp[2] - si->eye[2]) * (pp[2] - si->eye[2]));
+        double foot = dist * si->w_px;
+        const double *qp = si->pos[qi], *qn = si->nrm[qi];
+        double pl = fabs(qn[0] * (pp[0] - qp[0]) + qn[1] * (pp[1] - qp[1]) + qn[2] * (pp[2] - qp[2]));
+        double e = pl / (foot * sqrt(fmax((double)d2, 1.0)) * FV_RECON_SOFT_PLANE); /* off the tap's tangent plane */
+        g = fmin(e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL, cap);
+    }
+    double wt = tent * exp(-(double)d2 * inv2s2 - g);
+    for (int c = 0; c < 3; c++) sum[c] += wt * si->rgba[qi * 4 + c];
+    *wsum += wt;
+    return g;
+}
+
 /* The soft fill of unknown pixel (x, y) in double (fovea_interface.h SOFT_FILL): the 2x2 blocks whose centres
- * surround the pixel, each by its bilinear tent, times per representative a Gaussian (sigma: the tents' blend of the
- * blocks' sigmas) and the edge weight. */
+ * surround the pixel, each by its bilinear tent; of each its slot facing the pixel (sigma at least
+ * FV_RECON_SOFT_SIGMA times half a block), or, when one of those has an edge exponent over FV_RECON_SOFT_EDGE_SPLIT,
+ * all its distinct slots (sigma: the tents' blend of the blocks' sigmas). */
 static void soft_ref(const soft_in *si, int x, int y, double out[3])
 {
     int B = si->B, nbx = (si->w + B - 1) / B, nby = (si->h + B - 1) / B;
     double gx = (x + 0.5) / B - 0.5, gy = (y + 0.5) / B - 0.5;
     int bx0 = (int)floor(gx), by0 = (int)floor(gy);
     double fx = gx - bx0, fy = gy - by0, tent[4], ssum = 0, tsum = 0;
+    size_t slots[4][FV_RECON_SOFT_SLOTS];
     for (int k = 0; k < 4; k++) {
         int bx = bx0 + (k & 1), by = by0 + (k >> 1);
         tent[k] = ((k & 1) ? fx : 1.0 - fx) * ((k >> 1) ? fy : 1.0 - fy);
@@ -957,44 +979,34 @@ static void soft_ref(const soft_in *si, int x, int y, double out[3])
             tent[k] = 0;
             continue;
         }
+        soft_slots_of(si, bx, by, slots[k]);
         ssum += tent[k] * soft_sigma_of(si, bx, by);
         tsum += tent[k];
     }
     assert_true(tsum > 0);
-    double sigma = ssum / tsum, cap = -log(FV_RECON_SOFT_EDGE_FLOOR);
+    double sigma_d = ssum / tsum, sf = fmax(sigma_d, FV_RECON_SOFT_SIGMA * 0.5 * B), emax = 0;
     size_t pi = (size_t)y * si->w + x;
-    const double *pp = si->pos[pi], *pn = si->nrm[pi];
-    double dist = sqrt((pp[0] - si->eye[0]) * (pp[0] - si->eye[0]) + (pp[1] - si->eye[1]) * (pp[1] - si->eye[1]) +
-                       (pp[2] - si->eye[2]) * (pp[2] - si->eye[2]));
-    double foot = dist * si->w_px;
     double sum[3] = {0, 0, 0}, wsum = 0;
     long bd = -1;
     uint32_t best = NONE;
     for (int k = 0; k < 4; k++) {
         if (tent[k] <= 0) continue;
-        size_t idx[FV_RECON_SOFT_SLOTS];
-        int count, n = soft_reps_of(si, bx0 + (k & 1), by0 + (k >> 1), idx, &count);
-        for (int i = 0; i < n; i++) {
-            size_t qi = idx[i];
-            int xx = (int)(qi % (size_t)si->w), yy = (int)(qi / (size_t)si->w);
-            long d2 = (long)(xx - x) * (xx - x) + (long)(yy - y) * (yy - y);
-            uint32_t packed = (uint32_t)xx | ((uint32_t)yy << 16);
-            if (bd < 0 || d2 < bd || (d2 == bd && packed < best)) bd = d2, best = packed;
-            double g;
-            if (si->hit[pi] != si->hit[qi]) g = cap;
-            else if (!si->hit[pi]) g = 0;
-            else {
-                const double *qp = si->pos[qi], *qn = si->nrm[qi];
-                double pl = fabs(qn[0] * (pp[0] - qp[0]) + qn[1] * (pp[1] - qp[1]) + qn[2] * (pp[2] - qp[2]));
-                double e = pl / (foot * sqrt((double)d2) * FV_RECON_SOFT_PLANE); /* off the tap's tangent plane */
-                g = e * e + (1.0 - (pn[0] * qn[0] + pn[1] * qn[1] + pn[2] * qn[2])) / FV_RECON_SOFT_NORMAL;
+        size_t qi = slots[k][(1 - (k & 1)) + 2 * (1 - (k >> 1))]; /* the quadrant facing the pixel */
+        assert_true(qi != SIZE_MAX);                               /* every block holds a sample */
+        emax = fmax(emax, soft_tap_ref(si, pi, qi, tent[k], 0.5 / (sf * sf), sum, &wsum, &bd, &best));
+    }
+    if (emax > FV_RECON_SOFT_EDGE_SPLIT) {
+        sum[0] = sum[1] = sum[2] = wsum = 0;
+        for (int k = 0; k < 4; k++) {
+            if (tent[k] <= 0) continue;
+            for (int q = 0; q < FV_RECON_SOFT_SLOTS; q++) {
+                bool dup = false;
+                for (int r = 0; r < q; r++) dup = dup || slots[k][r] == slots[k][q];
+                if (!dup) soft_tap_ref(si, pi, slots[k][q], tent[k], 0.5 / (sigma_d * sigma_d), sum, &wsum, &bd, &best);
             }
-            double wt = tent[k] * exp(-(double)d2 / (2.0 * sigma * sigma) - fmin(g, cap));
-            for (int c = 0; c < 3; c++) sum[c] += wt * si->rgba[qi * 4 + c];
-            wsum += wt;
         }
     }
-    assert_true(best != NONE); /* every block holds a sample */
+    assert_true(best != NONE);
     for (int k = 0; k < 3; k++)
         out[k] = wsum > 1e-30 ? sum[k] / wsum : si->rgba[((size_t)(best >> 16) * si->w + (best & 0xffffu)) * 4 + k];
 }

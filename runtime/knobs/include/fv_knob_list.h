@@ -88,7 +88,7 @@
       "how unshaded pixels are filled: nearest (the nearest sample's colour), sibson (approximate discrete " \
       "natural-neighbour interpolation over the Voronoi diagram, window = the block), idw " \
       "(inverse-distance-squared weights of the neighbouring blocks' samples), soft (an edge-aware Gaussian, G-buffer " \
-      "plane and normal guided, of the 3x3 blocks' known pixels, as wide as the local sample spacing: soft edges, " \
+      "plane and normal guided, of the 2x2 nearest blocks' samples, as wide as the local sample spacing: soft edges, " \
       "one pass)", NULL) \
     X(fovea, voronoi, voronoi, ENUM, fv_fovea_voronoi, 0, FV_FOVEA_VORONOI_LAST, false, "", ("jfa", "blocks"), \
       FV_FOVEA_VORONOI_BLOCKS, FV_FOVEA_VORONOI_BLOCKS, FV_FOVEA_VORONOI_BLOCKS, FV_FOVEA_VORONOI_BLOCKS, \
