@@ -10,6 +10,8 @@ PACKAGES=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools spirv-tools vulkan-tools
   # models, scene files, images, window
   libassimp-dev libcjson-dev libstb-dev libglfw3-dev
+  # real-world model files the import tests read where installed (tests/scene/test_scene_import.c)
+  assimp-testmodels
   # eye-tracker I/O
   libhidapi-dev libusb-1.0-0-dev zlib1g-dev
   # live trackers: Pupil Capture's network API (ZeroMQ + msgpack)
