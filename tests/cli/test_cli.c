@@ -215,6 +215,22 @@ static void shadowed_scenes_report_their_splits(void **state)
     assert_contains(r->out, "validation messages: 0");
 }
 
+/* The summary's foveation stages: a stage that did not run reads "-", in the times and in the ratios to present
+ * (never "0.0x": absent, not free); the JSON has null for it. */
+static void summary_marks_a_stage_that_did_not_run(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "run --frames 2 --eye-size 32x32 --hmd none --set fovea.temporal=0");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    assert_contains(r->out, " temporal - reconstruction ");
+    assert_contains(r->out, "vs present: map ");
+    assert_contains(r->out, " temporal -, reconstruction ");
+    assert_null(strstr(r->out, "temporal 0.0x"));
+    r = run(NULL, "run --frames 2 --eye-size 32x32 --hmd none");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    assert_null(strstr(r->out, "temporal -")); /* temporal reuse on: its figures */
+}
+
 /* Renders a file to a side-by-side PNG and checks its size and that something was drawn in both halves. */
 static void render_file_to_png(const char *scene, const char *tag)
 {
@@ -493,6 +509,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(json_summary_is_the_only_stdout),
         cmocka_unit_test(debug_view_option_switches_the_debug_pass_on),
         cmocka_unit_test(shadowed_scenes_report_their_splits),
+        cmocka_unit_test(summary_marks_a_stage_that_did_not_run),
         cmocka_unit_test(renders_gltf_cornell_box),
         cmocka_unit_test(renders_embree_obj_cornell_box),
         cmocka_unit_test(renders_stanford_bunny_ply),

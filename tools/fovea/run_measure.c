@@ -271,9 +271,16 @@ void fv_measure_print_fovea(const fv_measure *mc, const fv_renderer *r, FILE *f)
         fprintf(f, " (voronoi %.3f + fill %.3f)", split.value[0], split.value[1]);
     double cost[6];
     fovea_cost_vs_present(m, cost);
-    if (isfinite(cost[5]))
-        fprintf(f, "; vs present: map %.1fx, compaction %.1fx, temporal %.1fx, reconstruction %.1fx, overhead %.1fx",
-                cost[0], cost[1], isfinite(cost[3]) ? cost[3] : 0.0, cost[4], cost[5]);
+    if (isfinite(cost[5])) { /* a stage that did not run: "-", as above (not 0x: it is not free, it is absent) */
+        static const int shown[4] = {0, 1, 3, 4};
+        fprintf(f, "; vs present:");
+        for (int k = 0; k < 4; k++) {
+            int s = shown[k];
+            if (isfinite(cost[s])) fprintf(f, " %s %.1fx,", FOVEA_STAGE[s][0], cost[s]);
+            else fprintf(f, " %s -,", FOVEA_STAGE[s][0]);
+        }
+        fprintf(f, " overhead %.1fx", cost[5]);
+    }
     fputc('\n', f);
 }
 
