@@ -45,8 +45,12 @@ typedef struct source_ref {
  * released images they read, and what its presentation is measured against. */
 typedef struct comp_job {
     fv_xr_compose_block blk;
-    source_ref src[FV_XR_COMPOSE_MAX_SOURCES];
+    bool through_lens;           /* compose.comp's LENS variant (one layer per eye, the lens on) */
+    source_ref src[FV_XR_COMPOSE_MAX_SOURCES]; /* every image the frame reads */
     uint32_t nsrc;
+    uint8_t eye_src[2][FV_XR_COMPOSE_MAX_SOURCES]; /* eye e's binding array: indices into src (a layer's info.x is
+                                                    * its eye's slot) */
+    uint32_t eye_nsrc[2];
     VkDevice app_device;         /* the app's fences of the releases */
     XrTime display_time;
     fv_display *display;
@@ -67,8 +71,12 @@ struct fv_xr_compositor {
     fv_target *target;
     fv_xr_present *present;      /* a window when there is a display (xr_present.h), else headless */
     char out_dir[1024];
-    fv_vk_compute cs;            /* the compose pass's layout and sets; its pipelines are made per source count */
-    VkPipeline compose[FV_XR_COMPOSE_MAX_SOURCES]; /* [n - 1]: specialised for n sources (compose.comp's NSRC) */
+    fv_vk_compute cs;            /* the compose pass's layout and sets (one per eye: its sources); its pipelines are
+                                  * made per source count */
+    VkPipeline compose[2][FV_XR_COMPOSE_MAX_SOURCES]; /* [lens][n - 1]: specialised for n sources and through the lens
+                                                       * or not (compose.comp's NSRC, LENS) */
+    bool lens_in_compose;        /* the post chain's one pass is the lens: frames of one layer per eye go through the
+                                  * lens in the compose pass, the chain is not recorded for them */
     VkSampler sampler;
     fv_vk_buffer block;          /* fv_xr_compose_block, host-visible */
     VkCommandBuffer cmd;

@@ -104,6 +104,7 @@ typedef struct fv_xr_frame_stats {
     double gaze_photon_ms_sum, gaze_photon_ms_max; /* its age at the photons of the vsync that showed the frame */
     uint64_t gaze_photon_frames;
     uint64_t replaced;         /* frames queued for the compositor and replaced by a newer one before it began */
+    uint64_t through_lens;     /* of the composited: one pass through the lens (one layer per eye), no lens pass */
 } fv_xr_frame_stats;
 
 /** A frame that finished at t_done_ns meant for vsync `target` (predicted photon time predicted_ns): which vsync

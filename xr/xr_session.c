@@ -218,6 +218,7 @@ static void write_stats(struct XrSession_T *s)
     fprintf(f, "  \"frames_composited\": %llu,\n", (unsigned long long)st->composited);
     fprintf(f, "  \"frames_missed\": %llu,\n", (unsigned long long)st->missed);
     fprintf(f, "  \"frames_replaced\": %llu,\n", (unsigned long long)st->replaced);
+    fprintf(f, "  \"frames_through_lens\": %llu,\n", (unsigned long long)st->through_lens);
     fprintf(f, "  \"app_ms\": %.4f,\n", st->app_ms_ema);
     fprintf(f, "  \"composite_ms_mean\": %.4f,\n", st->composite_ms_sum / nc);
     fprintf(f, "  \"app_gpu_wait_ms_mean\": %.4f,\n", st->app_gpu_wait_ms_sum / nc);
