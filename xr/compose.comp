@@ -1,8 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // @brief fovea's OpenXR compositor: every layer of both eyes into the display image (sRGB-encoded RGBA8), in layer
-// order, through each layer's homography (compose_interface.h); or, through the lens (LENS), the one layer of each
-// eye straight into the pre-distorted display image: per display pixel and colour channel the ray the HMD's lens
+// order, through each layer's homography (compose_interface.h); or, through the lens (LENS), an eye's layers
+// straight into the pre-distorted display image: per display pixel and colour channel the ray the HMD's lens
 // shows there (the evaluation of render/distort/distort.comp, fv_lens_panel_to_tan), the layer sampled along it.
 #include "compose_interface.h"
 #include "fv_common.glsl"
@@ -19,8 +19,8 @@ layout(push_constant) uniform Push { uint eye; } pc;
 // no branch at all. Every branch is run by every invocation on lavapipe (masked), so a switch over all 16 sources
 // cost 16 samples per layer and pixel (10x the pass's time for the usual 1 or 2 sources).
 layout(constant_id = FV_XR_COMPOSE_SPEC_NSRC) const uint NSRC = FV_XR_COMPOSE_MAX_SOURCES;
-// Through the lens (one layer per eye, the lens pre-distortion in this pass): one pass over the display instead of
-// composing an image that the lens pass copies and resamples (the compositor's usual frame: one projection layer).
+// Through the lens (up to FV_XR_COMPOSE_LENS_MAX_LAYERS per eye, the lens pre-distortion in this pass): one pass over
+// the display instead of composing an image that the lens pass copies and resamples.
 layout(constant_id = FV_XR_COMPOSE_SPEC_LENS) const bool LENS = false;
 
 vec4 fetch(uint i, vec3 uvl)
@@ -58,6 +58,19 @@ bool sample_layer(fv_xr_compose_layer l, vec3 ray, out vec4 c, out vec2 uv)
     return true;
 }
 
+// Layer l's colour c (premultiplied, sample_layer) at uv over what is under it.
+vec3 blend(fv_xr_compose_layer l, vec4 c, vec2 uv, vec3 under)
+{
+    vec3 color = (l.info.z & FV_XR_LAYER_ALPHA) != 0u ? c.rgb + under * (1.0 - clamp(c.a, 0.0, 1.0)) : c.rgb;
+    if ((l.info.z & FV_XR_LAYER_INSET) != 0u) {
+        // an inset blends into what is under it (the wide view) over the band at its edge: a smoothstep per axis
+        vec2 band = max(vec2(l.h[0].w, l.h[1].w), vec2(1e-6));
+        vec2 s = smoothstep(vec2(0.0), band, min(uv, vec2(1.0) - uv));
+        color = mix(under, color, s.x * s.y);
+    }
+    return color;
+}
+
 // Every layer of an eye along a display ray, in layer order.
 vec3 compose(uint eye, vec3 ray)
 {
@@ -67,39 +80,37 @@ vec3 compose(uint eye, vec3 ray)
         fv_xr_compose_layer l = b.layer[eye * uint(FV_XR_COMPOSE_MAX_LAYERS) + i];
         vec4 c;
         vec2 uv;
-        if (!sample_layer(l, ray, c, uv)) continue;
-        vec3 under = color;
-        color = (l.info.z & FV_XR_LAYER_ALPHA) != 0u ? c.rgb + color * (1.0 - clamp(c.a, 0.0, 1.0)) : c.rgb;
-        if ((l.info.z & FV_XR_LAYER_INSET) != 0u) {
-            // an inset blends into what is under it (the wide view) over the band at its edge: a smoothstep per axis
-            vec2 band = max(vec2(l.h[0].w, l.h[1].w), vec2(1e-6));
-            vec2 s = smoothstep(vec2(0.0), band, min(uv, vec2(1.0) - uv));
-            color = mix(under, color, s.x * s.y);
-        }
+        if (sample_layer(l, ray, c, uv)) color = blend(l, c, uv, color);
     }
     return color;
 }
 
-// The eye's one layer through the lens: each channel along its own ray (chromatic aberration), black where the ray
+// An eye's layers through the lens: each channel along its own ray (chromatic aberration), black where the ray
 // leaves the display frustum (the extent of the image the lens pass would have sampled) or past the visible radius.
 vec3 through_lens(uint eye, uvec2 px)
 {
     vec3 color = vec3(0.0);
-    if ((eye == 0u ? b.counts.x : b.counts.y) == 0u) return color;
+    uint n = eye == 0u ? b.counts.x : b.counts.y;
     vec2 q = (vec2(px) + 0.5) / vec2(b.counts.zw) * b.lens_geometry.xy -
              (eye == 0u ? b.lens_centre.xy : b.lens_centre.zw); // metres from the lens centre, y down
     float r = length(q) / b.lens_geometry.z;
-    if (b.lens_aberration.w > 0.0 && r > b.lens_aberration.w) return color;
+    if (n == 0u || (b.lens_aberration.w > 0.0 && r > b.lens_aberration.w)) return color;
     vec4 k = b.lens_k, t = b.tan[eye];
     float d = (k.x + r * (k.y + r * (k.z + r * k.w))) * b.lens_geometry.w;
-    fv_xr_compose_layer l = b.layer[eye * uint(FV_XR_COMPOSE_MAX_LAYERS)];
+    vec3 ray[3];
+    bool inside[3];
     for (int ch = 0; ch < 3; ch++) {
         vec2 tt = q * (d * b.lens_aberration[ch]); // tangent x right, y down
-        vec3 ray = vec3(tt.x, -tt.y, 1.0);
-        vec4 c;
-        vec2 uv;
-        if (ray.x >= t.x && ray.x <= t.y && ray.y <= t.z && ray.y >= t.w && sample_layer(l, ray, c, uv))
-            color[ch] = c[ch];
+        ray[ch] = vec3(tt.x, -tt.y, 1.0);
+        inside[ch] = ray[ch].x >= t.x && ray[ch].x <= t.y && ray[ch].y <= t.z && ray[ch].y >= t.w;
+    }
+    for (uint i = 0u; i < n && i < uint(FV_XR_COMPOSE_MAX_LAYERS); i++) {
+        fv_xr_compose_layer l = b.layer[eye * uint(FV_XR_COMPOSE_MAX_LAYERS) + i];
+        for (int ch = 0; ch < 3; ch++) {
+            vec4 c;
+            vec2 uv;
+            if (inside[ch] && sample_layer(l, ray[ch], c, uv)) color[ch] = blend(l, c, uv, vec3(color[ch]))[ch];
+        }
     }
     return color;
 }

@@ -2,9 +2,9 @@
  * block (std140). Each layer maps a display pixel's view ray (tangent coordinates of the display eye) through a 3x3
  * homography onto its source image's [0,1]^2 (projection layers: rotation re-projection into the layer view's
  * frustum; quad layers: the ray's hit on the quad's plane), then blends in layer order. Through the lens (the
- * specialisation FV_XR_COMPOSE_SPEC_LENS, one layer per eye): the display pixel is a point of the HMD's panel and
- * each colour channel's ray is the one the lens shows there (the block's lens, fv_lens.h), so the pass writes the
- * pre-distorted display image itself and the layer is sampled once per channel (no composed image in between). */
+ * specialisation FV_XR_COMPOSE_SPEC_LENS): the display pixel is a point of the HMD's panel and each colour channel's
+ * ray is the one the lens shows there (the block's lens, fv_lens.h), so the pass writes the pre-distorted display
+ * image itself and each layer is sampled once per channel (no composed image in between). */
 #ifndef FV_XR_COMPOSE_INTERFACE_H
 #define FV_XR_COMPOSE_INTERFACE_H
 
@@ -16,7 +16,11 @@
 #define FV_XR_COMPOSE_BINDING_DISPLAY 1
 #define FV_XR_COMPOSE_BINDING_LAYERS 2
 #define FV_XR_COMPOSE_SPEC_NSRC 0    /* specialisation constants: the frame's source count */
-#define FV_XR_COMPOSE_SPEC_LENS 1    /* 1: through the lens (one layer per eye), 0: the composed display image */
+#define FV_XR_COMPOSE_SPEC_LENS 1    /* 1: through the lens, 0: the composed display image */
+#define FV_XR_COMPOSE_LENS_MAX_LAYERS 2 /* through the lens when no eye has more layers: each layer costs 3 samples
+                                         * per pixel there (one per channel), against 1 and the lens pass's 3 (and
+                                         * its copy) for the whole frame composed first: even at 2 full-view layers,
+                                         * ahead for the usual projection layer and a quad (the CTS's frames) */
 
 #define FV_XR_LAYER_ALPHA 1u         /* XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT */
 #define FV_XR_LAYER_UNPREMULTIPLIED 2u /* XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT */

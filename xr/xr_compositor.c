@@ -180,12 +180,13 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
                                                     &c->post)) == FV_OK)
         for (uint32_t k = 0; k < fv_post_chain_planned(c->post); k++)
             FV_INFO(FV_XR_LOG, "%s: %s", fv_post_chain_pass_id(c->post, k), fv_post_chain_reason(c->post, k));
-    /* the chain's one pass is the lens (distort): a frame of one layer per eye is composed through the lens instead
-     * (compose.comp's LENS: one pass, the layer sampled once per channel), others are composed and then distorted */
+    /* the chain's one pass is the lens (distort): a frame of few layers per eye is composed through the lens instead
+     * (compose.comp's LENS: one pass, each layer sampled once per channel), others are composed and then distorted */
     c->lens_in_compose = res == FV_OK && c->input.quality.distort.lens.valid && fv_post_chain_count(c->post) == 1 &&
                          fv_post_chain_planned(c->post) == 1 && !strcmp(fv_post_chain_pass_id(c->post, 0), "distort");
     if (c->lens_in_compose)
-        FV_INFO(FV_XR_LOG, "frames of one layer per eye: composed through the lens in one pass (no distort pass)");
+        FV_INFO(FV_XR_LOG, "frames of up to %d layers per eye: composed through the lens in one pass (no distort pass)",
+                FV_XR_COMPOSE_LENS_MAX_LAYERS);
     /* the target: the window when presenting in one (xr_present.h), PNG files of the last frame with
      * FOVEA_XR_OUT=dir, else headless */
     const char *out = getenv("FOVEA_XR_OUT");
@@ -211,6 +212,7 @@ done:
     }
     c->active = true;
     c->frame_id = 0;
+    c->pace = (fv_xr_pace_window){0};
     /* frames are composited on the compositor's own thread; a window's on the app's thread (GLFW's rule) */
     c->stop = c->has_pending = c->busy = false;
     c->threaded = !fv_xr_present_windowed(c->present);
@@ -451,8 +453,9 @@ static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameE
     }
     blk->counts.x = nl[0];
     blk->counts.y = nl[1];
-    /* through the lens: at most one layer per eye (an inset is a second one) */
-    j->through_lens = c->lens_in_compose && nl[0] <= 1 && nl[1] <= 1;
+    /* through the lens: few layers per eye (compose_interface.h) */
+    j->through_lens = c->lens_in_compose && nl[0] <= FV_XR_COMPOSE_LENS_MAX_LAYERS &&
+                      nl[1] <= FV_XR_COMPOSE_LENS_MAX_LAYERS;
     const fv_lens *lens = &c->input.quality.distort.lens;
     blk->lens_centre = (fv_xr_vec4){lens->centre_m[0][0], lens->centre_m[0][1], lens->centre_m[1][0],
                                     lens->centre_m[1][1]};
@@ -651,6 +654,7 @@ static void job_complete(fv_xr_compositor *c, comp_job *j)
         c->acc.composite_ms_sum += ms;
         c->acc.app_gpu_wait_ms_sum += wait_ms;
         c->cpu_ms_ema = c->cpu_frames++ == 0 ? ms : c->cpu_ms_ema + 0.1 * (ms - c->cpu_ms_ema);
+        fv_xr_pace_window_add(&c->pace, ms - wait_ms);
         fv_xr_stats_present(&c->acc, j->display, t_done, j->target_vsync, j->predicted_ns, j->gaze_sample_ns);
     } else if (c->error == FV_OK) {
         c->error = res;
@@ -750,7 +754,8 @@ bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, 
     return idle;
 }
 
-fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema)
+fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema,
+                                double *out_need_ms)
 {
     pthread_mutex_lock(&c->mu);
     fv_xr_frame_stats *a = &c->acc;
@@ -769,10 +774,18 @@ fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, dou
     if (a->gaze_photon_ms_max > acc->gaze_photon_ms_max) acc->gaze_photon_ms_max = a->gaze_photon_ms_max;
     memset(a, 0, sizeof *a);
     *out_cpu_ms_ema = c->cpu_ms_ema;
+    if (!fv_xr_pace_window_need(&c->pace, out_need_ms)) *out_need_ms = -1.0;
     fv_result e = c->error;
     c->error = FV_OK;
     pthread_mutex_unlock(&c->mu);
     return e;
+}
+
+void fv_xr_compositor_pace_idle(fv_xr_compositor *c)
+{
+    pthread_mutex_lock(&c->mu);
+    fv_xr_pace_window_add(&c->pace, 0.0);
+    pthread_mutex_unlock(&c->mu);
 }
 
 void fv_xr_compositor_gpu_lock(fv_xr_compositor *c) { pthread_mutex_lock(&c->gpu_mu); }

@@ -14,6 +14,7 @@
 #include "fv_post_chain.h"
 #include "fv_target.h"
 #include "fv_vk.h"
+#include "fv_xr_pace.h"
 #include "xr_internal.h"
 #include "xr_present.h"
 
@@ -45,7 +46,7 @@ typedef struct source_ref {
  * released images they read, and what its presentation is measured against. */
 typedef struct comp_job {
     fv_xr_compose_block blk;
-    bool through_lens;           /* compose.comp's LENS variant (one layer per eye, the lens on) */
+    bool through_lens;           /* compose.comp's LENS variant (few layers per eye, the lens on) */
     source_ref src[FV_XR_COMPOSE_MAX_SOURCES]; /* every image the frame reads */
     uint32_t nsrc;
     uint8_t eye_src[2][FV_XR_COMPOSE_MAX_SOURCES]; /* eye e's binding array: indices into src (a layer's info.x is
@@ -75,7 +76,7 @@ struct fv_xr_compositor {
                                   * made per source count */
     VkPipeline compose[2][FV_XR_COMPOSE_MAX_SOURCES]; /* [lens][n - 1]: specialised for n sources and through the lens
                                                        * or not (compose.comp's NSRC, LENS) */
-    bool lens_in_compose;        /* the post chain's one pass is the lens: frames of one layer per eye go through the
+    bool lens_in_compose;        /* the post chain's one pass is the lens: frames of few layers per eye go through the
                                   * lens in the compose pass, the chain is not recorded for them */
     VkSampler sampler;
     fv_vk_buffer block;          /* fv_xr_compose_block, host-visible */
@@ -101,6 +102,7 @@ struct fv_xr_compositor {
     fv_result error;             /* the first failure since then */
     double cpu_ms_ema;
     uint64_t cpu_frames;
+    fv_xr_pace_window pace;      /* the compositor's own time of its last frames (fv_xr_pace.h) */
 };
 
 /** An image barrier on a swapchain image (its aspect from the swapchain's format), for the hand-overs between the
