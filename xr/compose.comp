@@ -43,8 +43,9 @@ vec4 fetch(uint i, vec3 uvl)
     return textureLod(sources[15], uvl, 0.0);
 }
 
-// Layer l's colour along a display ray (tangent coordinates), premultiplied; false when the ray misses it.
-bool sample_layer(fv_xr_compose_layer l, vec3 ray, out vec4 c, out vec2 uv)
+// Layer l's colour along a display ray (tangent coordinates) from its source, premultiplied; false when the ray
+// misses it.
+bool sample_layer(fv_xr_compose_layer l, uint source, vec3 ray, out vec4 c, out vec2 uv)
 {
     vec3 p = vec3(dot(l.h[0].xyz, ray), dot(l.h[1].xyz, ray), dot(l.h[2].xyz, ray));
     c = vec4(0.0);
@@ -52,7 +53,7 @@ bool sample_layer(fv_xr_compose_layer l, vec3 ray, out vec4 c, out vec2 uv)
     if (!(p.z > 1e-6)) return false;
     uv = p.xy / p.z;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return false;
-    c = fetch(l.info.x, vec3(l.uv_rect.xy + uv * l.uv_rect.zw, float(l.info.y)));
+    c = fetch(source, vec3(l.uv_rect.xy + uv * l.uv_rect.zw, float(l.info.y)));
     const uint unpremultiplied = FV_XR_LAYER_ALPHA | FV_XR_LAYER_UNPREMULTIPLIED; // alpha only counts when blended
     if ((l.info.z & unpremultiplied) == unpremultiplied) c.rgb *= c.a;
     return true;
@@ -80,7 +81,7 @@ vec3 compose(uint eye, vec3 ray)
         fv_xr_compose_layer l = b.layer[eye * uint(FV_XR_COMPOSE_MAX_LAYERS) + i];
         vec4 c;
         vec2 uv;
-        if (sample_layer(l, ray, c, uv)) color = blend(l, c, uv, color);
+        if (sample_layer(l, l.info.x, ray, c, uv)) color = blend(l, c, uv, color);
     }
     return color;
 }
@@ -104,12 +105,15 @@ vec3 through_lens(uint eye, uvec2 px)
         ray[ch] = vec3(tt.x, -tt.y, 1.0);
         inside[ch] = ray[ch].x >= t.x && ray[ch].x <= t.y && ray[ch].y <= t.z && ray[ch].y >= t.w;
     }
-    for (uint i = 0u; i < n && i < uint(FV_XR_COMPOSE_MAX_LAYERS); i++) {
+    // NSRC is the eye's layer count here and source i is layer i's image: the loop's count is a constant, each
+    // layer's fetch one sample (lavapipe runs every branch of fetch's chain when the index is not a constant)
+    for (uint i = 0u; i < NSRC; i++) {
+        if (i >= n) break;
         fv_xr_compose_layer l = b.layer[eye * uint(FV_XR_COMPOSE_MAX_LAYERS) + i];
         for (int ch = 0; ch < 3; ch++) {
             vec4 c;
             vec2 uv;
-            if (inside[ch] && sample_layer(l, ray[ch], c, uv)) color[ch] = blend(l, c, uv, vec3(color[ch]))[ch];
+            if (inside[ch] && sample_layer(l, i, ray[ch], c, uv)) color[ch] = blend(l, c, uv, vec3(color[ch]))[ch];
         }
     }
     return color;

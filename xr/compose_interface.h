@@ -15,7 +15,8 @@
 #define FV_XR_COMPOSE_BINDING_SOURCES 0
 #define FV_XR_COMPOSE_BINDING_DISPLAY 1
 #define FV_XR_COMPOSE_BINDING_LAYERS 2
-#define FV_XR_COMPOSE_SPEC_NSRC 0    /* specialisation constants: the frame's source count */
+#define FV_XR_COMPOSE_SPEC_NSRC 0    /* specialisation constants: the eye's source count (through the lens: its
+                                      * layer count, source i being layer i's image) */
 #define FV_XR_COMPOSE_SPEC_LENS 1    /* 1: through the lens, 0: the composed display image */
 #define FV_XR_COMPOSE_LENS_MAX_LAYERS 2 /* through the lens when no eye has more layers: each layer costs 3 samples
                                          * per pixel there (one per channel), against 1 and the lens pass's 3 (and

@@ -456,6 +456,9 @@ static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameE
     /* through the lens: few layers per eye (compose_interface.h) */
     j->through_lens = c->lens_in_compose && nl[0] <= FV_XR_COMPOSE_LENS_MAX_LAYERS &&
                       nl[1] <= FV_XR_COMPOSE_LENS_MAX_LAYERS;
+    for (uint32_t e = 0; j->through_lens && e < 2; e++)
+        for (uint32_t i = 0; i < nl[e]; i++)
+            j->lens_src[e][i] = j->eye_src[e][blk->layer[e * FV_XR_COMPOSE_MAX_LAYERS + i].info.x];
     const fv_lens *lens = &c->input.quality.distort.lens;
     blk->lens_centre = (fv_xr_vec4){lens->centre_m[0][0], lens->centre_m[0][1], lens->centre_m[1][0],
                                     lens->centre_m[1][1]};
@@ -516,7 +519,10 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     VkDescriptorImageInfo ii[2][FV_XR_COMPOSE_MAX_SOURCES];
     VkWriteDescriptorSet w[2];
     for (uint32_t e = 0; e < 2; e++) {
-        uint32_t n = j->eye_nsrc[e] ? j->eye_nsrc[e] : 1;
+        /* through the lens: a source per layer (layer i's image bound as source i); else the eye's distinct ones */
+        const uint8_t *table = j->through_lens ? j->lens_src[e] : j->eye_src[e];
+        uint32_t count = j->through_lens ? (e ? j->blk.counts.y : j->blk.counts.x) : j->eye_nsrc[e];
+        uint32_t n = count ? count : 1;
         VkPipeline *p = &c->compose[j->through_lens][n - 1];
         if (!*p) {
             uint32_t spec[2] = {[FV_XR_COMPOSE_SPEC_NSRC] = n, [FV_XR_COMPOSE_SPEC_LENS] = j->through_lens};
@@ -528,7 +534,7 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
         }
         pipe[e] = *p;
         for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
-            const source_ref *r = &src[i < j->eye_nsrc[e] ? j->eye_src[e][i] : j->eye_nsrc[e] ? j->eye_src[e][0] : 0];
+            const source_ref *r = &src[i < count ? table[i] : count ? table[0] : 0];
             ii[e][i] = (VkDescriptorImageInfo){c->sampler, r->sc->images[r->index].comp_view,
                                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
         }

@@ -52,6 +52,8 @@ typedef struct comp_job {
     uint8_t eye_src[2][FV_XR_COMPOSE_MAX_SOURCES]; /* eye e's binding array: indices into src (a layer's info.x is
                                                     * its eye's slot) */
     uint32_t eye_nsrc[2];
+    uint8_t lens_src[2][FV_XR_COMPOSE_LENS_MAX_LAYERS]; /* through the lens: eye e's layer i reads src[lens_src[e][i]]
+                                                         * (bound as source i: a constant index per layer) */
     VkDevice app_device;         /* the app's fences of the releases */
     XrTime display_time;
     fv_display *display;
