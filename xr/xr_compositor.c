@@ -493,9 +493,9 @@ void fv_xr_compositor_submit(fv_xr_compositor *c, struct XrSession_T *s, const X
 
 /* Composite a job: wait for the app's releases, record the compose and distortion passes and the target's
  * hand-over, submit, wait. The compositor's own thread (or a window's app thread), c->gpu_mu held. */
-static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_ms)
+static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_ms, double *out_target_ms)
 {
-    *out_app_wait_ms = 0.0;
+    *out_app_wait_ms = *out_target_ms = 0.0;
     if (!c->active) return FV_ERR_STATE;
     fv_vk *vk = c->vk;
     source_ref *src = j->src;
@@ -606,8 +606,10 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
                           .frame_id = c->frame_id, .cmd = cmd, .image_ready = c->sem_ready,
                           .frame_done = c->sem_done};
     bool wait_ready = false, signal_done = false;
+    int64_t t_target = fv_xr_now_ns(); /* a window's acquire and present wait for its display, not for us */
     if (c->target->ops->begin && (res = c->target->ops->begin(c->target, &tf, &wait_ready, &signal_done)) != FV_OK)
         return res;
+    *out_target_ms = (double)(fv_xr_now_ns() - t_target) * 1e-6;
     if (c->target->ops->record) c->target->ops->record(c->target, &tf);
     fv_vk_label_end(vk, cmd);
     FV_VK_CHECK(vkEndCommandBuffer(cmd));
@@ -636,7 +638,9 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
         im->ext_old = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL; /* the compositor's release is now the one in flight */
         im->ext_new = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     }
+    t_target = fv_xr_now_ns();
     if (c->target->ops->end && (res = c->target->ops->end(c->target, &tf)) != FV_OK) return res;
+    *out_target_ms += (double)(fv_xr_now_ns() - t_target) * 1e-6;
     fv_images_next_frame(&c->images);
     c->frame_id++;
     return FV_OK;
@@ -648,7 +652,8 @@ static void job_complete(fv_xr_compositor *c, comp_job *j)
     int64_t t0 = fv_xr_now_ns();
     double wait_ms = 0.0;
     pthread_mutex_lock(&c->gpu_mu);
-    fv_result res = job_run(c, j, &wait_ms);
+    double target_ms = 0.0;
+    fv_result res = job_run(c, j, &wait_ms, &target_ms);
     pthread_mutex_unlock(&c->gpu_mu);
     int64_t t_done = fv_xr_now_ns();
     double ms = (double)(t_done - t0) * 1e-6;
@@ -660,7 +665,7 @@ static void job_complete(fv_xr_compositor *c, comp_job *j)
         c->acc.composite_ms_sum += ms;
         c->acc.app_gpu_wait_ms_sum += wait_ms;
         c->cpu_ms_ema = c->cpu_frames++ == 0 ? ms : c->cpu_ms_ema + 0.1 * (ms - c->cpu_ms_ema);
-        fv_xr_pace_window_add(&c->pace, ms - wait_ms);
+        fv_xr_pace_window_add(&c->pace, ms - wait_ms - target_ms); /* its own work: pacing (fv_xr_pace.h) */
         fv_xr_stats_present(&c->acc, j->display, t_done, j->target_vsync, j->predicted_ns, j->gaze_sample_ns);
     } else if (c->error == FV_OK) {
         c->error = res;

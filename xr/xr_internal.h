@@ -357,7 +357,8 @@ bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, 
 /** Take what the compositor did since the last call: composited frames, their CPU time and presentation
  *  (composited, replaced, composite_ms_sum, app_gpu_wait_ms_sum and the presentation fields of fv_xr_frame_stats,
  *  added to *acc), the compositor's CPU time per frame (EMA, ms), the time a frame needs of it for pacing
- *  (fv_xr_pace_window_need over its own time, without the wait for the app's releases; -1 while unknown) and the
+ *  (fv_xr_pace_window_need over its own time, without the wait for the app's releases and a window's acquire and
+ *  present; -1 while unknown) and the
  *  first failure (FV_OK: none). */
 fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema,
                                 double *out_need_ms);
