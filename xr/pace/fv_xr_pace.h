@@ -1,9 +1,8 @@
 /* @brief The display period fovea's OpenXR runtime paces apps at: the refresh period, or an integer multiple k of it
  * when the compositor cannot finish a frame within one refresh (as SteamVR's motion smoothing and Oculus's ASW drop
  * an app to 45 of 90 Hz). The compositor's own time per frame (without waiting for the app's GPU or for a window's
- * acquire and present, which wait for its display) goes into a window
- * of the last FV_XR_PACE_WINDOW frames; its 75th percentile (a one-off, such as a pipeline made on first use, does not
- * count) is what a frame needs; k is the smallest integer whose k refreshes hold it, raised at once, lowered only
+ * acquire and present, which wait for its display) goes into a window of the last FV_XR_PACE_WINDOW frames; its 75th
+ * percentile (a one-off, such as a pipeline made on first use, does not count) is what a frame needs; k is the smallest integer whose k refreshes hold it, raised at once, lowered only
  * when the lower k holds it with FV_XR_PACE_HEADROOM to spare (no flapping between two k at the boundary).
  * xrWaitFrame then plans vsyncs k refreshes apart and reports predictedDisplayPeriod = k refreshes. */
 #ifndef FV_XR_PACE_H
