@@ -13,7 +13,8 @@
 
 #define FV_XR_PACE_WINDOW 16      /* frames in the window */
 #define FV_XR_PACE_MIN_FRAMES 8   /* no estimate (k stays) before this many frames */
-#define FV_XR_PACE_MAX 64         /* the largest divisor (0.7 s at 90 Hz: beyond it a frame is a stall, not a pace) */
+#define FV_XR_PACE_MAX 255        /* the largest divisor (2.8 s at 90 Hz; lavapipe needs 0.7 s a frame for the generic
+                                   * HMD's whole panel: a lower ceiling made the period reported a lie there) */
 #define FV_XR_PACE_HEADROOM 0.8   /* k is lowered when k - 1 refreshes hold the need with 20% to spare */
 
 typedef struct fv_xr_pace_window {
