@@ -145,7 +145,8 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
                              .code_size = sizeof fv_spv_compose_comp,
                              .bindings = g_bindings,
                              .binding_count = 3,
-                             .set_count = 1,
+                             .set_count = 2,
+                             .push_bytes = sizeof(uint32_t),
                              .lazy = true};
     if (res == FV_OK) res = fv_vk_compute_init(c->vk, &cd, &c->cs);
     if (res == FV_OK) res = fv_vk_sampler_create(c->vk, true, false, "xr compose sampler (linear, clamp)", &c->sampler);
@@ -153,10 +154,12 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
         res = fv_vk_buffer_create(c->vk, sizeof(fv_xr_compose_block), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                   FV_VK_MEM_UPLOAD, "xr compose layers", &c->block);
     if (res == FV_OK) {
-        fv_vk_write_image(c->vk, c->cs.sets[0], FV_XR_COMPOSE_BINDING_DISPLAY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                          display->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-        fv_vk_write_buffer(c->vk, c->cs.sets[0], FV_XR_COMPOSE_BINDING_LAYERS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-                           c->block.buffer, 0, sizeof(fv_xr_compose_block));
+        for (uint32_t e = 0; e < 2; e++) { /* a set per eye (its sources; the same display and layers) */
+            fv_vk_write_image(c->vk, c->cs.sets[e], FV_XR_COMPOSE_BINDING_DISPLAY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                              display->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+            fv_vk_write_buffer(c->vk, c->cs.sets[e], FV_XR_COMPOSE_BINDING_LAYERS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                               c->block.buffer, 0, sizeof(fv_xr_compose_block));
+        }
         VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
                                           .commandPool = c->vk->pool,
                                           .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
@@ -177,6 +180,13 @@ fv_result fv_xr_compositor_session_begin(fv_xr_compositor *c, uint32_t width, ui
                                                     &c->post)) == FV_OK)
         for (uint32_t k = 0; k < fv_post_chain_planned(c->post); k++)
             FV_INFO(FV_XR_LOG, "%s: %s", fv_post_chain_pass_id(c->post, k), fv_post_chain_reason(c->post, k));
+    /* the chain's one pass is the lens (distort): a frame of few layers per eye is composed through the lens instead
+     * (compose.comp's LENS: one pass, each layer sampled once per channel), others are composed and then distorted */
+    c->lens_in_compose = res == FV_OK && c->input.quality.distort.lens.valid && fv_post_chain_count(c->post) == 1 &&
+                         fv_post_chain_planned(c->post) == 1 && !strcmp(fv_post_chain_pass_id(c->post, 0), "distort");
+    if (c->lens_in_compose)
+        FV_INFO(FV_XR_LOG, "frames of up to %d layers per eye: composed through the lens in one pass (no distort pass)",
+                FV_XR_COMPOSE_LENS_MAX_LAYERS);
     /* the target: the window when presenting in one (xr_present.h), PNG files of the last frame with
      * FOVEA_XR_OUT=dir, else headless */
     const char *out = getenv("FOVEA_XR_OUT");
@@ -202,6 +212,7 @@ done:
     }
     c->active = true;
     c->frame_id = 0;
+    c->pace = (fv_xr_pace_window){0};
     /* frames are composited on the compositor's own thread; a window's on the app's thread (GLFW's rule) */
     c->stop = c->has_pending = c->busy = false;
     c->threaded = !fv_xr_present_windowed(c->present);
@@ -241,10 +252,11 @@ void fv_xr_compositor_session_end(fv_xr_compositor *c)
     c->timer_ready = false;
     if (c->sampler) vkDestroySampler(c->vk->device, c->sampler, NULL);
     c->sampler = VK_NULL_HANDLE;
-    for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
-        if (c->compose[i]) vkDestroyPipeline(c->vk->device, c->compose[i], NULL);
-        c->compose[i] = VK_NULL_HANDLE;
-    }
+    for (uint32_t l = 0; l < 2; l++)
+        for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
+            if (c->compose[l][i]) vkDestroyPipeline(c->vk->device, c->compose[l][i], NULL);
+            c->compose[l][i] = VK_NULL_HANDLE;
+        }
     fv_vk_compute_fini(c->vk, &c->cs);
     if (c->images_ready) fv_images_fini(&c->images);
     c->images_ready = false;
@@ -337,14 +349,21 @@ static XrPosef pose_mul(XrPosef a, XrPosef b)
     return (XrPosef){{q.x, q.y, q.z, q.w}, {p.x, p.y, p.z}};
 }
 
-/* The source slot of a swapchain's released image in this frame's binding array (added on first use). */
-static int source_slot(source_ref *src, uint32_t *count, struct XrSwapchain_T *sc)
+/* The source slot of a swapchain's released image in eye e's binding array (added on first use), and in the frame's
+ * list of the images it reads (held, acquired and released once each); -1 when either is full. */
+static int source_slot(comp_job *j, int e, struct XrSwapchain_T *sc)
 {
-    for (uint32_t i = 0; i < *count; i++)
-        if (src[i].sc == sc) return (int)i;
-    if (*count == FV_XR_COMPOSE_MAX_SOURCES) return -1;
-    src[*count] = (source_ref){sc, (uint32_t)sc->last_released};
-    return (int)(*count)++;
+    uint32_t g = 0;
+    while (g < j->nsrc && j->src[g].sc != sc) g++;
+    for (uint32_t i = 0; i < j->eye_nsrc[e]; i++)
+        if (j->eye_src[e][i] == g) return (int)i;
+    if (j->eye_nsrc[e] == FV_XR_COMPOSE_MAX_SOURCES) return -1;
+    if (g == j->nsrc) {
+        if (j->nsrc == FV_XR_COMPOSE_MAX_SOURCES) return -1;
+        j->src[j->nsrc++] = (source_ref){sc, (uint32_t)sc->last_released};
+    }
+    j->eye_src[e][j->eye_nsrc[e]] = (uint8_t)g;
+    return (int)j->eye_nsrc[e]++;
 }
 
 static void set_layer(fv_xr_compose_layer *l, const mat3 *h, const XrSwapchainSubImage *si, uint32_t slot,
@@ -372,7 +391,7 @@ static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameE
     memset(blk, 0, sizeof *blk);
     blk->counts.z = c->width;
     blk->counts.w = c->height;
-    j->nsrc = 0;
+    j->nsrc = j->eye_nsrc[0] = j->eye_nsrc[1] = 0;
     j->app_device = s->vk.device;
     j->display_time = info->displayTime;
     j->display = s->display;
@@ -389,8 +408,6 @@ static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameE
         XrPosef off = {{0, 0, 0, 1}, {(e == 0 ? -0.5f : 0.5f) * 0.063f, 0, 0}};
         eye_local[e] = pose_mul(head, off);
     }
-    source_ref *src = j->src;
-    uint32_t nsrc = 0;
     uint32_t nl[2] = {0, 0};
     for (uint32_t i = 0; i < info->layerCount; i++) {
         const XrCompositionLayerBaseHeader *lh = info->layers[i];
@@ -415,7 +432,7 @@ static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameE
                 if (!quad_homography(&eye_local[e], &quad_local, q->size, &h)) continue;
                 si = &q->subImage;
             }
-            int slot = source_slot(src, &nsrc, si->swapchain);
+            int slot = source_slot(j, e, si->swapchain);
             if (slot < 0) continue; /* more distinct swapchains than the pass binds: the layer is dropped */
             set_layer(&blk->layer[e * FV_XR_COMPOSE_MAX_LAYERS + nl[e]], &h, si, (uint32_t)slot, lh->layerFlags);
             nl[e]++;
@@ -427,7 +444,7 @@ static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameE
             const XrCompositionLayerProjectionView *iv = &pl->views[e + 2];
             XrPosef inset_local = pose_mul(space_local, iv->pose);
             h = projection_homography(&eye_local[e], &inset_local, &iv->fov);
-            if ((slot = source_slot(src, &nsrc, iv->subImage.swapchain)) < 0) continue;
+            if ((slot = source_slot(j, e, iv->subImage.swapchain)) < 0) continue;
             fv_xr_compose_layer *il = &blk->layer[e * FV_XR_COMPOSE_MAX_LAYERS + nl[e]++];
             set_layer(il, &h, &iv->subImage, (uint32_t)slot, lh->layerFlags);
             fv_xr_quad_blend_band(&iv->fov, &il->h[0].w, &il->h[1].w);
@@ -436,7 +453,19 @@ static void job_build(fv_xr_compositor *c, struct XrSession_T *s, const XrFrameE
     }
     blk->counts.x = nl[0];
     blk->counts.y = nl[1];
-    j->nsrc = nsrc;
+    /* through the lens: few layers per eye (compose_interface.h) */
+    j->through_lens = c->lens_in_compose && nl[0] <= FV_XR_COMPOSE_LENS_MAX_LAYERS &&
+                      nl[1] <= FV_XR_COMPOSE_LENS_MAX_LAYERS;
+    for (uint32_t e = 0; j->through_lens && e < 2; e++)
+        for (uint32_t i = 0; i < nl[e]; i++)
+            j->lens_src[e][i] = j->eye_src[e][blk->layer[e * FV_XR_COMPOSE_MAX_LAYERS + i].info.x];
+    const fv_lens *lens = &c->input.quality.distort.lens;
+    blk->lens_centre = (fv_xr_vec4){lens->centre_m[0][0], lens->centre_m[0][1], lens->centre_m[1][0],
+                                    lens->centre_m[1][1]};
+    blk->lens_k = (fv_xr_vec4){lens->k[0], lens->k[1], lens->k[2], lens->k[3]};
+    blk->lens_aberration = (fv_xr_vec4){lens->aberration[0], lens->aberration[1], lens->aberration[2],
+                                        lens->visible_r};
+    blk->lens_geometry = (fv_xr_vec4){lens->viewport_m[0], lens->viewport_m[1], lens->warp_m, lens->tan_per_m};
 }
 
 /* The images a job reads are held (+1) or let go (-1). c->mu held. */
@@ -464,9 +493,9 @@ void fv_xr_compositor_submit(fv_xr_compositor *c, struct XrSession_T *s, const X
 
 /* Composite a job: wait for the app's releases, record the compose and distortion passes and the target's
  * hand-over, submit, wait. The compositor's own thread (or a window's app thread), c->gpu_mu held. */
-static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_ms)
+static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_ms, double *out_target_ms)
 {
-    *out_app_wait_ms = 0.0;
+    *out_app_wait_ms = *out_target_ms = 0.0;
     if (!c->active) return FV_ERR_STATE;
     fv_vk *vk = c->vk;
     source_ref *src = j->src;
@@ -484,31 +513,42 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     }
     *out_app_wait_ms = (double)(fv_xr_now_ns() - t_wait) * 1e-6;
     if (nsrc == 0) return FV_OK; /* nothing to show (no located layer) */
-    if (!c->compose[nsrc - 1]) { /* the compose pass for this many sources, on first use */
-        uint32_t spec = nsrc;
-        char name[48];
-        snprintf(name, sizeof name, "xr compose (%u sources)", nsrc);
-        fv_result pr = fv_vk_compute_pipeline(vk, fv_spv_compose_comp, sizeof fv_spv_compose_comp, c->cs.layout, &spec,
-                                              1, name, &c->compose[nsrc - 1]);
-        if (pr != FV_OK) return pr;
+    /* per eye: the compose pass for as many sources as that eye reads (through the lens or not), made on first use,
+     * and its own descriptor set: eye e's sources (unused slots repeat the first: every element must be valid) */
+    VkPipeline pipe[2];
+    VkDescriptorImageInfo ii[2][FV_XR_COMPOSE_MAX_SOURCES];
+    VkWriteDescriptorSet w[2];
+    for (uint32_t e = 0; e < 2; e++) {
+        /* through the lens: a source per layer (layer i's image bound as source i); else the eye's distinct ones */
+        const uint8_t *table = j->through_lens ? j->lens_src[e] : j->eye_src[e];
+        uint32_t count = j->through_lens ? (e ? j->blk.counts.y : j->blk.counts.x) : j->eye_nsrc[e];
+        uint32_t n = count ? count : 1;
+        VkPipeline *p = &c->compose[j->through_lens][n - 1];
+        if (!*p) {
+            uint32_t spec[2] = {[FV_XR_COMPOSE_SPEC_NSRC] = n, [FV_XR_COMPOSE_SPEC_LENS] = j->through_lens};
+            char name[64];
+            snprintf(name, sizeof name, "xr compose (%u sources%s)", n, j->through_lens ? ", through the lens" : "");
+            fv_result pr = fv_vk_compute_pipeline(vk, fv_spv_compose_comp, sizeof fv_spv_compose_comp, c->cs.layout,
+                                                  spec, 2, name, p);
+            if (pr != FV_OK) return pr;
+        }
+        pipe[e] = *p;
+        for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
+            const source_ref *r = &src[i < count ? table[i] : count ? table[0] : 0];
+            ii[e][i] = (VkDescriptorImageInfo){c->sampler, r->sc->images[r->index].comp_view,
+                                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        }
+        w[e] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                      .dstSet = c->cs.sets[e],
+                                      .dstBinding = FV_XR_COMPOSE_BINDING_SOURCES,
+                                      .descriptorCount = FV_XR_COMPOSE_MAX_SOURCES,
+                                      .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                      .pImageInfo = ii[e]};
     }
     memcpy(c->block.mapped, &j->blk, sizeof j->blk); /* the previous frame's GPU work finished (its fence) */
     fv_result res = fv_vk_buffer_flush(vk, &c->block);
     if (res != FV_OK) return res;
-    for (uint32_t i = 0; i < FV_XR_COMPOSE_MAX_SOURCES; i++) {
-        /* unused slots repeat the first source (every element of the array must be valid) */
-        const source_ref *r = &src[i < nsrc ? i : 0];
-        VkDescriptorImageInfo ii = {c->sampler, r->sc->images[r->index].comp_view,
-                                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        VkWriteDescriptorSet w = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-                                  .dstSet = c->cs.sets[0],
-                                  .dstBinding = FV_XR_COMPOSE_BINDING_SOURCES,
-                                  .dstArrayElement = i,
-                                  .descriptorCount = 1,
-                                  .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                  .pImageInfo = &ii};
-        vkUpdateDescriptorSets(vk->device, 1, &w, 0, NULL);
-    }
+    vkUpdateDescriptorSets(vk->device, 2, w, 0, NULL);
 
     VkCommandBuffer cmd = c->cmd;
     FV_VK_CHECK(vkResetCommandBuffer(cmd, 0));
@@ -538,9 +578,12 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     fv_images_use(&c->images, cmd, FV_IMAGE_DISPLAY,
                   (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                                     VK_ACCESS_SHADER_WRITE_BIT});
-    fv_vk_compute_bind_pipeline(&c->cs, cmd, c->compose[nsrc - 1], NULL, 0, 0, NULL);
-    vkCmdDispatch(cmd, (c->width + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP,
-                  (c->height + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP, 2);
+    for (uint32_t e = 0; e < 2; e++) { /* an eye per dispatch: its own sources (a sampler array is indexed by
+                                        * constants; on lavapipe each source an eye could read is sampled per pixel) */
+        fv_vk_compute_bind_pipeline(&c->cs, cmd, pipe[e], NULL, 0, e, &e);
+        vkCmdDispatch(cmd, (c->width + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP,
+                      (c->height + FV_XR_COMPOSE_GROUP - 1) / FV_XR_COMPOSE_GROUP, 1);
+    }
     fv_vk_timer_end(&c->timer, cmd, 0, tp_compose);
     /* give every source back to the external owner, in the layout the app renders in */
     uint32_t nrel = 0;
@@ -558,13 +601,15 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     /* the renderer's post chain (lens pre-distortion), then the target's hand-over */
     c->input.frame_id = c->frame_id;
     c->input.t_photon_ns = j->display_time;
-    fv_post_chain_record(c->post, cmd, &c->input, &c->timer, 0);
+    if (!j->through_lens) fv_post_chain_record(c->post, cmd, &c->input, &c->timer, 0);
     fv_target_frame tf = {.vk = vk, .images = &c->images, .width = c->width, .height = c->height, .slot = 0,
                           .frame_id = c->frame_id, .cmd = cmd, .image_ready = c->sem_ready,
                           .frame_done = c->sem_done};
     bool wait_ready = false, signal_done = false;
+    int64_t t_target = fv_xr_now_ns(); /* a window's acquire and present wait for its display, not for us */
     if (c->target->ops->begin && (res = c->target->ops->begin(c->target, &tf, &wait_ready, &signal_done)) != FV_OK)
         return res;
+    *out_target_ms = (double)(fv_xr_now_ns() - t_target) * 1e-6;
     if (c->target->ops->record) c->target->ops->record(c->target, &tf);
     fv_vk_label_end(vk, cmd);
     FV_VK_CHECK(vkEndCommandBuffer(cmd));
@@ -584,7 +629,7 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     char names[2][FV_VK_TIMER_NAME_MAX];
     if (fv_vk_timer_collect(&c->timer, vk, 0, ms, names, 2, &total) > 0) {
         c->gpu_ms_sum[0] += ms[0];
-        c->gpu_ms_sum[1] += fv_post_chain_count(c->post) ? ms[1] : 0.0;
+        c->gpu_ms_sum[1] += fv_post_chain_count(c->post) && !j->through_lens ? ms[1] : 0.0;
         c->gpu_frames++;
     }
     for (uint32_t i = 0; i < nsrc; i++) {
@@ -593,7 +638,9 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
         im->ext_old = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL; /* the compositor's release is now the one in flight */
         im->ext_new = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     }
+    t_target = fv_xr_now_ns();
     if (c->target->ops->end && (res = c->target->ops->end(c->target, &tf)) != FV_OK) return res;
+    *out_target_ms += (double)(fv_xr_now_ns() - t_target) * 1e-6;
     fv_images_next_frame(&c->images);
     c->frame_id++;
     return FV_OK;
@@ -605,7 +652,8 @@ static void job_complete(fv_xr_compositor *c, comp_job *j)
     int64_t t0 = fv_xr_now_ns();
     double wait_ms = 0.0;
     pthread_mutex_lock(&c->gpu_mu);
-    fv_result res = job_run(c, j, &wait_ms);
+    double target_ms = 0.0;
+    fv_result res = job_run(c, j, &wait_ms, &target_ms);
     pthread_mutex_unlock(&c->gpu_mu);
     int64_t t_done = fv_xr_now_ns();
     double ms = (double)(t_done - t0) * 1e-6;
@@ -613,9 +661,11 @@ static void job_complete(fv_xr_compositor *c, comp_job *j)
     job_hold(j, -1);
     if (res == FV_OK) {
         c->acc.composited++;
+        c->acc.through_lens += j->through_lens;
         c->acc.composite_ms_sum += ms;
         c->acc.app_gpu_wait_ms_sum += wait_ms;
         c->cpu_ms_ema = c->cpu_frames++ == 0 ? ms : c->cpu_ms_ema + 0.1 * (ms - c->cpu_ms_ema);
+        fv_xr_pace_window_add(&c->pace, ms - wait_ms - target_ms); /* its own work: pacing (fv_xr_pace.h) */
         fv_xr_stats_present(&c->acc, j->display, t_done, j->target_vsync, j->predicted_ns, j->gaze_sample_ns);
     } else if (c->error == FV_OK) {
         c->error = res;
@@ -715,12 +765,14 @@ bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, 
     return idle;
 }
 
-fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema)
+fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema,
+                                double *out_need_ms)
 {
     pthread_mutex_lock(&c->mu);
     fv_xr_frame_stats *a = &c->acc;
     acc->composited += a->composited;
     acc->replaced += a->replaced;
+    acc->through_lens += a->through_lens;
     acc->composite_ms_sum += a->composite_ms_sum;
     acc->app_gpu_wait_ms_sum += a->app_gpu_wait_ms_sum;
     acc->presented += a->presented;
@@ -733,10 +785,18 @@ fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, dou
     if (a->gaze_photon_ms_max > acc->gaze_photon_ms_max) acc->gaze_photon_ms_max = a->gaze_photon_ms_max;
     memset(a, 0, sizeof *a);
     *out_cpu_ms_ema = c->cpu_ms_ema;
+    if (!fv_xr_pace_window_need(&c->pace, out_need_ms)) *out_need_ms = -1.0;
     fv_result e = c->error;
     c->error = FV_OK;
     pthread_mutex_unlock(&c->mu);
     return e;
+}
+
+void fv_xr_compositor_pace_idle(fv_xr_compositor *c)
+{
+    pthread_mutex_lock(&c->mu);
+    fv_xr_pace_window_add(&c->pace, 0.0);
+    pthread_mutex_unlock(&c->mu);
 }
 
 void fv_xr_compositor_gpu_lock(fv_xr_compositor *c) { pthread_mutex_lock(&c->gpu_mu); }

@@ -14,6 +14,7 @@
 #include "fv_post_chain.h"
 #include "fv_target.h"
 #include "fv_vk.h"
+#include "fv_xr_pace.h"
 #include "xr_internal.h"
 #include "xr_present.h"
 
@@ -45,8 +46,14 @@ typedef struct source_ref {
  * released images they read, and what its presentation is measured against. */
 typedef struct comp_job {
     fv_xr_compose_block blk;
-    source_ref src[FV_XR_COMPOSE_MAX_SOURCES];
+    bool through_lens;           /* compose.comp's LENS variant (few layers per eye, the lens on) */
+    source_ref src[FV_XR_COMPOSE_MAX_SOURCES]; /* every image the frame reads */
     uint32_t nsrc;
+    uint8_t eye_src[2][FV_XR_COMPOSE_MAX_SOURCES]; /* eye e's binding array: indices into src (a layer's info.x is
+                                                    * its eye's slot) */
+    uint32_t eye_nsrc[2];
+    uint8_t lens_src[2][FV_XR_COMPOSE_LENS_MAX_LAYERS]; /* through the lens: eye e's layer i reads src[lens_src[e][i]]
+                                                         * (bound as source i: a constant index per layer) */
     VkDevice app_device;         /* the app's fences of the releases */
     XrTime display_time;
     fv_display *display;
@@ -67,8 +74,12 @@ struct fv_xr_compositor {
     fv_target *target;
     fv_xr_present *present;      /* a window when there is a display (xr_present.h), else headless */
     char out_dir[1024];
-    fv_vk_compute cs;            /* the compose pass's layout and sets; its pipelines are made per source count */
-    VkPipeline compose[FV_XR_COMPOSE_MAX_SOURCES]; /* [n - 1]: specialised for n sources (compose.comp's NSRC) */
+    fv_vk_compute cs;            /* the compose pass's layout and sets (one per eye: its sources); its pipelines are
+                                  * made per source count */
+    VkPipeline compose[2][FV_XR_COMPOSE_MAX_SOURCES]; /* [lens][n - 1]: specialised for n sources and through the lens
+                                                       * or not (compose.comp's NSRC, LENS) */
+    bool lens_in_compose;        /* the post chain's one pass is the lens: frames of few layers per eye go through the
+                                  * lens in the compose pass, the chain is not recorded for them */
     VkSampler sampler;
     fv_vk_buffer block;          /* fv_xr_compose_block, host-visible */
     VkCommandBuffer cmd;
@@ -93,6 +104,7 @@ struct fv_xr_compositor {
     fv_result error;             /* the first failure since then */
     double cpu_ms_ema;
     uint64_t cpu_frames;
+    fv_xr_pace_window pace;      /* the compositor's own time of its last frames (fv_xr_pace.h) */
 };
 
 /** An image barrier on a swapchain image (its aspect from the swapchain's format), for the hand-overs between the

@@ -104,6 +104,10 @@ typedef struct fv_xr_frame_stats {
     double gaze_photon_ms_sum, gaze_photon_ms_max; /* its age at the photons of the vsync that showed the frame */
     uint64_t gaze_photon_frames;
     uint64_t replaced;         /* frames queued for the compositor and replaced by a newer one before it began */
+    uint64_t through_lens;     /* of the composited: one pass through the lens (few layers per eye), no lens pass */
+    uint32_t pace_k_max;       /* the largest refresh divisor apps were paced at (fv_xr_pace.h) */
+    uint64_t paced;            /* frames waited at a divisor above 1 */
+    double pace_need_ms;       /* the compositor's time per frame the divisor was last chosen by (ms; 0: none yet) */
 } fv_xr_frame_stats;
 
 /** A frame that finished at t_done_ns meant for vsync `target` (predicted photon time predicted_ns): which vsync
@@ -133,6 +137,8 @@ struct XrSession_T {
     int64_t wait_return_ns;        /* when the last xrWaitFrame returned: the app's frame starts there */
     fv_display *display;           /* the display clock: the simulated display (headless) */
     uint64_t target_vsync;         /* the vsync the last xrWaitFrame planned for */
+    uint32_t pace_k;               /* apps are paced at every pace_k-th refresh (0 or 1: every one; fv_xr_pace.h) */
+    uint32_t pace_k_warned;        /* the largest divisor the log has warned of */
     int64_t predicted_ns;          /* its predictedDisplayTime */
     fv_xr_frame_stats stats;
     fv_xr_budget *budget;          /* the frame budget (xr_gaze.c); NULL: FOVEA_XR_BUDGET=off */
@@ -350,8 +356,14 @@ void fv_xr_compositor_wait_queue_free(fv_xr_compositor *c);
 bool fv_xr_compositor_image_idle(fv_xr_compositor *c, struct XrSwapchain_T *sc, uint32_t index, int64_t timeout_ns);
 /** Take what the compositor did since the last call: composited frames, their CPU time and presentation
  *  (composited, replaced, composite_ms_sum, app_gpu_wait_ms_sum and the presentation fields of fv_xr_frame_stats,
- *  added to *acc), the compositor's CPU time per frame (EMA, ms) and the first failure (FV_OK: none). */
-fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema);
+ *  added to *acc), the compositor's CPU time per frame (EMA, ms), the time a frame needs of it for pacing
+ *  (fv_xr_pace_window_need over its own time, without the wait for the app's releases and a window's acquire and
+ *  present; -1 while unknown) and the
+ *  first failure (FV_OK: none). */
+fv_result fv_xr_compositor_take(fv_xr_compositor *c, fv_xr_frame_stats *acc, double *out_cpu_ms_ema,
+                                double *out_need_ms);
+/** A frame with nothing to composite: it cost the compositor nothing (a 0 in the pacing window). */
+void fv_xr_compositor_pace_idle(fv_xr_compositor *c);
 /** The compositor's Vulkan device's command pool and queue are shared by the compositor thread and the EGL
  *  hand-overs: hold this around any other use of them. */
 void fv_xr_compositor_gpu_lock(fv_xr_compositor *c);

@@ -11,6 +11,7 @@
 
 #include "fv_clock.h"
 #include "fv_sim_display.h"
+#include "fv_xr_pace.h"
 #include "xr_internal.h"
 #include "xr_present.h"
 
@@ -218,6 +219,11 @@ static void write_stats(struct XrSession_T *s)
     fprintf(f, "  \"frames_composited\": %llu,\n", (unsigned long long)st->composited);
     fprintf(f, "  \"frames_missed\": %llu,\n", (unsigned long long)st->missed);
     fprintf(f, "  \"frames_replaced\": %llu,\n", (unsigned long long)st->replaced);
+    fprintf(f, "  \"frames_through_lens\": %llu,\n", (unsigned long long)st->through_lens);
+    fprintf(f, "  \"pace_divisor\": %u,\n", s->pace_k ? s->pace_k : 1u);
+    fprintf(f, "  \"pace_divisor_max\": %u,\n", st->pace_k_max ? st->pace_k_max : 1u);
+    fprintf(f, "  \"frames_paced\": %llu,\n", (unsigned long long)st->paced);
+    fprintf(f, "  \"pace_need_ms\": %.4f,\n", st->pace_need_ms);
     fprintf(f, "  \"app_ms\": %.4f,\n", st->app_ms_ema);
     fprintf(f, "  \"composite_ms_mean\": %.4f,\n", st->composite_ms_sum / nc);
     fprintf(f, "  \"app_gpu_wait_ms_mean\": %.4f,\n", st->app_gpu_wait_ms_sum / nc);
@@ -427,6 +433,27 @@ void fv_xr_stats_present(fv_xr_frame_stats *st, fv_display *d, int64_t t_done_ns
     }
 }
 
+/* The refresh divisor for a compositor that needs need_ms per frame (fv_xr_pace.h): said in the log when it rises
+ * above any before (warning) and when it is back at 1. Instance lock held. */
+static void repace(struct XrSession_T *s, double need_ms)
+{
+    uint32_t k = s->pace_k ? s->pace_k : 1;
+    double refresh_ms = (double)s->display->period_ns * MS_PER_NS;
+    uint32_t nk = fv_xr_pace_divisor(k, need_ms, refresh_ms);
+    s->stats.pace_need_ms = need_ms;
+    if (nk == k) return;
+    if (nk > s->pace_k_warned) {
+        FV_WARN(FV_XR_LOG, "compositor needs %.1f ms, refresh period %.1f ms: apps paced at 1/%u of the refresh",
+                need_ms, refresh_ms, nk);
+        s->pace_k_warned = nk;
+    } else if (nk == 1) {
+        FV_INFO(FV_XR_LOG, "compositor needs %.1f ms, refresh period %.1f ms: apps paced at every refresh again",
+                need_ms, refresh_ms);
+    }
+    s->pace_k = nk;
+    if (nk > s->stats.pace_k_max) s->stats.pace_k_max = nk;
+}
+
 /* Fold what the compositor did since the last call into the session's statistics; a failure of a frame it
  * composited: the display is lost (the device, or a window that cannot be presented to), else RUNTIME_FAILURE.
  * Instance lock held. */
@@ -435,9 +462,10 @@ static XrResult take_compositor(struct XrSession_T *s)
     if (s->headless || !s->inst->comp) return XR_SUCCESS;
     fv_xr_frame_stats *st = &s->stats;
     uint64_t before = st->composited;
-    double cpu_ms = 0.0;
-    fv_result fr = fv_xr_compositor_take(s->inst->comp, st, &cpu_ms);
+    double cpu_ms = 0.0, need_ms = -1.0;
+    fv_result fr = fv_xr_compositor_take(s->inst->comp, st, &cpu_ms, &need_ms);
     if (st->composited > before) st->composite_ms_ema = cpu_ms; /* xrWaitFrame plans with it */
+    if (need_ms >= 0) repace(s, need_ms);
     if (fr == FV_OK) return XR_SUCCESS;
     bool windowed = fv_xr_present_windowed(fv_xr_compositor_present(s->inst->comp));
     if (fr == FV_ERR_DEVICE_LOST || windowed) {
@@ -461,6 +489,7 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     if (s->loss_pending) r = XR_ERROR_SESSION_LOST;
     else if (!s->running) r = XR_ERROR_SESSION_NOT_RUNNING;
     double app_ms = s->stats.app_ms_ema, comp_ms = s->stats.composite_ms_ema, late_ms = s->stats.oversleep_ms_ema;
+    uint32_t k = s->pace_k ? s->pace_k : 1; /* vsyncs k refreshes apart (the compositor's pace, fv_xr_pace.h) */
     pthread_mutex_unlock(&s->inst->lock);
     if (r != XR_SUCCESS) return r;
     /* A second xrWaitFrame blocks until the previous frame was begun (another thread calls xrBeginFrame). */
@@ -475,15 +504,20 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     t_enter = fv_xr_now_ns(); /* the runtime's own time from here (blocking is not overhead) */
 
     /* Plan the vsync: the app needs app_ms for its frame, the compositor comp_ms, and the display's latch margin;
-     * the first vsync after all that (never the one the previous frame aimed at) is the frame's. */
+     * the first vsync after all that, and at least k refreshes after the one the previous frame aimed at (the
+     * compositor shows a frame every k-th refresh: the period reported), is the frame's. */
     fv_display *d = s->display;
+    int64_t period_ns = (int64_t)k * d->period_ns;
     int64_t need_ns = (int64_t)((app_ms + comp_ms + 2.0 * late_ms) * 1e6) + d->present_margin_ns;
-    if (need_ns > 4 * d->period_ns) need_ns = 4 * d->period_ns; /* a stalled frame never pushes the plan away */
+    if (need_ns > 4 * period_ns) need_ns = 4 * period_ns; /* a stalled frame never pushes the plan away */
     int64_t now = fv_xr_now_ns();
     fv_vsync v;
     if (fv_display_vsync_at_or_after(d, now + need_ns, &v) != FV_OK) return XR_ERROR_RUNTIME_FAILURE;
-    if (s->frames_waited > 0 && v.index <= s->target_vsync &&
-        fv_display_vsync_at_or_after(d, v.t_ns + 1 + (int64_t)(s->target_vsync - v.index) * d->period_ns, &v) != FV_OK)
+    uint64_t first = s->target_vsync + k; /* a vsync's time is found half a refresh before it (a clock's
+                                           * jitter, and an integer period_ns short of the exact one k times) */
+    if (s->frames_waited > 0 && v.index < first &&
+        fv_display_vsync_at_or_after(d, v.t_ns + (int64_t)(first - v.index) * d->period_ns - d->period_ns / 2, &v) !=
+            FV_OK)
         return XR_ERROR_RUNTIME_FAILURE;
     int64_t wake = v.t_ns - need_ns;
     int64_t t_work = fv_xr_now_ns() - t_enter;
@@ -495,9 +529,10 @@ FV_XR_DECL(xrWaitFrame)(XrSession session, const XrFrameWaitInfo *info, XrFrameS
     s->target_vsync = v.index;
     s->predicted_ns = fv_display_photon_ns(d, &v);
     state->predictedDisplayTime = s->predicted_ns;
-    state->predictedDisplayPeriod = d->period_ns;
+    state->predictedDisplayPeriod = period_ns;
     state->shouldRender = s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED;
     s->stats.waited++;
+    s->stats.paced += k > 1;
     if (slept) s->stats.oversleep_ms_ema = ema(s->stats.oversleep_ms_ema, (double)(t_resume - wake) * MS_PER_NS, s->stats.waited);
     s->stats.overhead_ms_sum += (double)t_work * MS_PER_NS;
     s->wait_return_ns = fv_xr_now_ns();
@@ -656,6 +691,7 @@ FV_XR_DECL(xrEndFrame)(XrSession session, const XrFrameEndInfo *info)
     /* nothing to composite: shown (as nothing) at once, on the display clock */
     if (!composite) {
         fv_xr_stats_present(st, s->display, t_done, s->target_vsync, s->predicted_ns, 0);
+        if (!s->headless && s->inst->comp) fv_xr_compositor_pace_idle(s->inst->comp); /* it cost the compositor 0 */
         FV_LOG(FV_LOG_LEVEL_DEBUG, FV_XR_LOG, "frame %llu: app %.2f ms, nothing composited",
                (unsigned long long)st->ended, (double)(t0 - s->begin_ns) * MS_PER_NS);
     }

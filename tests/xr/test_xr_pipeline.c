@@ -9,7 +9,12 @@
  *    wait thread simulates for 90% of the display period, the render thread renders for 70%): every call succeeds,
  *    every frame with layers is composited or replaced by a newer one before the compositor began it, and the
  *    suite's overhead score (mean frame time / display period - 1) is printed;
- *  - sixteen sources, each shown again in the next frame, composited (the barrier array was half the size needed).
+ *  - sixteen sources, each shown again in the next frame, composited (the barrier array was half the size needed);
+ *  - a frame of a projection layer and a quad is composed through the lens in one pass, and agrees with the same
+ *    frame composed and then distorted by the lens pass (the general path, taken for three layers) within a stated
+ *    tolerance;
+ *  - a compositor slower than the refresh paces the app at an integer fraction of it (predictedDisplayPeriod k
+ *    refreshes, frames k refreshes apart), back to every refresh when it is idle.
  * A watchdog (alarm) bounds the process. argv[1] = the runtime manifest; argv[2] (optional) = a cmocka filter
  * pattern; `--bench` as argv[2]: only the two-thread test, at the suite's frame counts (180 warm-up, 200 measured)
  * with busy-waits like the suite's, at the default FOVEA_XR_SCALE (the environment's if set). */
@@ -322,6 +327,226 @@ static void sixteen_reused_sources_in_one_frame(void **state)
     assert_true(stats_number("frames_composited") + stats_number("frames_replaced") == 3);
 }
 
+/* Eye e's next image filled with a w x h RGBA8 picture (sRGB-encoded values: the swapchain is _SRGB), released. */
+static void upload_eye(papp *a, int e, const uint8_t *px)
+{
+    uint32_t i = 99;
+    CHECK_XR(xrAcquireSwapchainImage(a->sc[e], NULL, &i));
+    assert_true(i < 3);
+    XrSwapchainImageWaitInfo wi = {.type = XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO, .timeout = XR_INFINITE_DURATION};
+    CHECK_XR(xrWaitSwapchainImage(a->sc[e], &wi));
+    xr_app_vk_upload(&a->vk, a->img[e][i], VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, a->w, a->h, px);
+    CHECK_XR(xrReleaseSwapchainImage(a->sc[e], NULL));
+}
+
+/* The stated tolerance between the one-pass path (each layer sampled once per channel along the lens's ray) and the
+ * general one (composed into an 8-bit display image, which the lens pass resamples), in levels of 255 per channel
+ * over the pixels either path lit. The app's images here are of the display's size and frustum, so the general
+ * path's compose of the projection lands on texel centres and its second filter adds nothing there; the quad's edge
+ * is cut sharp by one and blurred by the other's second filter (a ring of pixels, up to 179 levels). Measured: mean
+ * 0.32, 99th percentile 0 (a lens channel's aberration swapped, one layer: mean 5.9, 99th percentile 139). */
+#define LENS_MEAN_TOL 0.75 /* mean |difference| */
+#define LENS_P99_TOL 2     /* 99th percentile */
+
+/* (e) Through the lens, then the general path, on the same frame: a projection layer (a smooth gradient with a
+ * checkerboard) and a quad in front (red, a third of the view wide) through the lens; the same two and a third layer
+ * that shows nothing (the same quad behind the viewer: no display ray reaches it) composed and then distorted. */
+static void through_the_lens_matches_compose_then_distort(void **state)
+{
+    (void)state;
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s", fv_test_tmp("xr_lens_out"));
+    mkdir(dir, 0755);
+    setenv("FOVEA_XR_OUT", dir, 1);
+    setenv("FOVEA_XR_OUT_ALL", "1", 1);
+    papp a;
+    open_app(&a, "0.1");
+    unsetenv("FOVEA_XR_OUT");
+    unsetenv("FOVEA_XR_OUT_ALL");
+    frame(&a, NULL);
+    uint8_t *pic = malloc((size_t)a.w * a.h * 4);
+    assert_non_null(pic);
+    for (uint32_t y = 0; y < a.h; y++)
+        for (uint32_t x = 0; x < a.w; x++) {
+            uint8_t *p = pic + 4 * ((size_t)y * a.w + x);
+            p[0] = (uint8_t)(255 * x / a.w);
+            p[1] = (uint8_t)(255 * y / a.h);
+            p[2] = ((x / 12 + y / 12) & 1) ? 220 : 30;
+            p[3] = 255;
+        }
+    /* the quads' swapchain: red */
+    XrSwapchainCreateInfo qci = {.type = XR_TYPE_SWAPCHAIN_CREATE_INFO,
+                                 .usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT |
+                                               XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT,
+                                 .format = VK_FORMAT_R8G8B8A8_SRGB, .sampleCount = 1, .width = 8, .height = 8,
+                                 .faceCount = 1, .arraySize = 1, .mipCount = 1};
+    XrSwapchain qsc;
+    CHECK_XR(xrCreateSwapchain(a.sess, &qci, &qsc));
+    XrSwapchainImageVulkanKHR qim[3] = {{.type = XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR},
+                                        {.type = XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR},
+                                        {.type = XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR}};
+    uint32_t nq = 0, qi = 0;
+    CHECK_XR(xrEnumerateSwapchainImages(qsc, 3, &nq, (XrSwapchainImageBaseHeader *)qim));
+    CHECK_XR(xrAcquireSwapchainImage(qsc, NULL, &qi));
+    XrSwapchainImageWaitInfo wi = {.type = XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO, .timeout = XR_INFINITE_DURATION};
+    CHECK_XR(xrWaitSwapchainImage(qsc, &wi));
+    const float red[4] = {1, 0, 0, 1};
+    xr_app_vk_clear(&a.vk, qim[qi].image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, red);
+    CHECK_XR(xrReleaseSwapchainImage(qsc, NULL));
+    XrCompositionLayerQuad quad = {.type = XR_TYPE_COMPOSITION_LAYER_QUAD, .space = a.local,
+                                   .eyeVisibility = XR_EYE_VISIBILITY_BOTH,
+                                   .subImage = {.swapchain = qsc, .imageRect = {{0, 0}, {8, 8}}},
+                                   .pose = {{0, 0, 0, 1}, {0.1f, 0, -1}}, .size = {0.3f, 0.3f}};
+    XrCompositionLayerQuad behind = quad;
+    behind.pose.position = (XrVector3f){0, 0, 1};
+    const XrCompositionLayerBaseHeader *l[3] = {(const XrCompositionLayerBaseHeader *)&a.proj,
+                                                (const XrCompositionLayerBaseHeader *)&quad,
+                                                (const XrCompositionLayerBaseHeader *)&behind};
+    for (uint32_t f = 0; f < 2; f++) { /* frame 0: two layers (through the lens); 1: three (composed, distorted) */
+        XrFrameState fs = {.type = XR_TYPE_FRAME_STATE};
+        CHECK_XR(xrWaitFrame(a.sess, NULL, &fs));
+        CHECK_XR(xrBeginFrame(a.sess, NULL));
+        XrViewLocateInfo li = {.type = XR_TYPE_VIEW_LOCATE_INFO,
+                               .viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
+                               .displayTime = fs.predictedDisplayTime, .space = a.local};
+        XrViewState vs = {.type = XR_TYPE_VIEW_STATE};
+        XrView views[2] = {{.type = XR_TYPE_VIEW}, {.type = XR_TYPE_VIEW}};
+        uint32_t n = 0;
+        CHECK_XR(xrLocateViews(a.sess, &li, &vs, 2, &n, views));
+        for (int e = 0; e < 2; e++) {
+            a.pv[e].pose = views[e].pose;
+            a.pv[e].fov = views[e].fov;
+            upload_eye(&a, e, pic);
+        }
+        XrFrameEndInfo ei = {.type = XR_TYPE_FRAME_END_INFO, .displayTime = fs.predictedDisplayTime,
+                             .environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE, .layerCount = f + 2,
+                             .layers = l};
+        CHECK_XR(xrEndFrame(a.sess, &ei));
+    }
+    free(pic);
+    CHECK_XR(xrDestroySwapchain(qsc));
+    close_app(&a);
+    assert_true(stats_number("frames_composited") == 2);
+    assert_true(stats_number("frames_through_lens") == 1);
+    unsigned char *img[2];
+    int w = 0, h = 0, c = 0;
+    for (int f = 0; f < 2; f++) {
+        char path[700];
+        snprintf(path, sizeof path, "%s/frame_%05d.png", dir, f);
+        img[f] = stbi_load(path, &w, &h, &c, 4);
+        assert_non_null(img[f]);
+    }
+    uint32_t hist[256] = {0};
+    size_t lit = 0, total = 0, quad_px[2] = {0, 0};
+    double sum = 0.0;
+    for (size_t p = 0; p < (size_t)w * (size_t)h; p++) {
+        const unsigned char *x = img[0] + 4 * p, *y = img[1] + 4 * p;
+        for (int f = 0; f < 2; f++) {
+            const unsigned char *z = img[f] + 4 * p;
+            quad_px[f] += z[0] > 200 && z[1] < 40 && z[2] < 40; /* the quad */
+        }
+        if (!(x[0] | x[1] | x[2] | y[0] | y[1] | y[2])) continue; /* black in both: outside the lens */
+        lit++;
+        for (int ch = 0; ch < 3; ch++) {
+            int d = abs((int)x[ch] - (int)y[ch]);
+            hist[d]++;
+            sum += d;
+            total++;
+        }
+    }
+    size_t acc = 0;
+    int p99 = 0;
+    while (p99 < 255 && (acc += hist[p99]) < total - total / 100) p99++;
+    int maxd = 255;
+    while (maxd > 0 && !hist[maxd]) maxd--;
+    double mean = total ? sum / (double)total : 0.0;
+    printf("through the lens vs composed + distorted: %zu of %d pixels lit; |difference| mean %.3f, 99th percentile "
+           "%d, max %d levels (tolerance: mean %.2f, 99th percentile %d)\n",
+           lit, w * h, mean, p99, maxd, LENS_MEAN_TOL, LENS_P99_TOL);
+    printf("the quad: %zu and %zu red pixels\n", quad_px[0], quad_px[1]);
+    assert_true(lit > (size_t)(w * h) / 3); /* the lens shows the picture (not a black frame in both) */
+    assert_true(quad_px[0] > 200 && quad_px[1] > 200); /* and the quad over it */
+    assert_true(mean <= LENS_MEAN_TOL);
+    assert_true(p99 <= LENS_P99_TOL);
+    for (int f = 0; f < 2; f++) stbi_image_free(img[f]);
+}
+
+/* (f) A compositor slower than the refresh (FOVEA_XR_SCALE 0.35: 504 x 509 per eye of the generic HMD's panel,
+ * composed on the CPU by lavapipe: several refreshes per frame) paces the app at every k-th refresh: after the
+ * pacing window fills, predictedDisplayPeriod is k >= 2 refreshes (always a whole number of them), the next frame's
+ * predicted display time is never less than that period after the last one, and xrWaitFrame returns at about that
+ * pace (the mean interval over the mean period; the compositor's time under other load may rise faster than the
+ * window follows, so the bound above is loose); frames with nothing to composite bring k back to 1. */
+static void slow_compositor_paces_at_a_multiple_of_the_refresh(void **state)
+{
+    (void)state;
+    papp a;
+    open_app(&a, "0.35");
+    XrFrameState fs = {.type = XR_TYPE_FRAME_STATE};
+    CHECK_XR(xrWaitFrame(a.sess, NULL, &fs));
+    const int64_t refresh = fs.predictedDisplayPeriod; /* k = 1 until the window holds FV_XR_PACE_MIN_FRAMES */
+    CHECK_XR(xrBeginFrame(a.sess, NULL));
+    CHECK_XR(end_frame(&a, fs.predictedDisplayTime, false));
+    poll_events(&a);
+    const float grey[4] = {0.4f, 0.4f, 0.4f, 1.0f};
+    int64_t last_t = fs.predictedDisplayTime, last_ret = now_ns(), k_max = 1, ret_sum = 0, period_sum = 0;
+    int paced = 0, apart = 0, closer = 0;
+    for (int f = 0; f < 28; f++) {
+        fs = (XrFrameState){.type = XR_TYPE_FRAME_STATE};
+        CHECK_XR(xrWaitFrame(a.sess, NULL, &fs));
+        int64_t ret = now_ns();
+        assert_true(fs.predictedDisplayPeriod > 0 && fs.predictedDisplayPeriod % refresh == 0);
+        int64_t k = fs.predictedDisplayPeriod / refresh;
+        if (k > k_max) k_max = k;
+        /* never closer to the last frame than the period reported (a display clock's vsyncs may jitter by less
+         * than a quarter refresh) */
+        closer += fs.predictedDisplayTime - last_t < fs.predictedDisplayPeriod - refresh / 4;
+        if (k > 1 && f >= 20) { /* settled: the frames' pace */
+            paced++;
+            apart += llabs(fs.predictedDisplayTime - last_t - fs.predictedDisplayPeriod) < refresh / 4;
+            ret_sum += ret - last_ret;
+            period_sum += fs.predictedDisplayPeriod;
+        }
+        last_t = fs.predictedDisplayTime;
+        last_ret = ret;
+        CHECK_XR(xrBeginFrame(a.sess, NULL));
+        draw(&a, fs.predictedDisplayTime, grey);
+        CHECK_XR(end_frame(&a, fs.predictedDisplayTime, true));
+        poll_events(&a);
+    }
+    printf("paced: k up to %lld of the %.3f ms refresh; %d settled frames, %d of them one period after the last, "
+           "%d frames closer than that; xrWaitFrame returned every %.3f ms for a period of %.3f ms\n",
+           (long long)k_max, (double)refresh * 1e-6, paced, apart, closer,
+           paced ? (double)ret_sum / paced * 1e-6 : 0.0, paced ? (double)period_sum / paced * 1e-6 : 0.0);
+    if (k_max == 1) { /* not paced: only right if this compositor keeps up with the refresh (a real GPU) */
+        close_app(&a);
+        double comp_ms = stats_number("composite_ms_mean");
+        printf("not paced; the compositor took %.3f ms per frame\n", comp_ms);
+        assert_true(comp_ms < 0.8 * (double)refresh * 1e-6);
+        skip();
+    }
+    assert_true(paced >= 6);
+    assert_int_equal(closer, 0);
+    double ratio = (double)ret_sum / (double)period_sum;
+    assert_true(ratio > 0.8 && ratio < 1.6); /* the frames arrive at about the period reported */
+    int back = -1;
+    for (int f = 0; f < 40 && back < 0; f++) { /* nothing to composite: the compositor is idle */
+        fs = (XrFrameState){.type = XR_TYPE_FRAME_STATE};
+        CHECK_XR(xrWaitFrame(a.sess, NULL, &fs));
+        if (fs.predictedDisplayPeriod / refresh > k_max) k_max = fs.predictedDisplayPeriod / refresh;
+        if (fs.predictedDisplayPeriod == refresh) back = f;
+        CHECK_XR(xrBeginFrame(a.sess, NULL));
+        CHECK_XR(end_frame(&a, fs.predictedDisplayTime, false));
+        poll_events(&a);
+    }
+    printf("paced at every refresh again after %d frames with nothing to composite\n", back);
+    assert_true(back >= 0);
+    close_app(&a);
+    assert_true(stats_number("pace_divisor") == 1);
+    assert_true(stats_number("pace_divisor_max") >= (double)k_max); /* (a last rise may come after the last wait) */
+    assert_true(stats_number("frames_paced") >= paced);
+}
+
 /* (c) The suite's Timed_Pipelined_Frame_Submission: a wait thread and a render thread. */
 typedef struct pipe_ctx {
     papp *a;
@@ -476,6 +701,8 @@ int main(int argc, char **argv)
         cmocka_unit_test(released_image_stays_the_compositors_until_read),
         cmocka_unit_test(wait_and_render_threads),
         cmocka_unit_test(sixteen_reused_sources_in_one_frame),
+        cmocka_unit_test(through_the_lens_matches_compose_then_distort),
+        cmocka_unit_test(slow_compositor_paces_at_a_multiple_of_the_refresh),
     };
     if (argc > 2) cmocka_set_test_filter(g_bench ? "wait_and_render_threads" : argv[2]);
     return cmocka_run_group_tests(tests, NULL, NULL);

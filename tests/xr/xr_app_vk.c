@@ -2,6 +2,7 @@
 #include "xr_app_vk.h"
 
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 #define VK_APP_CHECK(call, ok)                                                                                         \
@@ -76,7 +77,15 @@ XrGraphicsBindingVulkanKHR xr_app_vk_binding(const xr_app_vk *vk)
                                         .queueIndex = 0};
 }
 
-void xr_app_vk_clear(const xr_app_vk *vk, VkImage image, VkImageLayout layout, const float rgba[4])
+/* What a transfer writes into mip 0, layer 0 of an image in TRANSFER_DST_OPTIMAL: a clear colour or a buffer. */
+typedef struct transfer_src {
+    const float *rgba;
+    VkBuffer buffer;
+    uint32_t w, h;
+} transfer_src;
+
+/* One transfer into `image` (in `layout`, left in it) on queue 0, waited for. */
+static void transfer(const xr_app_vk *vk, VkImage image, VkImageLayout layout, const transfer_src *src)
 {
     VkQueue q;
     vkGetDeviceQueue(vk->device, vk->family, 0, &q);
@@ -100,8 +109,14 @@ void xr_app_vk_clear(const xr_app_vk *vk, VkImage image, VkImageLayout layout, c
                               .subresourceRange = range};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL,
                          1, &b);
-    VkClearColorValue c = {.float32 = {rgba[0], rgba[1], rgba[2], rgba[3]}};
-    vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &c, 1, &range);
+    if (src->rgba) {
+        VkClearColorValue c = {.float32 = {src->rgba[0], src->rgba[1], src->rgba[2], src->rgba[3]}};
+        vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &c, 1, &range);
+    } else {
+        VkBufferImageCopy r = {.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+                               .imageExtent = {src->w, src->h, 1}};
+        vkCmdCopyBufferToImage(cmd, src->buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &r);
+    }
     b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
     b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
@@ -113,4 +128,44 @@ void xr_app_vk_clear(const xr_app_vk *vk, VkImage image, VkImageLayout layout, c
     VK(vkQueueSubmit(q, 1, &si, VK_NULL_HANDLE));
     VK(vkQueueWaitIdle(q));
     vkDestroyCommandPool(vk->device, pool, NULL);
+}
+
+void xr_app_vk_clear(const xr_app_vk *vk, VkImage image, VkImageLayout layout, const float rgba[4])
+{
+    transfer(vk, image, layout, &(transfer_src){.rgba = rgba});
+}
+
+void xr_app_vk_upload(const xr_app_vk *vk, VkImage image, VkImageLayout layout, uint32_t w, uint32_t h,
+                      const uint8_t *rgba8)
+{
+    VkDeviceSize size = (VkDeviceSize)w * h * 4;
+    VkBufferCreateInfo bci = {.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, .size = size,
+                              .usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT};
+    VkBuffer buf;
+    VK(vkCreateBuffer(vk->device, &bci, NULL, &buf));
+    VkMemoryRequirements mr;
+    vkGetBufferMemoryRequirements(vk->device, buf, &mr);
+    VkPhysicalDeviceMemoryProperties mp;
+    vkGetPhysicalDeviceMemoryProperties(vk->phys, &mp);
+    const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    uint32_t type = 0;
+    while (type < mp.memoryTypeCount &&
+           !((mr.memoryTypeBits & (1u << type)) && (mp.memoryTypes[type].propertyFlags & want) == want))
+        type++;
+    if (type == mp.memoryTypeCount) {
+        fprintf(stderr, "xr_app_vk: no host-visible coherent memory for the upload\n");
+        exit(1);
+    }
+    VkMemoryAllocateInfo mai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, .allocationSize = mr.size,
+                                .memoryTypeIndex = type};
+    VkDeviceMemory mem;
+    VK(vkAllocateMemory(vk->device, &mai, NULL, &mem));
+    VK(vkBindBufferMemory(vk->device, buf, mem, 0));
+    void *p;
+    VK(vkMapMemory(vk->device, mem, 0, size, 0, &p));
+    memcpy(p, rgba8, (size_t)size);
+    vkUnmapMemory(vk->device, mem);
+    transfer(vk, image, layout, &(transfer_src){.buffer = buf, .w = w, .h = h});
+    vkDestroyBuffer(vk->device, buf, NULL);
+    vkFreeMemory(vk->device, mem, NULL);
 }

@@ -25,6 +25,10 @@ void xr_app_vk_create(XrInstance inst, XrSystemId system, const VkInstanceCreate
 /** Clear mip 0, layer 0 of an image in `layout` (left in it) to rgba on queue 0, waited for (the image needs
  *  TRANSFER_DST usage). */
 void xr_app_vk_clear(const xr_app_vk *vk, VkImage image, VkImageLayout layout, const float rgba[4]);
+/** Fill mip 0, layer 0 of an image in `layout` (left in it) with w x h RGBA8 texels (rows top down) on queue 0,
+ *  waited for (the image needs TRANSFER_DST usage and a 4-byte texel format). */
+void xr_app_vk_upload(const xr_app_vk *vk, VkImage image, VkImageLayout layout, uint32_t w, uint32_t h,
+                      const uint8_t *rgba8);
 /** The binding for xrCreateSession. */
 XrGraphicsBindingVulkanKHR xr_app_vk_binding(const xr_app_vk *vk);
 
