@@ -358,6 +358,34 @@ static int ripples(const double *v, int n, double rel, double *out_hf)
     return count;
 }
 
+/* A light above a sphere of radius R at the origin (a directional light along its direction, or a spot light at
+ * it), and the meridian the profiles follow: from the point under the light (angle 0.05 rad) to 1.2 rad from it
+ * (cos 0.36; the terminator is at 1.57 rad; the spot's nearer, at acos(R / distance), and the range shrinks with
+ * it), in a plane that crosses the texel grid obliquely. */
+typedef struct sphere_light {
+    uint32_t type;
+    v3d light, dir, top, side;
+    double terminator;
+} sphere_light;
+
+static sphere_light sphere_light_of(bool spot, double R)
+{
+    sphere_light s = {spot ? FV_LIGHT_SPOT : FV_LIGHT_DIRECTIONAL, vd(0.1, 0.45, 0.05), vd(0, 0, 0), vd(0, 0, 0),
+                      vd(0, 0, 0), 0.0};
+    s.dir = vunit(vsub(vd(0, 0, 0), s.light));
+    s.top = vscale(s.dir, -1.0);
+    s.side = vunit(vcross(s.top, vd(0.37, 0.11, 0.92)));
+    s.terminator = spot ? acos(R / vlen(s.light)) : 0.5 * PI;
+    return s;
+}
+
+/* The unit direction from the centre to receiver i of n along the meridian. */
+static v3d meridian(const sphere_light *s, int i, int n)
+{
+    double t = 0.05 + (1.2 * s->terminator / (0.5 * PI) - 0.05) * i / (n - 1);
+    return vadd(vscale(s->top, cos(t)), vscale(s->side, sin(t)));
+}
+
 /* The subsurface light along a meridian of a marble sphere (r 80 mm, the scene's) from under the light to near
  * the terminator: the map at 128 px (balanced's) against one at 384 px as truth; with footprints the profile is
  * as smooth as the truth's, with one disk per sample it rings. */
@@ -371,23 +399,16 @@ static void a_lit_sphere_shows_no_rings(void **state)
     for (int c = 0; c < 3; c++) d[c] = fv_dipole_make(MARBLE_SA[c], MARBLE_SP[c], 1.5);
     enum { N = 96 };
     for (int persp = 0; persp < 2; persp++) {
-        v3d light = vd(0.1, 0.45, 0.05);
-        v3d dir = vunit(vsub(vd(0, 0, 0), light));
-        uint32_t type = persp ? FV_LIGHT_SPOT : FV_LIGHT_DIRECTIONAL;
-        fv_sss_view coarse = view_of(type, light, dir, lo, hi, 128), fine = view_of(type, light, dir, lo, hi, 384);
+        sphere_light sl = sphere_light_of(persp, R);
+        v3d light = sl.light, dir = sl.dir;
+        fv_sss_view coarse = view_of(sl.type, light, dir, lo, hi, 128), fine = view_of(sl.type, light, dir, lo, hi, 384);
         samples sc = cast(&coarse, &sph, 1.0, light, !persp), sf = cast(&fine, &sph, 1.0, light, !persp);
-        /* The meridian from the point under the light (angle 0.05 rad) to 1.2 rad from it (cos 0.36; the
-         * terminator is at 1.57 rad; the spot's nearer, at acos(R / distance), and the range shrinks with it), in a
-         * plane that crosses the texel grid obliquely. Nearer the terminator the irradiance changes by tens of
-         * percent across one stretched texel: a sample's value held over its footprint where it lies would leave a
-         * ripple of a few percent there; carried onto the receiver's plane, each column's flux lands at the density
-         * of the receiver's own cosine. */
-        double terminator = persp ? acos(R / vlen(light)) : 0.5 * PI;
-        v3d top = vscale(dir, -1.0), side = vunit(vcross(top, vd(0.37, 0.11, 0.92)));
+        /* Nearer the terminator the irradiance changes by tens of percent across one stretched texel: a sample's
+         * value held over its footprint where it lies would leave a ripple of a few percent there; carried onto the
+         * receiver's plane, each column's flux lands at the density of the receiver's own cosine. */
         double prof[3][N], truth[3][N], disk[3][N], worst = 0.0;
         for (int i = 0; i < N; i++) {
-            double t = 0.05 + (1.2 * terminator / (0.5 * PI) - 0.05) * i / (N - 1);
-            v3d x = vscale(vadd(vscale(top, cos(t)), vscale(side, sin(t))), R);
+            v3d x = vscale(meridian(&sl, i, N), R);
             receiver rc = receiver_at(x, vunit(x), !persp, dir, light, marble_flat_m());
             for (int c = 0; c < 3; c++) {
                 prof[c][i] = gather(&d[c], &sc, &rc, NEAR_FIELD);
@@ -405,7 +426,7 @@ static void a_lit_sphere_shows_no_rings(void **state)
                           c, sc.n, sf.n, ext, ext_truth, ext_disk, hf, hf_truth, hf_disk);
             if (ext > ext_truth) fail_msg("channel %d: %d ripples along the meridian (truth %d)", c, ext, ext_truth);
             /* Near the receiver the flux of each texel column lands at the density its own plane gives: no step
-             * from one texel's irradiance to the next (as cast, without the near field: 3.9e-3..5.9e-3, 25-40x). */
+             * from one texel's irradiance to the next (as cast, without the near field: 3.9e-3..5.9e-3, 25-40x the fine map's). */
             if (hf > 8.0 * hf_truth || hf > 0.05 * hf_disk)
                 fail_msg("channel %d: high-frequency part %.3g (truth %.3g, one disk %.3g)", c, hf, hf_truth, hf_disk);
             /* The metric sees the rings of one disk per sample. */
@@ -435,19 +456,15 @@ static void a_faceted_sphere_shows_no_bands(void **state)
     double flat = marble_flat_m();
     enum { N = 64 };
     for (int persp = 0; persp < 2; persp++) {
-        v3d light = vd(0.1, 0.45, 0.05);
-        v3d dir = vunit(vsub(vd(0, 0, 0), light));
-        uint32_t type = persp ? FV_LIGHT_SPOT : FV_LIGHT_DIRECTIONAL;
-        fv_sss_view coarse = view_of(type, light, dir, lo, hi, 128), fine = view_of(type, light, dir, lo, hi, 256);
+        sphere_light sl = sphere_light_of(persp, R);
+        v3d light = sl.light, dir = sl.dir;
+        fv_sss_view coarse = view_of(sl.type, light, dir, lo, hi, 128), fine = view_of(sl.type, light, dir, lo, hi, 256);
         samples sc = cast(&coarse, &facets, 1.0, light, !persp), sf = cast(&fine, &facets, 1.0, light, !persp),
                 ss = cast(&fine, &smooth, 1.0, light, !persp);
-        double terminator = persp ? acos(R / vlen(light)) : 0.5 * PI;
-        v3d top = vscale(dir, -1.0), side = vunit(vcross(top, vd(0.37, 0.11, 0.92)));
         static double prof[3][N], truth[3][N], cast_coarse[3][N], cast_fine[3][N], sphere[3][N];
         double worst = 0.0, worst_sphere = 0.0;
         for (int i = 0; i < N; i++) {
-            double t = 0.05 + (1.2 * terminator / (0.5 * PI) - 0.05) * i / (N - 1);
-            v3d u = vadd(vscale(top, cos(t)), vscale(side, sin(t))), x, n;
+            v3d u = meridian(&sl, i, N), x, n;
             assert_true(hit(&facets, vscale(u, 2.0 * R), vscale(u, -1.0), &x, &n)); /* the receiver on its facet */
             receiver rc = receiver_at(x, n, !persp, dir, light, flat),
                      rs = receiver_at(vscale(u, R), u, !persp, dir, light, flat); /* and on the smooth sphere */
