@@ -7,7 +7,7 @@
 // first carried along the light onto the receiver's tangent plane (fv_sss_near_footprint, render/sss/fv_sss_math.h).
 // Exact mode sums every sample; hierarchy mode walks each map's quad-tree from the start level, accepting a cluster
 // of radius r at distance d when r <= distance_scale x eye distance x similarity x d, or at the limit level (Ki &
-// Oh), but never one whose leaves the near field may reach, and dropping every node wholly beyond the material's
+// Oh), but never one with leaves wholly in the near field, and dropping every node wholly beyond the material's
 // cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light). Requires fv_gpu.h,
 // fv_common.glsl, the scene set and fv_gbuffer_decode.glsl; declares the SSS slot of the shading inputs (set 1).
 // With no SSS pass the header is the slot's zero dummy: one load, then nothing.
@@ -353,15 +353,18 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 float dist = length(node.pos_area.xyz - x);
                 if (cutoff > 0.0 && dist - node.extent.x > cutoff) continue;
                 float radius = sqrt(area * (1.0 / FV_PI));
-                // a cluster some of whose leaves the receiver's near field may carry onto its plane is refined
-                float near_field = 2.0 * max(rc.flat_m, float(FV_SSS_GPU_FLAT_FOOTPRINTS) * node.edge_b.w);
+                // a cluster some of whose leaves the receiver's near field carries wholly onto its plane is
+                // refined; one accepted where it fades out has its centroid carried by the same fraction
+                float near_field = max(rc.flat_m, float(FV_SSS_GPU_FLAT_FOOTPRINTS) * node.edge_b.w);
                 bool accept = k >= limit || (node.flux_sim.w > 0.0 && radius <= theta * node.flux_sim.w * dist &&
                                              !(rc.facing > 0.0 && dist - node.extent.x < near_field));
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {
                     // a leaf: its texel's footprint; a cluster: the disk of its area (the quadrature over a
                     // footprint costs 4x a disk's, and a cluster is accepted only away from the receiver)
+                    vec3 cc = node.pos_area.xyz, za = vec3(0.0), zb = vec3(0.0);
+                    if (k < leaf) fv_sss_near_footprint(rc, cc, za, zb, node.normal_depth.xyz, node.edge_b.w);
                     sum += node.flux_sim.rgb *
-                           (k >= leaf ? fv_sss_node_kernel(d, node, rc) : fv_sss_kernel(d, dist, area));
+                           (k >= leaf ? fv_sss_node_kernel(d, node, rc) : fv_sss_kernel(d, length(cc - x), area));
                     count++;
                     continue;
                 }
