@@ -207,13 +207,15 @@ typedef enum kernel_kind {
     ONE_DISK,   /* one disk of the sample's area (fv_dipole_kernel: before the footprints) */
 } kernel_kind;
 
-/* sum flux x kernel at the receiver. */
-static double gather(const fv_dipole *d, const samples *ss, const receiver *rc, kernel_kind kind)
+/* sum flux x kernel at the receiver over the samples within `reach` of it (INFINITY: all). */
+static double gather_within(const fv_dipole *d, const samples *ss, const receiver *rc, kernel_kind kind, double reach)
 {
     const double xr[3] = {rc->x.x, rc->x.y, rc->x.z};
     double sum = 0.0;
     for (size_t k = 0; k < ss->n; k++) {
         const sample *s = &ss->s[k];
+        v3d off = vsub(vd(s->c[0], s->c[1], s->c[2]), rc->x);
+        if (vdot(off, off) > reach * reach) continue;
         double kern;
         if (kind == ONE_DISK) {
             kern = fv_dipole_kernel(d, vlen(vsub(vd(s->c[0], s->c[1], s->c[2]), rc->x)), s->area);
@@ -225,6 +227,19 @@ static double gather(const fv_dipole *d, const samples *ss, const receiver *rc, 
         sum += s->flux * kern;
     }
     return sum;
+}
+
+static double gather(const fv_dipole *d, const samples *ss, const receiver *rc, kernel_kind kind)
+{
+    return gather_within(d, ss, rc, kind, INFINITY);
+}
+
+/* The spheres' sums leave out samples beyond the radius outside which 0.1% of a point source's diffuse reflectance
+ * leaves (marble: 35-45 mm; the same for every sum compared, and smooth along the meridian): the tests stay quick
+ * under the sanitizers. */
+static double gather_sphere(const fv_dipole *d, const samples *ss, const receiver *rc, kernel_kind kind)
+{
+    return gather_within(d, ss, rc, kind, fv_dipole_cutoff_radius(d, 1e-3));
 }
 
 /* Marble's flat radius (fv_sss_flat_radius_m), metres. */
@@ -411,9 +426,9 @@ static void a_lit_sphere_shows_no_rings(void **state)
             v3d x = vscale(meridian(&sl, i, N), R);
             receiver rc = receiver_at(x, vunit(x), !persp, dir, light, marble_flat_m());
             for (int c = 0; c < 3; c++) {
-                prof[c][i] = gather(&d[c], &sc, &rc, NEAR_FIELD);
-                truth[c][i] = gather(&d[c], &sf, &rc, NEAR_FIELD);
-                disk[c][i] = gather(&d[c], &sc, &rc, ONE_DISK);
+                prof[c][i] = gather_sphere(&d[c], &sc, &rc, NEAR_FIELD);
+                truth[c][i] = gather_sphere(&d[c], &sf, &rc, NEAR_FIELD);
+                disk[c][i] = gather_sphere(&d[c], &sc, &rc, ONE_DISK);
                 worst = fmax(worst, fabs(prof[c][i] / truth[c][i] - 1.0));
             }
         }
@@ -469,11 +484,11 @@ static void a_faceted_sphere_shows_no_bands(void **state)
             receiver rc = receiver_at(x, n, !persp, dir, light, flat),
                      rs = receiver_at(vscale(u, R), u, !persp, dir, light, flat); /* and on the smooth sphere */
             for (int c = 0; c < 3; c++) {
-                prof[c][i] = gather(&d[c], &sc, &rc, NEAR_FIELD);
-                truth[c][i] = gather(&d[c], &sf, &rc, NEAR_FIELD);
-                cast_coarse[c][i] = gather(&d[c], &sc, &rc, AS_CAST);
-                cast_fine[c][i] = c == 0 ? gather(&d[c], &sf, &rc, AS_CAST) : 1.0; /* one channel shows it */
-                sphere[c][i] = gather(&d[c], &ss, &rs, NEAR_FIELD);
+                prof[c][i] = gather_sphere(&d[c], &sc, &rc, NEAR_FIELD);
+                truth[c][i] = gather_sphere(&d[c], &sf, &rc, NEAR_FIELD);
+                cast_coarse[c][i] = gather_sphere(&d[c], &sc, &rc, AS_CAST);
+                cast_fine[c][i] = c == 0 ? gather_sphere(&d[c], &sf, &rc, AS_CAST) : 1.0; /* one channel shows it */
+                sphere[c][i] = gather_sphere(&d[c], &ss, &rs, NEAR_FIELD);
                 worst = fmax(worst, fabs(prof[c][i] / truth[c][i] - 1.0));
                 worst_sphere = fmax(worst_sphere, fabs(prof[c][i] / sphere[c][i] - 1.0));
             }
