@@ -119,7 +119,8 @@ void fv_sss_receiver_make(const double x[3], const double n[3], const double w[3
 /** The footprint of a sample (centre c, edges a, b: fv_sss_texel_footprint; n_s its unit normal facing the light)
  *  as the receiver's sum takes it: carried along w by the fraction beta of the way onto the receiver's plane,
  *  c' = c + beta t_c w with t_c = ((x - c) . nc) / wn, and each edge e' = e - beta ((e . nc) / wn) w. Returns beta
- *  (0: out = the footprint as cast). The GPU's copy is render/include/fv_sss_gather.glsl's fv_sss_near_footprint. */
+ *  (0: out = the footprint as cast; also for a footprint that is not finite). The GPU's copy is
+ *  render/include/fv_sss_gather.glsl's fv_sss_near_footprint. */
 double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const double a[3], const double b[3],
                              const double n_s[3], double out_c[3], double out_a[3], double out_b[3]);
 

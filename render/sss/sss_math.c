@@ -276,6 +276,7 @@ double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const 
     double dist = sqrt(d3_dot(off, off));
     double half_diag = 0.5 * sqrt(fmax(d3_dot(d3_add(av, bv), d3_add(av, bv)),
                                        d3_dot(d3_add(av, d3_scale(bv, -1.0)), d3_add(av, d3_scale(bv, -1.0)))));
+    if (!isfinite(dist) || !isfinite(half_diag)) return 0.0; /* a broken footprint stays as it came */
     double d1 = fmax(r->flat_m, FV_SSS_FLAT_FOOTPRINTS * half_diag);
     if (!(dist < 2.0 * d1)) return 0.0;
     dv3 ns = d3(n_s[0], n_s[1], n_s[2]), n = d3(r->n[0], r->n[1], r->n[2]);

@@ -539,6 +539,55 @@ static void the_tile_kernel_stays_finite(void **state)
     if (fabs(k0 - k1) > 1e-3 * k1) fail_msg("on the corner %.9g, beside it %.9g", k0, k1);
 }
 
+/* Extremes: the near field's weight stays in [0, 1] and its footprint finite for degenerate receivers (zero, NaN
+ * or infinite normal, direction, position or flat radius; the dark side; grazing) and samples; where beta is 0 the
+ * footprint comes back as cast. */
+static void the_near_field_stays_finite(void **state)
+{
+    (void)state;
+    const double x[3] = {0, 0, 0}, up[3] = {0, 1, 0}, down_w[3] = {0, -1, 0}, graze_w[3] = {1, -0.01, 0};
+    const double zero[3] = {0, 0, 0}, nan3[3] = {NAN, 0, 0}, inf3[3] = {INFINITY, 0, 0}, big[3] = {1e300, 1e300, 0};
+    const double *xs[] = {x, nan3, inf3, big}, *ns[] = {up, zero, nan3, inf3, down_w}, *ws[] = {down_w, graze_w, zero,
+                                                                                               nan3, up};
+    const double flats[] = {0.004, 0.0, NAN, INFINITY, -1.0};
+    const double c[3] = {1e-3, 0, 5e-4}, a[3] = {2e-3, 0, 0}, b[3] = {0, 1e-4, 2e-3};
+    const double *cs[] = {c, nan3, inf3, zero}, *as[] = {a, zero, nan3, big};
+    int near = 0;
+    for (size_t i = 0; i < 4; i++)
+        for (size_t j = 0; j < 5; j++)
+            for (size_t k = 0; k < 5; k++)
+                for (size_t f = 0; f < 5; f++) {
+                    fv_sss_receiver r;
+                    fv_sss_receiver_make(xs[i], ns[j], ws[k], flats[f], &r);
+                    assert_true(r.facing >= 0.0 && r.facing <= 1.0 && isfinite(r.flat_m) && r.flat_m >= 0.0);
+                    for (size_t m = 0; m < 4; m++)
+                        for (size_t q = 0; q < 4; q++) {
+                            double oc[3], oa[3], ob[3];
+                            double beta = fv_sss_near_footprint(&r, cs[m], as[q], b, up, oc, oa, ob);
+                            if (!(beta >= 0.0 && beta <= 1.0))
+                                fail_msg("receiver %zu/%zu/%zu/%zu, sample %zu/%zu: beta %g", i, j, k, f, m, q, beta);
+                            if (beta > 0.0) {
+                                near++;
+                                for (int e = 0; e < 3; e++)
+                                    if (!isfinite(oc[e]) || !isfinite(oa[e]) || !isfinite(ob[e]))
+                                        fail_msg("receiver %zu/%zu/%zu/%zu, sample %zu/%zu: not finite", i, j, k, f,
+                                                 m, q);
+                            } else {
+                                assert_memory_equal(oc, cs[m], sizeof oc);
+                                assert_memory_equal(oa, as[q], sizeof oa);
+                            }
+                        }
+                }
+    assert_true(near > 0); /* the sane cases do carry footprints */
+    /* The dark side and a receiver facing the light edge-on: no near field. */
+    fv_sss_receiver r;
+    fv_sss_receiver_make(x, up, up, 0.004, &r);
+    assert_true(r.facing == 0.0);
+    const double side[3] = {1, 0, 0};
+    fv_sss_receiver_make(x, side, down_w, 0.004, &r);
+    assert_true(r.facing == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -547,6 +596,7 @@ int main(void)
         cmocka_unit_test(a_lit_sphere_shows_no_rings),
         cmocka_unit_test(a_faceted_sphere_shows_no_bands),
         cmocka_unit_test(the_tile_kernel_stays_finite),
+        cmocka_unit_test(the_near_field_stays_finite),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
