@@ -3,12 +3,14 @@
 // material, Lo = (1/pi) Ft(eta, wo) sum_i E_i A_i K_i(x_o), where K_i is the mean of Rd over the sample's
 // footprint, the parallelogram its texel cuts from the surface (render/sss/fv_dipole.h's fv_dipole_tile_kernel, whose
 // double version the CPU reference and the tests use; a cluster above the leaves: the disk of its area,
-// fv_dipole_kernel). Exact mode sums every sample; hierarchy mode walks each map's
-// quad-tree from the start level, accepting a cluster of radius r at distance d when r <= distance_scale x eye
-// distance x similarity x d, or at the limit level (Ki & Oh), and dropping every node wholly beyond the material's
-// cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light). Requires fv_gpu.h, fv_common.glsl, the scene set and
-// fv_gbuffer_decode.glsl; declares the SSS slot of the shading inputs (set 1). With no SSS pass the header is the
-// slot's zero dummy: one load, then nothing.
+// fv_dipole_kernel). Within the receiver's near field (the material's flat radius, layer.view.w) each footprint is
+// first carried along the light onto the receiver's tangent plane (fv_sss_near_footprint, render/sss/fv_sss_math.h).
+// Exact mode sums every sample; hierarchy mode walks each map's quad-tree from the start level, accepting a cluster
+// of radius r at distance d when r <= distance_scale x eye distance x similarity x d, or at the limit level (Ki &
+// Oh), but never one with leaves wholly in the near field, and dropping every node wholly beyond the material's
+// cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light). Requires fv_gpu.h,
+// fv_common.glsl, the scene set and fv_gbuffer_decode.glsl; declares the SSS slot of the shading inputs (set 1).
+// With no SSS pass the header is the slot's zero dummy: one load, then nothing.
 #ifndef FV_SSS_GATHER_GLSL
 #define FV_SSS_GATHER_GLSL
 #extension GL_EXT_control_flow_attributes : require // [[unroll]] below
@@ -206,10 +208,79 @@ vec3 fv_sss_tile_kernel(fv_sss_dipole d, vec3 c, vec3 a, vec3 b, float area, vec
     return mix(vec3(0.0), quad, greaterThan(d.zr, vec3(0.0)));
 }
 
-// One node's footprint kernel at the receiver.
-vec3 fv_sss_node_kernel(fv_sss_dipole d, fv_gpu_sss_node n, vec3 x)
+// A receiver's near field (render/sss/fv_sss_math.h's fv_sss_receiver): near it the surface is its tangent plane,
+// onto which each footprint is carried along the light.
+struct fv_sss_receiver {
+    vec3 x, n;     // position, unit shading normal
+    vec3 nc;       // the plane's normal: n tilted toward the light to a cosine of at least FV_SSS_GPU_MIN_COS
+    vec3 w;        // unit direction the light travels at x
+    float wn;      // w . nc (< 0)
+    float facing;  // the receiver's cosine weight, 0..1 (0: every footprint as cast)
+    float flat_m;  // the material's flat radius (m)
+};
+
+// fv_sss_receiver_make: x with unit normal n (facing the eye), lit by light `light`.
+fv_sss_receiver fv_sss_receiver_of(vec3 x, vec3 n, uint light, float flat_m)
 {
-    return fv_sss_tile_kernel(d, n.pos_area.xyz, n.extent.yzw, n.edge_b.xyz, n.pos_area.w, x);
+    fv_sss_receiver r;
+    r.x = x;
+    r.n = n;
+    r.nc = n;
+    r.w = vec3(0.0);
+    r.wn = 0.0;
+    r.facing = 0.0;
+    r.flat_m = flat_m > 0.0 ? flat_m : 0.0;
+    if (light >= uint(lights.length())) return r;
+    fv_gpu_light L = lights[light];
+    bool directional = uint(L.direction_type.w + 0.5) == FV_GPU_LIGHT_DIRECTIONAL;
+    vec3 w = directional ? L.direction_type.xyz : x - L.position_range.xyz;
+    float wl = length(w), nl = length(n);
+    if (!(wl > 1e-30) || !(nl > 1e-30)) return r;
+    w /= wl;
+    n /= nl;
+    float cos_x = -dot(n, w);
+    if (!(cos_x > 0.0)) return r; // the dark side: no near field
+    vec3 nc = n;
+    if (cos_x < FV_SSS_GPU_MIN_COS) {
+        vec3 t = fv_sss_unit_across(n, -w);
+        if (dot(t, t) == 0.0) return r;
+        nc = -w * FV_SSS_GPU_MIN_COS + t * sqrt(1.0 - FV_SSS_GPU_MIN_COS * FV_SSS_GPU_MIN_COS);
+    }
+    r.n = n;
+    r.nc = nc;
+    r.w = w;
+    r.wn = dot(w, nc);
+    r.facing = smoothstep(FV_SSS_GPU_FLAT_COS_LO, FV_SSS_GPU_FLAT_COS_HI, cos_x);
+    return r;
+}
+
+// fv_sss_near_footprint: the footprint (c, a, b; normal n_s, half-diagonal hd) carried along the light by the
+// fraction beta of the way onto the receiver's plane; beta 1 within d1 = max(flat radius, 2 half-diagonals), 0
+// beyond 2 d1, times the receiver's facing and the normals' likeness.
+void fv_sss_near_footprint(fv_sss_receiver r, inout vec3 c, inout vec3 a, inout vec3 b, vec3 n_s, float hd)
+{
+    if (!(r.facing > 0.0) || !(r.wn < 0.0)) return;
+    vec3 off = c - r.x;
+    float dist = length(off);
+    float d1 = max(r.flat_m, float(FV_SSS_GPU_FLAT_FOOTPRINTS) * hd);
+    if (!(dist < 2.0 * d1)) return;
+    float ls = length(n_s);
+    float alike = ls > 1e-30 ? dot(n_s, r.n) / ls : 0.0;
+    float beta = (1.0 - smoothstep(d1, 2.0 * d1, dist)) * r.facing *
+                 smoothstep(FV_SSS_GPU_FLAT_NORMAL_LO, FV_SSS_GPU_FLAT_NORMAL_HI, alike);
+    if (!(beta > 0.0)) return;
+    float k = beta / r.wn;
+    c -= (k * dot(off, r.nc)) * r.w;
+    a -= (k * dot(a, r.nc)) * r.w;
+    b -= (k * dot(b, r.nc)) * r.w;
+}
+
+// One leaf's footprint kernel at the receiver, its footprint as the receiver's near field takes it.
+vec3 fv_sss_node_kernel(fv_sss_dipole d, fv_gpu_sss_node n, fv_sss_receiver r)
+{
+    vec3 c = n.pos_area.xyz, a = n.extent.yzw, b = n.edge_b.xyz;
+    fv_sss_near_footprint(r, c, a, b, n.normal_depth.xyz, n.extent.x);
+    return fv_sss_tile_kernel(d, c, a, b, n.pos_area.w, r.x);
 }
 
 // Whether the surface's light is carried by the dipole (a translucent material with a map this frame).
@@ -245,6 +316,7 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
         if (layer.info.x != s.material) continue;
         uint leaf = min(layer.info.w, 9u);
         uint base = layer.info.z;
+        fv_sss_receiver rc = fv_sss_receiver_of(x, s.normal, layer.info.y, layer.view.w);
         if (sss_header.counts.y == FV_SSS_GPU_MODE_EXACT) {
             // 16 samples per iteration, the inner loop unrolled: llvmpipe ends a shader's loops after 65535
             // iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop), and a 512 px map has 262144
@@ -256,7 +328,7 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                     if (at >= total) break;
                     fv_gpu_sss_node node = sss_nodes[at];
                     if (!(node.pos_area.w > 0.0)) continue;
-                    sum += node.flux_sim.rgb * fv_sss_node_kernel(d, node, x);
+                    sum += node.flux_sim.rgb * fv_sss_node_kernel(d, node, rc);
                     count++;
                 }
             }
@@ -281,11 +353,18 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 float dist = length(node.pos_area.xyz - x);
                 if (cutoff > 0.0 && dist - node.extent.x > cutoff) continue;
                 float radius = sqrt(area * (1.0 / FV_PI));
-                bool accept = k >= limit || (node.flux_sim.w > 0.0 && radius <= theta * node.flux_sim.w * dist);
+                // a cluster some of whose leaves the receiver's near field carries wholly onto its plane is
+                // refined; one accepted where it fades out has its centroid carried by the same fraction
+                float near_field = max(rc.flat_m, float(FV_SSS_GPU_FLAT_FOOTPRINTS) * node.edge_b.w);
+                bool accept = k >= limit || (node.flux_sim.w > 0.0 && radius <= theta * node.flux_sim.w * dist &&
+                                             !(rc.facing > 0.0 && dist - node.extent.x < near_field));
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {
                     // a leaf: its texel's footprint; a cluster: the disk of its area (the quadrature over a
                     // footprint costs 4x a disk's, and a cluster is accepted only away from the receiver)
-                    sum += node.flux_sim.rgb * (k >= leaf ? fv_sss_node_kernel(d, node, x) : fv_sss_kernel(d, dist, area));
+                    vec3 cc = node.pos_area.xyz, za = vec3(0.0), zb = vec3(0.0);
+                    if (k < leaf) fv_sss_near_footprint(rc, cc, za, zb, node.normal_depth.xyz, node.edge_b.w);
+                    sum += node.flux_sim.rgb *
+                           (k >= leaf ? fv_sss_node_kernel(d, node, rc) : fv_sss_kernel(d, length(cc - x), area));
                     count++;
                     continue;
                 }

@@ -15,12 +15,19 @@
 #define FV_SSS_GPU_MODE_EXACT 1u
 #define FV_SSS_GPU_MIN_COS 0.1 /* = FV_SSS_MIN_COS */
 #define FV_SSS_STACK 32        /* traversal stack entries per pixel: 3 per level below the start, plus one */
+/* The receiver's near field (render/sss/fv_sss_math.h's fv_sss_near_footprint): */
+#define FV_SSS_GPU_FLAT_FOOTPRINTS 2.0 /* = FV_SSS_FLAT_FOOTPRINTS */
+#define FV_SSS_GPU_FLAT_COS_LO 0.05    /* = FV_SSS_FLAT_COS_LO */
+#define FV_SSS_GPU_FLAT_COS_HI 0.2     /* = FV_SSS_FLAT_COS_HI */
+#define FV_SSS_GPU_FLAT_NORMAL_LO 0.7  /* = FV_SSS_FLAT_NORMAL_LO */
+#define FV_SSS_GPU_FLAT_NORMAL_HI 0.9  /* = FV_SSS_FLAT_NORMAL_HI */
 
 /** One light-view map. */
 struct fv_gpu_sss_layer {
     FV_UVEC4 info; /* x material index, y light index, z first node (of its level 0), w leaf level L (2^L texels) */
     FV_VEC4 view;  /* x 1 = perspective, y texel side m (orthographic) or tan(half-angle), z the material's cutoff
-                    * radius (m, fv_sss_cutoff_radius_m; 0 = none), w 0 */
+                    * radius (m, fv_sss_cutoff_radius_m; 0 = none), w its flat radius (m, fv_sss_flat_radius_m: the
+                    * receiver's near field) */
 };
 
 /** The header (binding FV_SSS_BINDING_HEADER); all zero = no subsurface light (the slot's dummy). */
@@ -42,9 +49,10 @@ struct fv_gpu_sss_node {
     FV_VEC4 normal_depth; /* xyz area-weighted mean normal, w mean depth along the light (m) */
     FV_VEC4 extent;       /* x bounding radius around the centroid (m): how far the footprints of its samples reach
                            * (a leaf: its footprint's half-diagonal); yzw the footprint's edge a (m) */
-    FV_VEC4 edge_b;       /* xyz the footprint's edge b (m), w 0. The footprint is the parallelogram centroid +- a/2 +-
-                           * b/2 on the surface (fv_sss_texel_footprint; |a x b| = area) of a leaf's texel; a cluster
-                           * has none (a = b = 0: the disk of its area stands in) */
+    FV_VEC4 edge_b;       /* xyz the footprint's edge b (m), w the largest footprint half-diagonal of its leaves (m).
+                           * The footprint is the parallelogram centroid +- a/2 +- b/2 on the surface
+                           * (fv_sss_texel_footprint; |a x b| = area) of a leaf's texel; a cluster has none (a = b = 0:
+                           * the disk of its area stands in) */
 };
 
 /** The map pass's push constants (vertex and fragment stages): the scene's {draw, view} then ours. */
@@ -90,6 +98,14 @@ float fv_sss_fresnel_t(float eta, float cos_theta)
     float m = 1.0 - clamp(cos_theta, 0.0, 1.0);
     float m2 = m * m;
     return clamp(1.0 - (f0 + (1.0 - f0) * m2 * m2 * m), 0.0, 1.0);
+}
+
+// v without its component along the unit u, made unit (zero when nothing is left).
+vec3 fv_sss_unit_across(vec3 v, vec3 u)
+{
+    vec3 r = v - u * dot(v, u);
+    float l = length(r);
+    return l > 1e-30 ? r / l : vec3(0.0);
 }
 #endif
 

@@ -166,11 +166,14 @@ typedef struct ref_sss_sample {
     dvec3 pos, flux; /* world position; flux entering the surface E A (W) */
     double area;     /* the surface area the texel covers (m^2) */
     double a[3], b[3]; /* the texel's footprint, pos +- a/2 +- b/2 (fv_sss_texel_footprint; |a x b| = area) */
+    double n[3];       /* unit normal facing the light */
 } ref_sss_sample;
 typedef struct ref_sss_map {
     uint32_t material;
     double eta;
     fv_dipole dipole[3]; /* per channel, per metre */
+    double flat_m;       /* the material's flat radius (fv_sss_flat_radius_m) */
+    ref_light light;     /* the map's light: the direction it travels at a receiver */
     ref_sss_sample *samples;
     uint32_t count;
 } ref_sss_map;
@@ -184,7 +187,8 @@ FV_MUST_CHECK fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_sc
 void ref_sss_fini(ref_sss *s);
 /** Whether `material` has a map (its diffuse light is then the dipole's, as on the GPU). */
 bool ref_sss_active(const ref_sss *s, uint32_t material);
-/** Lo toward the eye at x (unit normal n, to_eye toward the eye): (1/pi) Ft(eta, wo) sum of flux x kernel. */
+/** Lo toward the eye at x (unit normal n, to_eye toward the eye): (1/pi) Ft(eta, wo) sum of flux x kernel, each
+ *  footprint as the receiver's near field takes it (fv_sss_near_footprint). */
 dvec3 ref_sss_radiance(const ref_sss *s, dvec3 x, dvec3 n, dvec3 to_eye, uint32_t material);
 /** fv_light_irradiance in double (reference_shade.c): irradiance of L at pos with unit normal n; the unit direction
  *  toward the light and its distance (INFINITY for a directional light). */

@@ -4,7 +4,8 @@
  * view the GPU uses (fv_sss_light_view), the point the GPU's rasteriser samples. Each sample carries what
  * sss_map.frag computes: the surface area the texel covers (fv_sss_texel_area), its footprint on the surface
  * (fv_sss_texel_footprint) and the flux entering the surface E A = Ft(eta, wi) E_light A. A receiver on the same
- * material sums flux x fv_dipole_tile_kernel over all of them; no visibility inside the object (the model). */
+ * material sums flux x fv_dipole_tile_kernel over all of them, each footprint carried onto the receiver's tangent
+ * plane as its near field takes it (fv_sss_near_footprint); no visibility inside the object (the model). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,6 +52,8 @@ static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light
             const double ea[3] = {fa.x, fa.y, fa.z}, eb[3] = {fb.x, fb.y, fb.z};
             memcpy(s->a, ea, sizeof s->a);
             memcpy(s->b, eb, sizeof s->b);
+            const double nv[3] = {nrm.x, nrm.y, nrm.z};
+            memcpy(s->n, nv, sizeof s->n);
         }
     return FV_OK;
 }
@@ -72,6 +75,8 @@ fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_scene *scene, co
         if (pairs[p].light >= w->light_count || !fv_sss_material_bounds(scene, m->material, in->time_s, &omin, &omax))
             continue;
         const ref_light *L = &w->lights[pairs[p].light];
+        m->light = *L;
+        m->flat_m = fv_sss_flat_radius_m(&scene->materials[m->material].translucency);
         fv_vec3 pos = fv_v3((float)L->position.x, (float)L->position.y, (float)L->position.z);
         fv_vec3 dir = fv_v3((float)L->direction.x, (float)L->direction.y, (float)L->direction.z);
         fv_sss_view v;
@@ -105,13 +110,19 @@ dvec3 ref_sss_radiance(const ref_sss *s, dvec3 x, dvec3 n, dvec3 to_eye, uint32_
         const ref_sss_map *m = &s->map[i];
         if (m->material != material) continue;
         eta = m->eta;
-        const double xr[3] = {x.x, x.y, x.z};
+        const double xr[3] = {x.x, x.y, x.z}, nr[3] = {n.x, n.y, n.z};
+        dvec3 wl = m->light.type == FV_LIGHT_DIRECTIONAL ? m->light.direction : dv_sub(x, m->light.position);
+        const double wr[3] = {wl.x, wl.y, wl.z};
+        fv_sss_receiver rc;
+        fv_sss_receiver_make(xr, nr, wr, m->flat_m, &rc);
         for (uint32_t k = 0; k < m->count; k++) {
             const ref_sss_sample *p = &m->samples[k];
-            const double c[3] = {p->pos.x, p->pos.y, p->pos.z};
-            sum.x += p->flux.x * fv_dipole_tile_kernel(&m->dipole[0], c, p->a, p->b, xr);
-            sum.y += p->flux.y * fv_dipole_tile_kernel(&m->dipole[1], c, p->a, p->b, xr);
-            sum.z += p->flux.z * fv_dipole_tile_kernel(&m->dipole[2], c, p->a, p->b, xr);
+            const double c0[3] = {p->pos.x, p->pos.y, p->pos.z};
+            double c[3], a[3], b[3];
+            fv_sss_near_footprint(&rc, c0, p->a, p->b, p->n, c, a, b);
+            sum.x += p->flux.x * fv_dipole_tile_kernel(&m->dipole[0], c, a, b, xr);
+            sum.y += p->flux.y * fv_dipole_tile_kernel(&m->dipole[1], c, a, b, xr);
+            sum.z += p->flux.z * fv_dipole_tile_kernel(&m->dipole[2], c, a, b, xr);
         }
     }
     double len = sqrt(dv_dot(to_eye, to_eye));

@@ -72,4 +72,56 @@ double fv_sss_texel_area(const fv_sss_view *v, fv_vec3 p, double cos_i);
  *  degenerate view, normal or point. The GPU's copy is render/sss/sss_map.frag. */
 bool fv_sss_texel_footprint(const fv_sss_view *v, fv_vec3 p, fv_vec3 n, fv_vec3 *out_a, fv_vec3 *out_b);
 
+/* ---- the receiver's near field (issue 28 item 5) -------------------------------------------------------------
+ * Near a receiver the surface is taken as its tangent plane: each sample's footprint is carried along the light
+ * onto that plane (the texel columns cut it into footprints that tile it exactly, and the flux of each column is
+ * spread at the density the receiver's own normal gives), blended by a weight beta into the footprint as cast (its
+ * own position and plane) with distance. On a mesh whose samples lie on flat facets while the shading follows the
+ * interpolated normal, the footprints as cast leave gaps and overlaps where the facets bend (bands of several
+ * percent with the facets and the texel rows, at any map size); carried onto the receiver's plane they tile it, and
+ * the sum converges with the map's size. */
+/** The flat radius holds all but this fraction of a point source's diffuse reflectance (fv_dipole_cutoff_radius):
+ *  marble 4 mm. */
+#define FV_SSS_FLAT_FRACTION 0.25
+/** ... and at least this many half-diagonals of the sample's footprint (its neighbours on a coarse map). */
+#define FV_SSS_FLAT_FOOTPRINTS 2.0
+/** beta: 1 within the flat distance d1 = max(flat radius, FV_SSS_FLAT_FOOTPRINTS half-diagonals), 0 beyond 2 d1;
+ *  times a smoothstep of the receiver's cosine to the light over [FV_SSS_FLAT_COS_LO, FV_SSS_FLAT_COS_HI] (at the
+ *  terminator the plane would hold the light's direction) and one of the cosine between the sample's and the
+ *  receiver's normals over [FV_SSS_FLAT_NORMAL_LO, FV_SSS_FLAT_NORMAL_HI] (another sheet, an edge: as cast). */
+#define FV_SSS_FLAT_COS_LO 0.05
+#define FV_SSS_FLAT_COS_HI 0.2
+#define FV_SSS_FLAT_NORMAL_LO 0.7
+#define FV_SSS_FLAT_NORMAL_HI 0.9
+
+/** A material's flat radius (m): the largest of its channels' fv_dipole_cutoff_radius(FV_SSS_FLAT_FRACTION);
+ *  0 without scattering. */
+double fv_sss_flat_radius_m(const fv_translucency *t);
+
+/** A receiver as its near field needs it. */
+typedef struct fv_sss_receiver {
+    double x[3];   /* position (m) */
+    double n[3];   /* unit shading normal */
+    double nc[3];  /* the plane's normal: n tilted toward the light to a cosine of at least FV_SSS_MIN_COS */
+    double w[3];   /* unit direction the light travels at x */
+    double wn;     /* w . nc (at most -FV_SSS_MIN_COS) */
+    double facing; /* the receiver's cosine weight, 0..1 */
+    double flat_m; /* the material's flat radius */
+} fv_sss_receiver;
+
+/** The receiver at x with unit normal n (as shaded: facing the eye) lit along w (the unit direction the light
+ *  travels at x: a directional light's direction, or from a spot or point light to x), for a material of flat
+ *  radius flat_m. Facing away from the light (the dark side), a degenerate normal or direction: facing 0 (every
+ *  footprint as cast). */
+void fv_sss_receiver_make(const double x[3], const double n[3], const double w[3], double flat_m,
+                          fv_sss_receiver *out);
+
+/** The footprint of a sample (centre c, edges a, b: fv_sss_texel_footprint; n_s its unit normal facing the light)
+ *  as the receiver's sum takes it: carried along w by the fraction beta of the way onto the receiver's plane,
+ *  c' = c + beta t_c w with t_c = ((x - c) . nc) / wn, and each edge e' = e - beta ((e . nc) / wn) w. Returns beta
+ *  (0: out = the footprint as cast; also for a footprint that is not finite). The GPU's copy is
+ *  render/include/fv_sss_gather.glsl's fv_sss_near_footprint. */
+double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const double a[3], const double b[3],
+                             const double n_s[3], double out_c[3], double out_a[3], double out_b[3]);
+
 #endif

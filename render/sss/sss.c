@@ -44,6 +44,7 @@ typedef struct sss {
     layer_view views[FV_MAX_FRAMES_IN_FLIGHT][FV_SSS_MAX_LAYERS];
     float cutoff_fraction;              /* sss.cutoff the radii below were derived for (< 0: none yet) */
     float cutoff_m[FV_SSS_MAX_LAYERS];  /* each map's material's cutoff radius (m; 0 = none) */
+    float flat_m[FV_SSS_MAX_LAYERS];    /* and its flat radius (m, fv_sss_flat_radius_m) */
     fv_gpu_sss blk[FV_MAX_FRAMES_IN_FLIGHT];
 } sss;
 
@@ -237,6 +238,8 @@ static fv_result sss_init(const fv_pass_env *env, void **out_state)
     p->size = 1u << p->leaf;
     p->count = fv_sss_pairs(p->model, p->pair, NULL);
     p->cutoff_fraction = -1.0f;
+    for (uint32_t l = 0; l < p->count; l++) /* a bisection per channel, once: the material's near field */
+        p->flat_m[l] = (float)fmin(fv_sss_flat_radius_m(&p->model->materials[p->pair[l].material].translucency), 1e30);
     p->nodes_per_map = (uint32_t)(((1ull << (2 * (p->leaf + 1))) - 1) / 3);
     fv_result res = p->count && p->leaf >= 4 && p->leaf <= 9 ? FV_OK : FV_ERR_INVALID_ARG;
     static const char *const names[FV_SSS_MAP_TARGETS] = {"sss map positions+area", "sss map flux+depth",
@@ -318,7 +321,7 @@ static void sss_prepare(void *state, const fv_pass_frame *f)
         lv[l].valid = fv_sss_light_view(type, pos, dir, omin, omax, smin, smax, p->size, &lv[l].view);
         const fv_sss_view *vw = &lv[l].view;
         g->view = (fv_gpu_vec4){vw->perspective ? 1.0f : 0.0f, (float)(vw->perspective ? vw->tan_half : vw->texel_m),
-                                p->cutoff_m[l], 0};
+                                p->cutoff_m[l], p->flat_m[l]};
     }
 }
 

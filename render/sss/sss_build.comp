@@ -4,8 +4,10 @@
 // depth area-weighted, and a similarity in [0, 1] (leaves 1): the smallest of the children's, times how alike the
 // children's normals are (the smallest cosine to the mean normal) and how flat they lie (1 - the largest depth
 // offset from the mean over the cluster's size sqrt(area)); and its extent, the radius around the centroid that
-// holds every child's extent (a leaf's: its footprint's half-diagonal); a leaf also its texel's footprint (clusters
-// have none: the gather takes the disk of their area). One dispatch per level; empty children are left out.
+// holds every child's extent (a leaf's: its footprint's half-diagonal), and the widest footprint half-diagonal among
+// its leaves (the gather keeps the leaves whose near field may reach the receiver); a leaf also its texel's
+// footprint (clusters have none: the gather takes the disk of their area). One dispatch per level; empty children
+// are left out.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_common.glsl"
@@ -52,7 +54,7 @@ void main()
         o.normal_depth = ok ? vec4(n.xyz, f.w) : vec4(0.0);
         float half_diagonal = 0.5 * sqrt(max(dot(ea + eb, ea + eb), dot(ea - eb, ea - eb)));
         o.extent = ok ? vec4(half_diagonal, ea) : vec4(0.0);
-        o.edge_b = ok ? vec4(eb, 0.0) : vec4(0.0);
+        o.edge_b = ok ? vec4(eb, half_diagonal) : vec4(0.0);
         nodes[at] = o;
         return;
     }
@@ -80,7 +82,7 @@ void main()
     depth /= area;
     vec3 mean_n = length(nrm) > 1e-20 ? normalize(nrm) : vec3(0.0);
     float size = sqrt(area);
-    float alike = 1.0, flat_ = 1.0, reach = 0.0;
+    float alike = 1.0, flat_ = 1.0, reach = 0.0, widest = 0.0;
     for (uint c = 0u; c < 4u; c++) {
         fv_gpu_sss_node k = nodes[child + c];
         if (!(k.pos_area.w > 0.0)) continue;
@@ -89,11 +91,12 @@ void main()
         alike = min(alike, kl > 1e-20 ? max(dot(kn / kl, mean_n), 0.0) : 0.0);
         flat_ = min(flat_, clamp(1.0 - abs(k.normal_depth.w - depth) / max(size, 1e-30), 0.0, 1.0));
         reach = max(reach, length(k.pos_area.xyz - pos) + k.extent.x);
+        widest = max(widest, k.edge_b.w);
     }
     o.pos_area = vec4(pos, area);
     o.flux_sim = vec4(flux, sim * alike * flat_);
     o.normal_depth = vec4(nrm, depth);
     o.extent = vec4(reach, 0.0, 0.0, 0.0);
-    o.edge_b = vec4(0.0);
+    o.edge_b = vec4(0.0, 0.0, 0.0, widest);
     nodes[at] = o;
 }

@@ -21,14 +21,6 @@ layout(location = FV_SSS_OUT_NORMAL) out vec4 out_normal;
 layout(location = FV_SSS_OUT_EDGE_A) out vec4 out_edge_a;
 layout(location = FV_SSS_OUT_EDGE_B) out vec4 out_edge_b;
 
-// v without its component along the unit u, made unit (zero when nothing is left).
-vec3 unit_across(vec3 v, vec3 u)
-{
-    vec3 r = v - u * dot(v, u);
-    float l = length(r);
-    return l > 1e-30 ? r / l : vec3(0.0);
-}
-
 void main()
 {
     out_pos = vec4(0.0);
@@ -70,13 +62,14 @@ void main()
     // two rows of its view-projection), carried along the ray w onto the plane, tilted toward the light where it
     // grazes so that |a x b| = area.
     vec3 axis = pc.axis.xyz;
-    vec3 right = unit_across(vec3(pc.view_proj[0][0], pc.view_proj[1][0], pc.view_proj[2][0]), axis);
-    vec3 up = unit_across(unit_across(vec3(pc.view_proj[0][1], pc.view_proj[1][1], pc.view_proj[2][1]), axis), right);
+    vec3 right = fv_sss_unit_across(vec3(pc.view_proj[0][0], pc.view_proj[1][0], pc.view_proj[2][0]), axis);
+    vec3 up = fv_sss_unit_across(vec3(pc.view_proj[0][1], pc.view_proj[1][1], pc.view_proj[2][1]), axis);
+    up = fv_sss_unit_across(up, right);
     vec3 w = -l;
     float side = pc.view.x > 0.5 ? 2.0 * pc.view.y / max(pc.axis.w, 1.0) * dot(v_pos_world - pc.origin.xyz, axis)
                                  : pc.view.y;
     vec3 nc = n;
-    if (cos_i < c) nc = l * c + unit_across(n, l) * sqrt(1.0 - c * c);
+    if (cos_i < c) nc = l * c + fv_sss_unit_across(n, l) * sqrt(1.0 - c * c);
     vec3 ex = right * side, ey = up * side;
     vec3 ea = ex + w * (dot(nc, ex) / c), eb = ey + w * (dot(nc, ey) / c);
     if (!(area > 0.0) || !(side > 0.0) || any(isnan(flux)) || any(isinf(flux)) || any(isnan(ea)) || any(isinf(ea)) ||

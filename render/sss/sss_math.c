@@ -218,3 +218,79 @@ double fv_sss_cutoff_radius_m(const fv_translucency *t, double fraction)
     for (int c = 0; c < 3; c++) r = fmax(r, fv_dipole_cutoff_radius(&d[c], fraction));
     return r;
 }
+
+double fv_sss_flat_radius_m(const fv_translucency *t)
+{
+    fv_dipole d[3];
+    fv_sss_material_dipoles(t, d);
+    double r = 0.0;
+    for (int c = 0; c < 3; c++) r = fmax(r, fv_dipole_cutoff_radius(&d[c], FV_SSS_FLAT_FRACTION));
+    return r;
+}
+
+/* 0 below lo, 1 above hi, Hermite between (GLSL's smoothstep); NaN: 0. */
+static double smooth01(double lo, double hi, double v)
+{
+    double t = (v - lo) / (hi - lo);
+    t = t > 0.0 ? (t < 1.0 ? t : 1.0) : 0.0;
+    return t * t * (3.0 - 2.0 * t);
+}
+
+void fv_sss_receiver_make(const double x[3], const double n[3], const double w[3], double flat_m,
+                          fv_sss_receiver *out)
+{
+    memset(out, 0, sizeof *out);
+    dv3 nn = d3(n[0], n[1], n[2]), ww = d3(w[0], w[1], w[2]);
+    memcpy(out->x, x, sizeof out->x);
+    out->flat_m = isfinite(flat_m) && flat_m > 0.0 ? flat_m : 0.0;
+    double nl = sqrt(d3_dot(nn, nn)), wl = sqrt(d3_dot(ww, ww));
+    if (!(nl > 1e-30) || !(wl > 1e-30) || !isfinite(nl) || !isfinite(wl)) return;
+    nn = d3_scale(nn, 1.0 / nl);
+    ww = d3_scale(ww, 1.0 / wl);
+    dv3 l = d3_scale(ww, -1.0);
+    double cos_x = d3_dot(nn, l);
+    /* Facing away from the light (the dark side of a closed object, whose normal faces the eye): no near field. */
+    if (!(cos_x > 0.0)) return;
+    dv3 nc = nn;
+    if (cos_x < FV_SSS_MIN_COS) { /* tilted toward the light, as the map tilts a grazing sample's footprint */
+        dv3 t;
+        if (!d3_unit_across(nn, l, &t)) return;
+        nc = d3_add(d3_scale(l, FV_SSS_MIN_COS), d3_scale(t, sqrt(1.0 - FV_SSS_MIN_COS * FV_SSS_MIN_COS)));
+    }
+    const double nv[3] = {nn.x, nn.y, nn.z}, ncv[3] = {nc.x, nc.y, nc.z}, wv[3] = {ww.x, ww.y, ww.z};
+    memcpy(out->n, nv, sizeof out->n);
+    memcpy(out->nc, ncv, sizeof out->nc);
+    memcpy(out->w, wv, sizeof out->w);
+    out->wn = d3_dot(ww, nc);
+    out->facing = smooth01(FV_SSS_FLAT_COS_LO, FV_SSS_FLAT_COS_HI, cos_x);
+}
+
+double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const double a[3], const double b[3],
+                             const double n_s[3], double out_c[3], double out_a[3], double out_b[3])
+{
+    memcpy(out_c, c, 3 * sizeof *c);
+    memcpy(out_a, a, 3 * sizeof *a);
+    memcpy(out_b, b, 3 * sizeof *b);
+    if (!(r->facing > 0.0) || !(r->wn < 0.0)) return 0.0;
+    dv3 off = d3(c[0] - r->x[0], c[1] - r->x[1], c[2] - r->x[2]), av = d3(a[0], a[1], a[2]), bv = d3(b[0], b[1], b[2]);
+    double dist = sqrt(d3_dot(off, off));
+    double half_diag = 0.5 * sqrt(fmax(d3_dot(d3_add(av, bv), d3_add(av, bv)),
+                                       d3_dot(d3_add(av, d3_scale(bv, -1.0)), d3_add(av, d3_scale(bv, -1.0)))));
+    if (!isfinite(dist) || !isfinite(half_diag)) return 0.0; /* a broken footprint stays as it came */
+    double d1 = fmax(r->flat_m, FV_SSS_FLAT_FOOTPRINTS * half_diag);
+    if (!(dist < 2.0 * d1)) return 0.0;
+    dv3 ns = d3(n_s[0], n_s[1], n_s[2]), n = d3(r->n[0], r->n[1], r->n[2]);
+    double ls = sqrt(d3_dot(ns, ns));
+    double alike = ls > 1e-30 ? d3_dot(ns, n) / ls : 0.0;
+    double beta = (1.0 - smooth01(d1, 2.0 * d1, dist)) * r->facing *
+                  smooth01(FV_SSS_FLAT_NORMAL_LO, FV_SSS_FLAT_NORMAL_HI, alike);
+    if (!(beta > 0.0) || !isfinite(beta)) return 0.0;
+    dv3 nc = d3(r->nc[0], r->nc[1], r->nc[2]);
+    double tc = -d3_dot(off, nc) / r->wn, ta = -d3_dot(av, nc) / r->wn, tb = -d3_dot(bv, nc) / r->wn;
+    for (int k = 0; k < 3; k++) {
+        out_c[k] = c[k] + beta * tc * r->w[k];
+        out_a[k] = a[k] + beta * ta * r->w[k];
+        out_b[k] = b[k] + beta * tb * r->w[k];
+    }
+    return beta;
+}
