@@ -209,7 +209,7 @@ static void the_built_in_table_holds_together_in_every_plan(void **state)
     fv_frame_plan_build(NULL, &plan);
     assert_string_equal(fv_frame_plan_find(&plan, "compact")->io, "needs fovea mask (fovea)");
     assert_string_equal(fv_frame_plan_find(&plan, "reconstruct")->io,
-                        "makes fovea voronoi; needs fovea mask (fovea), fovea blocks (fovea)");
+                        "makes fovea voronoi, fovea soft reps; needs fovea mask (fovea), fovea blocks (fovea)");
     assert_string_equal(fv_frame_plan_find(&plan, "gbuffer")->io, "");
 }
 
