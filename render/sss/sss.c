@@ -57,6 +57,14 @@ static uint32_t log2u(uint32_t v)
     return l;
 }
 
+/* Whether the exact sum over a size x size map passes llvmpipe's loop limit: it walks the samples 16 at a time (an
+ * outer loop) and llvmpipe keeps the 16 a loop too, so every sample is an iteration (fv_sss_gather.glsl). */
+static bool exact_cut_short(const fv_vk_device_info *dev, const fv_quality_sss *q, uint32_t size)
+{
+    uint64_t n = (uint64_t)size * size;
+    return q->mode == FV_SSS_MODE_EXACT && fv_vk_is_llvmpipe(dev) && n + n / 16u > FV_VK_LLVMPIPE_LOOP_LIMIT;
+}
+
 static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 {
     const fv_scene *s = ctx->scene;
@@ -93,6 +101,18 @@ static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     else
         snprintf(cut, sizeof cut, "cut, levels %u..%u (%u x %u), distance scale %.3g/m", start % 16u, limit % 16u,
                  1u << (limit % 16u), 1u << (limit % 16u), (double)q->distance_scale);
+    if (exact_cut_short(ctx->device, q, size)) {
+        snprintf(cut, sizeof cut, "exact: CUT SHORT here (llvmpipe's loop limit)");
+        static uint32_t warned; /* once per map size in a process: plans are made again on every setting change */
+        if (warned != size) {
+            warned = size;
+            uint64_t iters = (uint64_t)size * size + (uint64_t)size * size / 16u;
+            FV_WARN(MOD, "sss.mode=exact over a %u px map: llvmpipe ends a shader's loops after %u iterations and "
+                    "this sum takes %llu, so every pixel's sum leaves part of the map out on this device (a GPU has "
+                    "no such limit); use sss.map_size 128 or the hierarchy", size, FV_VK_LLVMPIPE_LOOP_LIMIT,
+                    (unsigned long long)iters);
+        }
+    }
     int len = snprintf(out->reason, sizeof out->reason, "%u translucent material%s: %u light-view map%s of %upx%s, "
                        "dipole %s", translucent, plural(translucent), n, plural(n), size,
                        wanted > n ? " (more light x material pairs left out)" : "", cut);

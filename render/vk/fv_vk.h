@@ -75,6 +75,11 @@ const char *fv_vk_device_type_str(VkPhysicalDeviceType t);
 FV_MUST_CHECK fv_result fv_vk_list_devices(const char *selector, fv_vk_device_info *out, uint32_t cap,
                                            uint32_t *out_count, int *out_chosen, char *why, size_t why_size);
 
+/** Whether the device is Mesa llvmpipe (lavapipe), a CPU device with limits of its own (multiview below; a shader's
+ *  loops end after FV_VK_LLVMPIPE_LOOP_LIMIT iterations in all, whatever the code says). */
+bool fv_vk_is_llvmpipe(const fv_vk_device_info *d);
+#define FV_VK_LLVMPIPE_LOOP_LIMIT 65535u /* Mesa's LP_MAX_TGSI_LOOP_ITERATIONS */
+
 /** Whether fovea should draw both eyes in one multiview pass on this device: false for Mesa llvmpipe (lavapipe),
  *  whose multiview (Mesa 22.3) loses or misplaces primitives of view 1 that need clipping; $FOVEA_MULTIVIEW=0/1
  *  overrides. why (may be NULL) gets a one-line reason. */

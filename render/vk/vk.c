@@ -649,6 +649,11 @@ void fv_vk_label_end(fv_vk *vk, VkCommandBuffer cmd)
     vk->cmd_label_end(cmd);
 }
 
+bool fv_vk_is_llvmpipe(const fv_vk_device_info *d)
+{
+    return d && (strstr(d->driver_name, "llvmpipe") || strstr(d->name, "llvmpipe"));
+}
+
 bool fv_vk_multiview_trusted(const fv_vk_device_info *d, char *why, size_t why_size)
 {
     char tmp[8];
@@ -663,7 +668,7 @@ bool fv_vk_multiview_trusted(const fv_vk_device_info *d, char *why, size_t why_s
                  v);
         return on && d && d->multiview;
     }
-    if (d && (strstr(d->driver_name, "llvmpipe") || strstr(d->name, "llvmpipe"))) {
+    if (fv_vk_is_llvmpipe(d)) {
         snprintf(why, why_size, "one pass per eye: llvmpipe multiview mis-clips view 1");
         return false;
     }

@@ -231,6 +231,28 @@ static void summary_marks_a_stage_that_did_not_run(void **state)
     assert_null(strstr(r->out, "temporal -")); /* temporal reuse on: its figures */
 }
 
+/* sss.mode=exact over a map whose sum passes llvmpipe's loop limit: said once at start and in the plan, on llvmpipe
+ * only (the sum is cut short there: a wedge of the sphere went dark at 256 px, silently); 128 px is not. */
+static void exact_sss_past_llvmpipes_loop_limit_is_said(void **state)
+{
+    (void)state;
+    run_result *r = run(NULL, "run --scene cornell-translucent --frames 1 --eye-size 16x16 --hmd none --explain "
+                              "--set sss.mode=exact --set sss.map_size=256");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    bool llvmpipe = strstr(r->out, "on llvmpipe") != NULL;
+    if (llvmpipe) {
+        assert_contains(r->err, "sss.mode=exact over a 256 px map: llvmpipe ends a shader's loops after 65535");
+        assert_contains(r->out, "exact: CUT SHORT here");
+    } else {
+        assert_null(strstr(r->err, "loops after"));
+    }
+    r = run(NULL, "run --scene cornell-translucent --frames 1 --eye-size 16x16 --hmd none --explain "
+                  "--set sss.mode=exact --set sss.map_size=128");
+    if (r->exit_code != 0) fail_msg("exit %d; stderr:\n%s", r->exit_code, r->err);
+    assert_null(strstr(r->err, "loops after"));
+    assert_null(strstr(r->out, "CUT SHORT"));
+}
+
 /* Renders a file to a side-by-side PNG and checks its size and that something was drawn in both halves. */
 static void render_file_to_png(const char *scene, const char *tag)
 {
@@ -510,6 +532,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(debug_view_option_switches_the_debug_pass_on),
         cmocka_unit_test(shadowed_scenes_report_their_splits),
         cmocka_unit_test(summary_marks_a_stage_that_did_not_run),
+        cmocka_unit_test(exact_sss_past_llvmpipes_loop_limit_is_said),
         cmocka_unit_test(renders_gltf_cornell_box),
         cmocka_unit_test(renders_embree_obj_cornell_box),
         cmocka_unit_test(renders_stanford_bunny_ply),
