@@ -57,12 +57,12 @@ static uint32_t log2u(uint32_t v)
     return l;
 }
 
-/* Whether the exact sum over a size x size map passes llvmpipe's loop limit: it walks the samples 16 at a time (an
- * outer loop) and llvmpipe keeps the 16 a loop too, so every sample is an iteration (fv_sss_gather.glsl). */
-static bool exact_cut_short(const fv_vk_device_info *dev, const fv_quality_sss *q, uint32_t size)
+/* The loop iterations of the exact sum over a size x size map: it walks the samples 16 at a time (an outer loop)
+ * and llvmpipe keeps the 16 a loop too, so every sample is one (fv_sss_gather.glsl). */
+static uint64_t exact_iterations(uint32_t size)
 {
     uint64_t n = (uint64_t)size * size;
-    return q->mode == FV_SSS_MODE_EXACT && fv_vk_is_llvmpipe(dev) && n + n / 16u > FV_VK_LLVMPIPE_LOOP_LIMIT;
+    return n + n / 16u;
 }
 
 static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -101,16 +101,17 @@ static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     else
         snprintf(cut, sizeof cut, "cut, levels %u..%u (%u x %u), distance scale %.3g/m", start % 16u, limit % 16u,
                  1u << (limit % 16u), 1u << (limit % 16u), (double)q->distance_scale);
-    if (exact_cut_short(ctx->device, q, size)) {
-        snprintf(cut, sizeof cut, "exact: CUT SHORT here (llvmpipe's loop limit)");
+    uint32_t loop_limit = ctx->device ? ctx->device->shader_loop_limit : 0u;
+    if (q->mode == FV_SSS_MODE_EXACT && loop_limit && exact_iterations(size) > loop_limit) {
+        snprintf(cut, sizeof cut, "exact: CUT SHORT here (the device's loop limit)");
         static uint32_t warned; /* once per map size in a process: plans are made again on every setting change */
         if (warned != size) {
             warned = size;
-            uint64_t iters = (uint64_t)size * size + (uint64_t)size * size / 16u;
+            /* the one device with a limit is llvmpipe (fv_vk_device_info.shader_loop_limit) */
             FV_WARN(MOD, "sss.mode=exact over a %u px map: llvmpipe ends a shader's loops after %u iterations and "
                     "this sum takes %llu, so every pixel's sum leaves part of the map out on this device (a GPU has "
-                    "no such limit); use sss.map_size 128 or the hierarchy", size, FV_VK_LLVMPIPE_LOOP_LIMIT,
-                    (unsigned long long)iters);
+                    "no such limit); use sss.map_size 128 or the hierarchy", size, loop_limit,
+                    (unsigned long long)exact_iterations(size));
         }
     }
     int len = snprintf(out->reason, sizeof out->reason, "%u translucent material%s: %u light-view map%s of %upx%s, "

@@ -64,6 +64,8 @@ typedef struct fv_vk_device_info {
     uint64_t device_local_bytes; /* largest device-local heap */
     uint32_t max_image_dimension_2d;
     uint32_t max_compute_workgroup_invocations;
+    uint32_t shader_loop_limit; /* iterations a shader's loops may run in all before the device ends them (0: none;
+                                 * llvmpipe: FV_VK_LLVMPIPE_LOOP_LIMIT) */
 } fv_vk_device_info;
 
 /** Name of a device type ("discrete GPU", "CPU"...). */
@@ -76,7 +78,7 @@ FV_MUST_CHECK fv_result fv_vk_list_devices(const char *selector, fv_vk_device_in
                                            uint32_t *out_count, int *out_chosen, char *why, size_t why_size);
 
 /** Whether the device is Mesa llvmpipe (lavapipe), a CPU device with limits of its own (multiview below; a shader's
- *  loops end after FV_VK_LLVMPIPE_LOOP_LIMIT iterations in all, whatever the code says). */
+ *  loops end after FV_VK_LLVMPIPE_LOOP_LIMIT iterations in all, whatever the code says: shader_loop_limit). */
 bool fv_vk_is_llvmpipe(const fv_vk_device_info *d);
 #define FV_VK_LLVMPIPE_LOOP_LIMIT 65535u /* Mesa's LP_MAX_TGSI_LOOP_ITERATIONS */
 

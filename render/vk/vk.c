@@ -255,6 +255,7 @@ static void describe(VkPhysicalDevice pd, uint32_t index, fv_vk_device_info *d)
     snprintf(d->driver_info, sizeof d->driver_info, "%s", drv.driverInfo);
     d->subgroup_size = sg.subgroupSize;
     d->max_multiview_views = mvp.maxMultiviewViewCount;
+    d->shader_loop_limit = fv_vk_is_llvmpipe(d) ? FV_VK_LLVMPIPE_LOOP_LIMIT : 0u;
 
     VkPhysicalDeviceVulkan12Features f12 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceVulkan11Features f11 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
