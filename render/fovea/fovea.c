@@ -677,6 +677,25 @@ static void recon_prepare(void *state, const fv_pass_frame *f)
     }
 }
 
+/* With temporal reuse (fovea.temporal > 0, its pass made the history): the frame's colour, every pixel known or
+ * filled, becomes the next frame's history (fovea_interface.h): one copy. */
+static void keep_history(const fv_pass_frame *f)
+{
+    const fv_vk_image *src = fv_images_image(f->images, FV_IMAGE_COLOR);
+    const fv_vk_image *dst = fv_images_image(f->images, FV_IMAGE_HISTORY);
+    if (f->input->quality.fovea.temporal == 0 || !src || !dst) return;
+    VkPipelineStageFlags tr = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    fv_images_use(f->images, f->cmd, FV_IMAGE_COLOR,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, tr, VK_ACCESS_TRANSFER_READ_BIT});
+    fv_images_use(f->images, f->cmd, FV_IMAGE_HISTORY,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, tr, VK_ACCESS_TRANSFER_WRITE_BIT});
+    VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2},
+                          .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2},
+                          .extent = {src->width, src->height, 1}};
+    vkCmdCopyImage(f->cmd, src->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst->image,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+}
+
 /* The fill stage closes the "voronoi" timer range t and is timed as "fill"; what was recorded is kept for the details. */
 static void recon_fill(recon *rc, const fv_pass_frame *f, int t, uint32_t stage, const struct fv_recon_push *pc,
                        uint32_t steps, uint32_t src, uint32_t method)
@@ -685,6 +704,7 @@ static void recon_fill(recon *rc, const fv_pass_frame *f, int t, uint32_t stage,
     t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
     recon_stage(rc, f, stage, pc);
     if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+    keep_history(f);
     rc->recorded[f->slot] = true;
     rc->last_steps = steps;
     rc->last_final = src;

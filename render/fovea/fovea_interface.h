@@ -189,21 +189,22 @@ struct fv_recon_push {
 
 
 /* ---- "temporal": reprojection of the previous frame's known pixels (temporal.comp) ---- */
-/* The history (the renderer's FV_IMAGE_HISTORY_A/B ping-pong, fv_images_history) holds, per pixel of the frame it
- * was written in, rgb = the pixel's known radiance (shaded, blended with history, or reused from history) and
- * a = the distance from that frame's eye to the surface (metres, FV_TEMPORAL_SKY where nothing was drawn) whose 4
- * lowest mantissa bits hold the frames since the pixel was last shaded (its age, 0..15); a = 0: nothing known
- * (a pixel reconstruction filled, or no history). */
+/* The linear colour's alpha, from the temporal pass on, holds per pixel what temporal reuse needs to know of it in
+ * the next frame: the distance from the eye to the surface (metres, FV_TEMPORAL_SKY where nothing was drawn) whose 4
+ * lowest mantissa bits hold the frames since the pixel was last shaded (its age, 0..15); a = 0: nothing known (a
+ * pixel reconstruction filled). Known pixels (shaded, blended with history, or reused) get it from the temporal
+ * pass, filled ones 0 from reconstruction, which then copies the frame's colour into the history (the renderer's
+ * FV_IMAGE_HISTORY): the next frame's temporal pass reads it. One copy, no full-screen store of a history of its
+ * own (on lavapipe a store per pixel costs about 2x a present pass, the copy a fraction of one). */
 #define FV_TEMPORAL_SET 1
 #define FV_TEMPORAL_BINDING_DEPTH 0    /* G-buffer depth, normal, albedo, material: combined samplers 0..3 */
 #define FV_TEMPORAL_BINDING_MOTION 4   /* sampler2DArray: the G-buffer's motion (current uv - previous uv) */
 #define FV_TEMPORAL_BINDING_MASK 5     /* uimage2DArray r32ui "fovea mask": 1 shaded; written 2 = reused here */
 #define FV_TEMPORAL_BINDING_BLOCKS 6   /* uimage2DArray r32ui "fovea blocks": reused pixels' bits OR-ed in */
-#define FV_TEMPORAL_BINDING_COLOR 7    /* image2DArray rgba32f: linear colour */
-#define FV_TEMPORAL_BINDING_PREV 8     /* image2DArray rgba32f: history of the previous frame (read) */
-#define FV_TEMPORAL_BINDING_CUR 9      /* image2DArray rgba32f: this frame's history (written) */
-#define FV_TEMPORAL_BINDING_STATS 10   /* storage uint[4 per frame slot]: hits eye 0, 1, reused eye 0, 1 */
-#define FV_TEMPORAL_BINDING_COUNT 11
+#define FV_TEMPORAL_BINDING_COLOR 7    /* image2DArray rgba32f: linear colour (known pixels: alpha = the history's) */
+#define FV_TEMPORAL_BINDING_PREV 8     /* image2DArray rgba32f: the history, the previous frame's colour (read) */
+#define FV_TEMPORAL_BINDING_STATS 9    /* storage uint[4 per frame slot]: hits eye 0, 1, reused eye 0, 1 */
+#define FV_TEMPORAL_BINDING_COUNT 10
 #define FV_TEMPORAL_GROUP 8
 
 

@@ -9,7 +9,8 @@
 // (stale history cannot ghost); an unshaded pixel with a hit reuses the history (age + 1), is marked
 // FV_TEMPORAL_MASK_REUSED in the mask and its block's bit set, so reconstruction takes it as a sample; a miss is
 // unknown (0). Pixels interpolation shaded or interpolated (fv_sample_mask_interface.h) are known like shaded ones.
-// Each pixel reads and writes only itself in the colour and the mask. Per eye the hits and reuses are
+// A known pixel's colour carries in its alpha what the next frame needs (distance and age, fovea_interface.h); the
+// history is the previous frame's colour. Each pixel reads and writes only itself in the colour and the mask. Per eye the hits and reuses are
 // counted. No value is ever NaN or Inf: non-finite history or positions are misses.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -33,7 +34,6 @@ layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_MASK, r32ui) uniform
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_BLOCKS, r32ui) uniform coherent uimage2DArray blocks_img;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_COLOR, rgba32f) uniform image2DArray color_img;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_PREV, rgba32f) uniform readonly image2DArray prev_img;
-layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_CUR, rgba32f) uniform image2DArray cur_img;
 layout(std430, set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_STATS) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { fv_temporal_push pc; };
 
@@ -117,7 +117,6 @@ void main()
         }
         hit = wsum > 1e-4;
         vec3 h = hit ? hsum / wsum : vec3(0.0);
-        vec4 out_v = vec4(0.0);
         if (shaded) {
             vec3 c = imageLoad(color_img, p).rgb;
             if (!all_finite(c)) c = vec3(0.0);
@@ -126,17 +125,14 @@ void main()
                 vec3 tol = float(FV_TEMPORAL_CLAMP_REL) * c + vec3(float(FV_TEMPORAL_CLAMP_ABS));
                 c = mix(clamp(h, c - tol, c + tol), c, float(FV_TEMPORAL_SAMPLE_WEIGHT));
             }
-            out_v = ok ? vec4(c, pack_info(dist, 0u)) : vec4(c, 0.0);
-            imageStore(color_img, p, vec4(c, 1.0));
+            imageStore(color_img, p, vec4(c, ok ? pack_info(dist, 0u) : 0.0));
         } else if (hit) {
             reused = true;
-            out_v = vec4(h, pack_info(dist, age + 1u));
-            imageStore(color_img, p, vec4(h, 1.0));
+            imageStore(color_img, p, vec4(h, pack_info(dist, age + 1u)));
             imageStore(mask_img, p, uvec4(FV_TEMPORAL_MASK_REUSED));
             imageAtomicOr(blocks_img, fv_sample_block_word(uvec3(p), pc.block, pc.block_words),
                           fv_sample_block_bit(uvec3(p), pc.block));
         }
-        imageStore(cur_img, p, out_v);
     }
     // counts per eye: one atomic per subgroup (a workgroup is one eye: z)
     uint nh = subgroupAdd(hit ? 1u : 0u), nr = subgroupAdd(reused ? 1u : 0u);
