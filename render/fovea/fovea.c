@@ -585,6 +585,8 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
+    const fv_vk_image *motion;
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MOTION, &motion);
     if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "reconstruct nearest sampler", &rc->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -600,6 +602,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
         {FV_RECON_BINDING_REPS, si, 1, cs, NULL},
+        {FV_RECON_BINDING_MOTION, cis, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
     const uint32_t soft_spec[2] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL};
@@ -635,6 +638,9 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         fv_images_bind_gbuffer(env->images, set, FV_RECON_BINDING_DEPTH, rc->nearest);
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_REPS, si, fv_images_image(env->images, rc->reps)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MOTION, cis,
+                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, rc->nearest,
+                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     }
     *out_state = rc;
     return FV_OK;
@@ -653,6 +659,8 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, rc->reps, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
     buffers_barrier(cmd, CS, RW, CS, RW);
     /* SOFT_REPS: a thread per block */
     uint32_t w = stage == RSTAGE_SOFT_REPS ? (rc->width + rc->block - 1) / rc->block : rc->width;

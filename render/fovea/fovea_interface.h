@@ -126,7 +126,9 @@ struct fv_compact_push {
 #define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
 #define FV_RECON_BINDING_REPS 10   /* uimage2DArray rgba32ui: soft's slots, FV_RECON_SOFT_REP_UVEC4S texels per block
                                     * in a row (an image: cheaper loads than a buffer on lavapipe) */
-#define FV_RECON_BINDING_COUNT 11
+#define FV_RECON_BINDING_MOTION 11 /* sampler2DArray: the G-buffer's motion target, whose distance and normal the
+                                    * soft fill reads (fv_gbuffer_fovea: one fetch) */
+#define FV_RECON_BINDING_COUNT 12
 #define FV_RECON_NONE 0xffffffffu
 
 #define FV_RECON_STAGE_INIT 0    /* seeds A and B = the sampled pixels (a seed is its own nearest: steps skip it) */

@@ -30,6 +30,7 @@ layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_BLOCKS, r32ui) uniform rea
 #define FV_GBUFFER_BINDING_MATERIAL (FV_RECON_BINDING_DEPTH + 3)
 #include "fv_common.glsl"
 #include "fv_gbuffer_decode.glsl"
+layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_MOTION) uniform sampler2DArray g_motion;
 layout(push_constant) uniform Push { fv_recon_push pc; };
 
 uint at(ivec3 c) { return (uint(c.z) * frame.counts.z + uint(c.y)) * frame.counts.y + uint(c.x); }
@@ -160,10 +161,12 @@ void soft_reps(ivec3 b, ivec2 size)
             continue;
         }
         ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
-        bool hit = texelFetch(g_material, q, 0).r != 0u;
-        vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
-        vec2 oct = texelFetch(g_normal, q, 0).rg;
-        vec3 nrm = hit ? fv_oct_decode(oct) : vec3(0.0);
+        vec4 m = texelFetch(g_motion, q, 0);
+        fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(q), m);
+        bool hit = gs.hit;
+        vec3 pos = gs.pos;
+        vec2 oct = unpackSnorm2x16(floatBitsToUint(m.a));
+        vec3 nrm = hit ? gs.normal : vec3(0.0);
         vec3 c = imageLoad(color_img, q).rgb;
         uint packed = uint(q.x) | (uint(q.y) << 16) | (hit ? 0u : FV_RECON_SOFT_NOTHING);
         imageStore(reps_img, rep_at(b.xy, b.z, 2u * uint(s)), uvec4(floatBitsToUint(c), packed));
@@ -239,9 +242,10 @@ void soft_fill(ivec3 p, ivec2 size)
         return;
     }
     float sigma_d = ssum / tsum; // the local sample spacing's
-    bool hit = texelFetch(g_material, p, 0).r != 0u;
-    vec3 pos = fv_gbuffer_position(uvec3(p), texelFetch(g_depth, p, 0).r);
-    vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, p, 0).rg) : vec3(0.0);
+    fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), texelFetch(g_motion, p, 0));
+    bool hit = gs.hit;
+    vec3 pos = gs.pos;
+    vec3 nrm = hit ? gs.normal : vec3(0.0);
     vec4 te = frame.eye_tan[p.z];
     vec2 dt = abs(vec2(te.y - te.x, te.w - te.z)) / vec2(size);
     float foot = length(pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px

@@ -56,20 +56,19 @@ void main()
     if (inside) {
         uint m = imageLoad(mask_img, p).x;
         bool shaded = m != 0u;
-        uint id = texelFetch(g_material, p, 0).r;
-        bool surf = id != 0u;
-        float depth = texelFetch(g_depth, p, 0).r;
-        vec3 pos = fv_gbuffer_position(uvec3(p), surf ? depth : 1.0);
+        fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), texelFetch(g_motion, p, 0));
+        bool surf = gs.hit;
+        vec3 pos = surf ? gs.pos : fv_gbuffer_position(uvec3(p), 1.0);
         vec3 eye = frame.eye_pos[p.z].xyz, prev_eye = vec3(pc.prev_eye[p.z][0], pc.prev_eye[p.z][1],
                                                            pc.prev_eye[p.z][2]);
-        float dist = surf ? length(pos - eye) : float(FV_TEMPORAL_SKY);
+        float dist = surf ? gs.dist : float(FV_TEMPORAL_SKY);
         float expect = surf ? length(pos - prev_eye) : float(FV_TEMPORAL_SKY);
         bool ok = all_finite(pos) && !isnan(dist) && !isinf(dist) && !isnan(expect) && !isinf(expect);
         // where this pixel was in the previous frame, in pixels (continuous, centres at + 0.5)
         vec2 uv = (vec2(p.xy) + 0.5) / vec2(size);
         vec2 prev_uv;
         if (surf) {
-            prev_uv = uv - texelFetch(g_motion, p, 0).rg;
+            prev_uv = uv - gs.motion;
         } else {
             vec4 c = frame.prev_view_proj[p.z] * vec4(pos, 1.0);
             prev_uv = c.w > 1e-30 ? c.xy / c.w * 0.5 + 0.5 : vec2(-1.0);
@@ -82,7 +81,7 @@ void main()
         vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / vec2(size);
         float w_px = 2.0 * atan(0.5 * min(dt.x, dt.y));
         vec3 to_eye = eye - pos;
-        float cos_t = surf ? abs(dot(fv_oct_decode(texelFetch(g_normal, p, 0).rg), normalize(to_eye))) : 1.0;
+        float cos_t = surf ? abs(dot(gs.normal, normalize(to_eye))) : 1.0;
         float tan_t = min(sqrt(max(0.0, 1.0 - cos_t * cos_t)) / max(cos_t, 1e-6), float(FV_TEMPORAL_SLOPE_TAN_MAX));
         vec3 hsum = vec3(0.0);
         float wsum = 0.0;
