@@ -241,7 +241,7 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
         {FV_FOVEA_BINDING_DEPTH + 1, cis, 1, cs, NULL},
         {FV_FOVEA_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_FOVEA_BINDING_DEPTH + 3, cis, 1, cs, NULL},
-        {FV_FOVEA_BINDING_MOTION, cis, 1, cs, NULL},
+        {FV_FOVEA_BINDING_MOTION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
@@ -261,8 +261,8 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
         fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                           fv_images_image(env->images, fv->blocks)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_images_bind_gbuffer(env->images, set, FV_FOVEA_BINDING_DEPTH, fv->nearest);
-        fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_MOTION, cis, motion->view, fv->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_MOTION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, motion->view,
+                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     }
     if (res != FV_OK) {
         FV_ERROR(MOD, "sampling-map pass could not be created: %s", fv_result_str(res));
@@ -301,8 +301,7 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     fv_images_use(f->images, cmd, fv->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
     fv_images_use(f->images, cmd, fv->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
-                  (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv->variant = variant;
     fv_vk_compute_bind(&fv->cs, cmd, variant, &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
@@ -602,7 +601,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
         {FV_RECON_BINDING_REPS, si, 1, cs, NULL},
-        {FV_RECON_BINDING_MOTION, cis, 1, cs, NULL},
+        {FV_RECON_BINDING_MOTION, si, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
     const uint32_t soft_spec[2] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL};
@@ -638,9 +637,9 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         fv_images_bind_gbuffer(env->images, set, FV_RECON_BINDING_DEPTH, rc->nearest);
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_REPS, si, fv_images_image(env->images, rc->reps)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MOTION, cis,
-                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, rc->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MOTION, si,
+                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
     }
     *out_state = rc;
     return FV_OK;
@@ -659,8 +658,7 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, rc->reps, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
-                  (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     buffers_barrier(cmd, CS, RW, CS, RW);
     /* SOFT_REPS: a thread per block */
     uint32_t w = stage == RSTAGE_SOFT_REPS ? (rc->width + rc->block - 1) / rc->block : rc->width;

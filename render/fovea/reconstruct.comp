@@ -30,7 +30,7 @@ layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_BLOCKS, r32ui) uniform rea
 #define FV_GBUFFER_BINDING_MATERIAL (FV_RECON_BINDING_DEPTH + 3)
 #include "fv_common.glsl"
 #include "fv_gbuffer_decode.glsl"
-layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_MOTION) uniform sampler2DArray g_motion;
+layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_MOTION, rgba32f) uniform readonly image2DArray g_motion;
 layout(push_constant) uniform Push { fv_recon_push pc; };
 
 uint at(ivec3 c) { return (uint(c.z) * frame.counts.z + uint(c.y)) * frame.counts.y + uint(c.x); }
@@ -161,7 +161,7 @@ void soft_reps(ivec3 b, ivec2 size)
             continue;
         }
         ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
-        vec4 m = texelFetch(g_motion, q, 0);
+        vec4 m = imageLoad(g_motion, q);
         fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(q), m);
         bool hit = gs.hit;
         vec3 pos = gs.pos;
@@ -242,7 +242,7 @@ void soft_fill(ivec3 p, ivec2 size)
         return;
     }
     float sigma_d = ssum / tsum; // the local sample spacing's
-    fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), texelFetch(g_motion, p, 0));
+    fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), imageLoad(g_motion, p));
     bool hit = gs.hit;
     vec3 pos = gs.pos;
     vec3 nrm = hit ? gs.normal : vec3(0.0);

@@ -105,7 +105,7 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
         {FV_TEMPORAL_BINDING_DEPTH + 1, cis, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_DEPTH + 3, cis, 1, cs, NULL},
-        {FV_TEMPORAL_BINDING_MOTION, cis, 1, cs, NULL},
+        {FV_TEMPORAL_BINDING_MOTION, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_MASK, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_BLOCKS, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_COLOR, si, 1, cs, NULL},
@@ -126,9 +126,9 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
     {
         VkDescriptorSet set = t->cs.sets[0];
         fv_images_bind_gbuffer(env->images, set, FV_TEMPORAL_BINDING_DEPTH, t->nearest);
-        fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MOTION, cis,
-                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, t->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MOTION, si,
+                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MASK, si, fv_images_image(env->images, t->mask)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_BLOCKS, si, fv_images_image(env->images, t->blocks)->view,
@@ -207,8 +207,7 @@ static void temporal_record(void *state, const fv_pass_frame *f)
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, CS, 0, 1, &mb, 0, NULL, 0, NULL);
 
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
-                  (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use(f->images, cmd, t->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, t->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});

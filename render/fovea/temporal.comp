@@ -29,7 +29,7 @@ FV_SCENE_SET_DECLARE
 #define FV_GBUFFER_BINDING_ALBEDO (FV_TEMPORAL_BINDING_DEPTH + 2)
 #define FV_GBUFFER_BINDING_MATERIAL (FV_TEMPORAL_BINDING_DEPTH + 3)
 #include "fv_gbuffer_decode.glsl"
-layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_MOTION) uniform sampler2DArray g_motion;
+layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_MOTION, rgba32f) uniform readonly image2DArray g_motion;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_MASK, r32ui) uniform uimage2DArray mask_img;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_BLOCKS, r32ui) uniform coherent uimage2DArray blocks_img;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_COLOR, rgba32f) uniform image2DArray color_img;
@@ -56,7 +56,7 @@ void main()
     if (inside) {
         uint m = imageLoad(mask_img, p).x;
         bool shaded = m != 0u;
-        fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), texelFetch(g_motion, p, 0));
+        fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), imageLoad(g_motion, p));
         bool surf = gs.hit;
         vec3 pos = surf ? gs.pos : fv_gbuffer_position(uvec3(p), 1.0);
         vec3 eye = frame.eye_pos[p.z].xyz, prev_eye = vec3(pc.prev_eye[p.z][0], pc.prev_eye[p.z][1],
