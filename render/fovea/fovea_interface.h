@@ -168,7 +168,7 @@ struct fv_compact_push {
 #define FV_RECON_SOFT_NORMAL 0.1
 #define FV_RECON_SOFT_EDGE_FLOOR 1e-3
 #define FV_RECON_SOFT_EDGE_SPLIT 0.69314718 /* a facing slot with an edge weight under 1/2: every slot is read */
-#define FV_RECON_GROUP 8
+#define FV_RECON_GROUP 16
 
 #define FV_RECON_METHOD_NEAREST 0u
 #define FV_RECON_METHOD_SIBSON 1u
@@ -207,7 +207,7 @@ struct fv_recon_push {
 #define FV_TEMPORAL_BINDING_PREV 8     /* image2DArray rgba32f: the history, the previous frame's colour (read) */
 #define FV_TEMPORAL_BINDING_STATS 9    /* storage uint[4 per frame slot]: hits eye 0, 1, reused eye 0, 1 */
 #define FV_TEMPORAL_BINDING_COUNT 10
-#define FV_TEMPORAL_GROUP 8
+#define FV_TEMPORAL_GROUP 16
 
 
 #define FV_TEMPORAL_MASK_REUSED FV_SAMPLE_MASK_REUSED /* a "fovea mask" value (fv_sample_mask_interface.h) */
