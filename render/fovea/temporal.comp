@@ -63,7 +63,9 @@ void main()
                                                            pc.prev_eye[p.z][2]);
         float dist = surf ? gs.dist : float(FV_TEMPORAL_SKY);
         float expect = surf ? length(pos - prev_eye) : float(FV_TEMPORAL_SKY);
-        bool ok = all_finite(pos) && !isnan(dist) && !isinf(dist) && !isnan(expect) && !isinf(expect);
+        // here: what the next frame needs of this pixel is finite; ok: its history can be looked up as well
+        bool here = all_finite(pos) && !isnan(dist) && !isinf(dist);
+        bool ok = here && !isnan(expect) && !isinf(expect);
         // where this pixel was in the previous frame, in pixels (continuous, centres at + 0.5)
         vec2 uv = (vec2(p.xy) + 0.5) / vec2(size);
         vec2 prev_uv;
@@ -124,7 +126,7 @@ void main()
                 vec3 tol = float(FV_TEMPORAL_CLAMP_REL) * c + vec3(float(FV_TEMPORAL_CLAMP_ABS));
                 c = mix(clamp(h, c - tol, c + tol), c, float(FV_TEMPORAL_SAMPLE_WEIGHT));
             }
-            imageStore(color_img, p, vec4(c, ok ? pack_info(dist, 0u) : 0.0));
+            imageStore(color_img, p, vec4(c, here ? pack_info(dist, 0u) : 0.0)); // known next frame
         } else if (hit) {
             reused = true;
             imageStore(color_img, p, vec4(h, pack_info(dist, age + 1u)));
