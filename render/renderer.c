@@ -399,7 +399,6 @@ fv_result fv_renderer_draw(fv_renderer *r, const fv_frame_input *in_raw)
     r->last_slot = slot;
     r->last_input = in;
     r->next_slot = (slot + 1) % r->slot_count;
-    fv_images_next_frame(&r->images);
     if (ops->end) FV_TRY(ops->end(r->target, &tf));
     return FV_OK;
 }

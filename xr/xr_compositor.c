@@ -641,7 +641,6 @@ static fv_result job_run(fv_xr_compositor *c, comp_job *j, double *out_app_wait_
     t_target = fv_xr_now_ns();
     if (c->target->ops->end && (res = c->target->ops->end(c->target, &tf)) != FV_OK) return res;
     *out_target_ms += (double)(fv_xr_now_ns() - t_target) * 1e-6;
-    fv_images_next_frame(&c->images);
     c->frame_id++;
     return FV_OK;
 }

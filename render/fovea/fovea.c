@@ -241,7 +241,7 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
         {FV_FOVEA_BINDING_DEPTH + 1, cis, 1, cs, NULL},
         {FV_FOVEA_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_FOVEA_BINDING_DEPTH + 3, cis, 1, cs, NULL},
-        {FV_FOVEA_BINDING_MOTION, cis, 1, cs, NULL},
+        {FV_FOVEA_BINDING_MOTION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
@@ -261,8 +261,8 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
         fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                           fv_images_image(env->images, fv->blocks)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_images_bind_gbuffer(env->images, set, FV_FOVEA_BINDING_DEPTH, fv->nearest);
-        fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_MOTION, cis, motion->view, fv->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        fv_vk_write_image(env->vk, set, FV_FOVEA_BINDING_MOTION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, motion->view,
+                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     }
     if (res != FV_OK) {
         FV_ERROR(MOD, "sampling-map pass could not be created: %s", fv_result_str(res));
@@ -301,8 +301,7 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     fv_images_use(f->images, cmd, fv->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
     fv_images_use(f->images, cmd, fv->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
-                  (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv->variant = variant;
     fv_vk_compute_bind(&fv->cs, cmd, variant, &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
@@ -585,6 +584,8 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &color);
     if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
+    const fv_vk_image *motion;
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MOTION, &motion);
     if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "reconstruct nearest sampler", &rc->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -600,6 +601,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
         {FV_RECON_BINDING_REPS, si, 1, cs, NULL},
+        {FV_RECON_BINDING_MOTION, si, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
     const uint32_t soft_spec[2] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL};
@@ -635,6 +637,9 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         fv_images_bind_gbuffer(env->images, set, FV_RECON_BINDING_DEPTH, rc->nearest);
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_REPS, si, fv_images_image(env->images, rc->reps)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+        fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MOTION, si,
+                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
     }
     *out_state = rc;
     return FV_OK;
@@ -653,6 +658,7 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, rc->reps, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     buffers_barrier(cmd, CS, RW, CS, RW);
     /* SOFT_REPS: a thread per block */
     uint32_t w = stage == RSTAGE_SOFT_REPS ? (rc->width + rc->block - 1) / rc->block : rc->width;
@@ -677,6 +683,25 @@ static void recon_prepare(void *state, const fv_pass_frame *f)
     }
 }
 
+/* With temporal reuse (fovea.temporal > 0, its pass made the history): the frame's colour, every pixel known or
+ * filled, becomes the next frame's history (fovea_interface.h): one copy. */
+static void keep_history(const fv_pass_frame *f)
+{
+    const fv_vk_image *src = fv_images_image(f->images, FV_IMAGE_COLOR);
+    const fv_vk_image *dst = fv_images_image(f->images, FV_IMAGE_HISTORY);
+    if (f->input->quality.fovea.temporal == 0 || !src || !dst) return;
+    VkPipelineStageFlags tr = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    fv_images_use(f->images, f->cmd, FV_IMAGE_COLOR,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, tr, VK_ACCESS_TRANSFER_READ_BIT});
+    fv_images_use(f->images, f->cmd, FV_IMAGE_HISTORY,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, tr, VK_ACCESS_TRANSFER_WRITE_BIT});
+    VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2},
+                          .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2},
+                          .extent = {src->width, src->height, 1}};
+    vkCmdCopyImage(f->cmd, src->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst->image,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+}
+
 /* The fill stage closes the "voronoi" timer range t and is timed as "fill"; what was recorded is kept for the details. */
 static void recon_fill(recon *rc, const fv_pass_frame *f, int t, uint32_t stage, const struct fv_recon_push *pc,
                        uint32_t steps, uint32_t src, uint32_t method)
@@ -685,6 +710,7 @@ static void recon_fill(recon *rc, const fv_pass_frame *f, int t, uint32_t stage,
     t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
     recon_stage(rc, f, stage, pc);
     if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
+    keep_history(f);
     rc->recorded[f->slot] = true;
     rc->last_steps = steps;
     rc->last_final = src;

@@ -28,7 +28,7 @@ layout(set = FV_FOVEA_SET, binding = FV_FOVEA_BINDING_BLOCKS, r32ui) uniform coh
 #define FV_GBUFFER_BINDING_ALBEDO (FV_FOVEA_BINDING_DEPTH + 2)
 #define FV_GBUFFER_BINDING_MATERIAL (FV_FOVEA_BINDING_DEPTH + 3)
 #include "fv_gbuffer_decode.glsl"
-layout(set = FV_FOVEA_SET, binding = FV_FOVEA_BINDING_MOTION) uniform sampler2DArray g_motion;
+layout(set = FV_FOVEA_SET, binding = FV_FOVEA_BINDING_MOTION, rgba32f) uniform readonly image2DArray g_motion;
 layout(push_constant) uniform Push { fv_fovea_push pc; };
 
 const float RAD_TO_DEG = 57.295779513082323;
@@ -55,7 +55,7 @@ gsurf g_at(ivec3 c)
     g.pos = fv_gbuffer_position(uvec3(c), texelFetch(g_depth, c, 0).r);
     g.n = fv_oct_decode(texelFetch(g_normal, c, 0).rg);
     g.albedo = exact_albedo(texelFetch(g_albedo, c, 0).rgb);
-    g.motion = texelFetch(g_motion, c, 0).rg;
+    g.motion = imageLoad(g_motion, c).rg;
     return g;
 }
 

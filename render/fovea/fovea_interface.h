@@ -26,7 +26,7 @@
                                    * bits (bit k = its pixel k, row-major, B as the row length), cleared, then
                                    * OR-ed in (atomics) */
 #define FV_FOVEA_BINDING_DEPTH 4  /* G-buffer depth, normal, albedo, material: combined samplers 4..7 (saliency, DoF) */
-#define FV_FOVEA_BINDING_MOTION 8 /* sampler2DArray: the G-buffer's motion (current uv - previous uv) */
+#define FV_FOVEA_BINDING_MOTION 8 /* image2DArray rgba32f: the G-buffer's motion target (storage loads: cheaper) */
 #define FV_FOVEA_BINDING_COUNT 9
 #define FV_FOVEA_BLOCK_WORDS_MAX 8u /* ceil(16 * 16 / 32) */
 #define FV_FOVEA_GROUP 8 /* 8 x 8 pixels per workgroup, z = the eye */
@@ -126,7 +126,9 @@ struct fv_compact_push {
 #define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
 #define FV_RECON_BINDING_REPS 10   /* uimage2DArray rgba32ui: soft's slots, FV_RECON_SOFT_REP_UVEC4S texels per block
                                     * in a row (an image: cheaper loads than a buffer on lavapipe) */
-#define FV_RECON_BINDING_COUNT 11
+#define FV_RECON_BINDING_MOTION 11 /* image2DArray rgba32f: the G-buffer's motion target, whose distance and normal the
+                                    * soft fill reads (fv_gbuffer_fovea: one fetch) */
+#define FV_RECON_BINDING_COUNT 12
 #define FV_RECON_NONE 0xffffffffu
 
 #define FV_RECON_STAGE_INIT 0    /* seeds A and B = the sampled pixels (a seed is its own nearest: steps skip it) */
@@ -166,7 +168,7 @@ struct fv_compact_push {
 #define FV_RECON_SOFT_NORMAL 0.1
 #define FV_RECON_SOFT_EDGE_FLOOR 1e-3
 #define FV_RECON_SOFT_EDGE_SPLIT 0.69314718 /* a facing slot with an edge weight under 1/2: every slot is read */
-#define FV_RECON_GROUP 8
+#define FV_RECON_GROUP 16
 
 #define FV_RECON_METHOD_NEAREST 0u
 #define FV_RECON_METHOD_SIBSON 1u
@@ -189,22 +191,23 @@ struct fv_recon_push {
 
 
 /* ---- "temporal": reprojection of the previous frame's known pixels (temporal.comp) ---- */
-/* The history (the renderer's FV_IMAGE_HISTORY_A/B ping-pong, fv_images_history) holds, per pixel of the frame it
- * was written in, rgb = the pixel's known radiance (shaded, blended with history, or reused from history) and
- * a = the distance from that frame's eye to the surface (metres, FV_TEMPORAL_SKY where nothing was drawn) whose 4
- * lowest mantissa bits hold the frames since the pixel was last shaded (its age, 0..15); a = 0: nothing known
- * (a pixel reconstruction filled, or no history). */
+/* The linear colour's alpha, from the temporal pass on, holds per pixel what temporal reuse needs to know of it in
+ * the next frame: the distance from the eye to the surface (metres, FV_TEMPORAL_SKY where nothing was drawn) whose 4
+ * lowest mantissa bits hold the frames since the pixel was last shaded (its age, 0..15); a = 0: nothing known (a
+ * pixel reconstruction filled). Known pixels (shaded, blended with history, or reused) get it from the temporal
+ * pass, filled ones 0 from reconstruction, which then copies the frame's colour into the history (the renderer's
+ * FV_IMAGE_HISTORY): the next frame's temporal pass reads it. One copy, no full-screen store of a history of its
+ * own (on lavapipe a store per pixel costs about 2x a present pass, the copy a fraction of one). */
 #define FV_TEMPORAL_SET 1
 #define FV_TEMPORAL_BINDING_DEPTH 0    /* G-buffer depth, normal, albedo, material: combined samplers 0..3 */
-#define FV_TEMPORAL_BINDING_MOTION 4   /* sampler2DArray: the G-buffer's motion (current uv - previous uv) */
+#define FV_TEMPORAL_BINDING_MOTION 4   /* image2DArray rgba32f: the G-buffer's motion target (fv_gbuffer_fovea) */
 #define FV_TEMPORAL_BINDING_MASK 5     /* uimage2DArray r32ui "fovea mask": 1 shaded; written 2 = reused here */
 #define FV_TEMPORAL_BINDING_BLOCKS 6   /* uimage2DArray r32ui "fovea blocks": reused pixels' bits OR-ed in */
-#define FV_TEMPORAL_BINDING_COLOR 7    /* image2DArray rgba32f: linear colour */
-#define FV_TEMPORAL_BINDING_PREV 8     /* image2DArray rgba32f: history of the previous frame (read) */
-#define FV_TEMPORAL_BINDING_CUR 9      /* image2DArray rgba32f: this frame's history (written) */
-#define FV_TEMPORAL_BINDING_STATS 10   /* storage uint[4 per frame slot]: hits eye 0, 1, reused eye 0, 1 */
-#define FV_TEMPORAL_BINDING_COUNT 11
-#define FV_TEMPORAL_GROUP 8
+#define FV_TEMPORAL_BINDING_COLOR 7    /* image2DArray rgba32f: linear colour (known pixels: alpha = the history's) */
+#define FV_TEMPORAL_BINDING_PREV 8     /* image2DArray rgba32f: the history, the previous frame's colour (read) */
+#define FV_TEMPORAL_BINDING_STATS 9    /* storage uint[4 per frame slot]: hits eye 0, 1, reused eye 0, 1 */
+#define FV_TEMPORAL_BINDING_COUNT 10
+#define FV_TEMPORAL_GROUP 16
 
 
 #define FV_TEMPORAL_MASK_REUSED FV_SAMPLE_MASK_REUSED /* a "fovea mask" value (fv_sample_mask_interface.h) */

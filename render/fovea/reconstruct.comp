@@ -1,5 +1,6 @@
 #version 450
-// @brief Reconstruction of the pixels foveation did not shade, from the shaded pixels (the seeds): nearest (the
+// @brief Reconstruction of the pixels foveation did not shade, from the shaded pixels (the seeds), each filled pixel's
+// alpha 0 (not known: the history's, fovea_interface.h): nearest (the
 // colour of the nearest seed) or sibson (approximate discrete natural-neighbour interpolation), both over the
 // Voronoi diagram of the seeds found by jump flooding (Rong & Tan 2006) in its 1+JFA form: one step of size 1, then steps from the
 // block size down to 1 (every block holds a seed, so no seed is farther than two blocks). Seeds ping-pong between
@@ -29,6 +30,7 @@ layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_BLOCKS, r32ui) uniform rea
 #define FV_GBUFFER_BINDING_MATERIAL (FV_RECON_BINDING_DEPTH + 3)
 #include "fv_common.glsl"
 #include "fv_gbuffer_decode.glsl"
+layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_MOTION, rgba32f) uniform readonly image2DArray g_motion;
 layout(push_constant) uniform Push { fv_recon_push pc; };
 
 uint at(ivec3 c) { return (uint(c.z) * frame.counts.z + uint(c.y)) * frame.counts.y + uint(c.x); }
@@ -159,10 +161,12 @@ void soft_reps(ivec3 b, ivec2 size)
             continue;
         }
         ivec3 q = ivec3(o + ivec2(pick[s] % B, pick[s] / B), b.z);
-        bool hit = texelFetch(g_material, q, 0).r != 0u;
-        vec3 pos = fv_gbuffer_position(uvec3(q), texelFetch(g_depth, q, 0).r);
-        vec2 oct = texelFetch(g_normal, q, 0).rg;
-        vec3 nrm = hit ? fv_oct_decode(oct) : vec3(0.0);
+        vec4 m = imageLoad(g_motion, q);
+        fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(q), m);
+        bool hit = gs.hit;
+        vec3 pos = gs.pos;
+        vec2 oct = unpackSnorm2x16(floatBitsToUint(m.a));
+        vec3 nrm = hit ? gs.normal : vec3(0.0);
         vec3 c = imageLoad(color_img, q).rgb;
         uint packed = uint(q.x) | (uint(q.y) << 16) | (hit ? 0u : FV_RECON_SOFT_NOTHING);
         imageStore(reps_img, rep_at(b.xy, b.z, 2u * uint(s)), uvec4(floatBitsToUint(c), packed));
@@ -233,11 +237,15 @@ void soft_fill(ivec3 p, ivec2 size)
         tent[k] = in_image ? t : 0.0;
         if (in_image) ssum += t * uintBitsToFloat(tb[k].z), tsum += t;
     }
-    if (!(tsum > 0.0)) return; // cannot happen: every block holds a sample
+    if (!(tsum > 0.0)) { // cannot happen: every block holds a sample
+        imageStore(color_img, p, vec4(0.0));
+        return;
+    }
     float sigma_d = ssum / tsum; // the local sample spacing's
-    bool hit = texelFetch(g_material, p, 0).r != 0u;
-    vec3 pos = fv_gbuffer_position(uvec3(p), texelFetch(g_depth, p, 0).r);
-    vec3 nrm = hit ? fv_oct_decode(texelFetch(g_normal, p, 0).rg) : vec3(0.0);
+    fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), imageLoad(g_motion, p));
+    bool hit = gs.hit;
+    vec3 pos = gs.pos;
+    vec3 nrm = hit ? gs.normal : vec3(0.0);
     vec4 te = frame.eye_tan[p.z];
     vec2 dt = abs(vec2(te.y - te.x, te.w - te.z)) / vec2(size);
     float foot = length(pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px
@@ -280,10 +288,9 @@ void soft_fill(ivec3 p, ivec2 size)
         }
     }
     if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(best));
-    if (best == FV_RECON_NONE) return;
     vec3 c = wsum > 1e-30 ? sum / wsum : best_col;
     if (any(isnan(c)) || any(isinf(c))) c = best_col;
-    imageStore(color_img, p, vec4(c, 1.0));
+    imageStore(color_img, p, vec4(c, 0.0)); // alpha 0: filled, not known (the history's, fovea_interface.h)
 }
 
 void main()
@@ -355,14 +362,19 @@ void main()
         float wsum = 0.0;
         gather(p, size, pc.method == FV_RECON_METHOD_IDW, best, bd, sum, wsum);
         imageStore(voronoi_img, p, uvec4(best));
-        if (best == FV_RECON_NONE) return;
-        vec3 c = wsum > 0.0 ? sum / wsum : imageLoad(color_img, ivec3(int(best & 0xffffu), int(best >> 16), p.z)).rgb;
-        imageStore(color_img, p, vec4(c, 1.0));
+        vec3 c = best == FV_RECON_NONE ? vec3(0.0)
+                 : wsum > 0.0          ? sum / wsum
+                                       : imageLoad(color_img, ivec3(int(best & 0xffffu), int(best >> 16), p.z)).rgb;
+        imageStore(color_img, p, vec4(c, 0.0));
         return;
     }
     uint s = read_seed(p);
     imageStore(voronoi_img, p, uvec4(s));
-    if (s == FV_RECON_NONE || s == (uint(p.x) | (uint(p.y) << 16))) return; // a sample keeps its shaded colour
+    if (s == (uint(p.x) | (uint(p.y) << 16))) return; // a sample keeps its shaded colour
+    if (s == FV_RECON_NONE) { // no sample at all (cannot happen: every block holds one)
+        imageStore(color_img, p, vec4(0.0));
+        return;
+    }
     if (pc.method == FV_RECON_METHOD_SIBSON) {
         // Approximate discrete Sibson interpolation (Park et al. 2006, as the thesis): every pixel q of the window
         // whose nearest seed is at least as far from q as p is (|p - q| <= d(q), q's Voronoi circle holds p) adds
@@ -379,8 +391,8 @@ void main()
                 sum += imageLoad(color_img, ivec3(int(qs & 0xffffu), int(qs >> 16), p.z)).rgb;
                 n += 1.0;
             }
-        imageStore(color_img, p, vec4(sum / max(n, 1.0), 1.0));
+        imageStore(color_img, p, vec4(sum / max(n, 1.0), 0.0));
         return;
     }
-    imageStore(color_img, p, imageLoad(color_img, ivec3(int(s & 0xffffu), int(s >> 16), p.z)));
+    imageStore(color_img, p, vec4(imageLoad(color_img, ivec3(int(s & 0xffffu), int(s >> 16), p.z)).rgb, 0.0));
 }

@@ -20,8 +20,8 @@ static const VkAccessFlags RW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRI
 typedef struct temporal {
     fv_vk *vk;
     uint32_t width, height, block, slots;
-    fv_vk_compute cs; /* set i binds history i as the previous frame's (parity i ^ 1 written) */
-    fv_image_id mask, blocks, hist[2];
+    fv_vk_compute cs;
+    fv_image_id mask, blocks;
     VkSampler nearest;
     fv_vk_buffer stats; /* 4 words per slot, host-read after the slot's fence */
     bool recorded[FV_MAX_FRAMES_IN_FLIGHT];
@@ -92,10 +92,7 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MOTION, &img);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &img);
-    for (uint32_t i = 0; i < 2 && res == FV_OK; i++) {
-        t->hist[i] = i ? FV_IMAGE_HISTORY_B : FV_IMAGE_HISTORY_A;
-        res = fv_images_get(env->images, t->hist[i], &img);
-    }
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_HISTORY, &img);
     if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "temporal nearest sampler", &t->nearest);
     if (res == FV_OK)
         res = fv_vk_buffer_create(env->vk, (VkDeviceSize)env->slots * 16u,
@@ -108,18 +105,17 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
         {FV_TEMPORAL_BINDING_DEPTH + 1, cis, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_DEPTH + 2, cis, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_DEPTH + 3, cis, 1, cs, NULL},
-        {FV_TEMPORAL_BINDING_MOTION, cis, 1, cs, NULL},
+        {FV_TEMPORAL_BINDING_MOTION, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_MASK, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_BLOCKS, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_COLOR, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_PREV, si, 1, cs, NULL},
-        {FV_TEMPORAL_BINDING_CUR, si, 1, cs, NULL},
         {FV_TEMPORAL_BINDING_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
     };
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "temporal", .code = fv_spv_temporal_comp, .code_size = sizeof fv_spv_temporal_comp,
                              .shared_sets = shared, .shared_set_count = 1, .bindings = b,
-                             .binding_count = FV_TEMPORAL_BINDING_COUNT, .set_count = 2,
+                             .binding_count = FV_TEMPORAL_BINDING_COUNT, .set_count = 1,
                              .push_bytes = sizeof(struct fv_temporal_push)};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &t->cs);
     if (res != FV_OK) {
@@ -127,22 +123,20 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
         temporal_fini(t);
         return res;
     }
-    for (uint32_t i = 0; i < 2; i++) {
-        VkDescriptorSet set = t->cs.sets[i];
+    {
+        VkDescriptorSet set = t->cs.sets[0];
         fv_images_bind_gbuffer(env->images, set, FV_TEMPORAL_BINDING_DEPTH, t->nearest);
-        fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MOTION, cis,
-                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, t->nearest,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MOTION, si,
+                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MASK, si, fv_images_image(env->images, t->mask)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_BLOCKS, si, fv_images_image(env->images, t->blocks)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_COLOR, si,
                           fv_images_image(env->images, FV_IMAGE_COLOR)->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-        fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_PREV, si, fv_images_image(env->images, t->hist[i])->view,
-                          VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
-        fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_CUR, si,
-                          fv_images_image(env->images, t->hist[i ^ 1u])->view, VK_NULL_HANDLE,
+        fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_PREV, si,
+                          fv_images_image(env->images, FV_IMAGE_HISTORY)->view, VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_buffer(env->vk, set, FV_TEMPORAL_BINDING_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                            t->stats.buffer, 0, VK_WHOLE_SIZE);
@@ -200,9 +194,6 @@ static void temporal_record(void *state, const fv_pass_frame *f)
         fv_vec3 p = t->have_prev ? t->prev_eye[e] : in->eye[e].pos_world;
         pc.prev_eye[e][0] = p.x, pc.prev_eye[e][1] = p.y, pc.prev_eye[e][2] = p.z, pc.prev_eye[e][3] = 1.0f;
     }
-    /* history(1) is the previous frame's: set s reads hist[s] */
-    fv_image_id prev = fv_images_history(f->images, 1), cur = fv_images_history(f->images, 0);
-    uint32_t set = prev == t->hist[0] ? 0u : 1u;
 
     fv_vk_label_begin(t->vk, cmd, "temporal (reprojection)");
     /* this slot's counts start at 0 (the host read them after the fence) */
@@ -216,14 +207,13 @@ static void temporal_record(void *state, const fv_pass_frame *f)
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, CS, 0, 1, &mb, 0, NULL, 0, NULL);
 
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION,
-                  (fv_vk_image_use){VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use(f->images, cmd, t->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, t->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
-    fv_images_use(f->images, cmd, prev, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    fv_images_use(f->images, cmd, cur, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
-    dispatch(t, f, set, &pc);
+    fv_images_use(f->images, cmd, FV_IMAGE_HISTORY,
+                  (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    dispatch(t, f, 0, &pc);
     /* the counts -> the host after the fence */
     mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
     mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;

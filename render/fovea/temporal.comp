@@ -9,7 +9,8 @@
 // (stale history cannot ghost); an unshaded pixel with a hit reuses the history (age + 1), is marked
 // FV_TEMPORAL_MASK_REUSED in the mask and its block's bit set, so reconstruction takes it as a sample; a miss is
 // unknown (0). Pixels interpolation shaded or interpolated (fv_sample_mask_interface.h) are known like shaded ones.
-// Each pixel reads and writes only itself in the colour and the mask. Per eye the hits and reuses are
+// A known pixel's colour carries in its alpha what the next frame needs (distance and age, fovea_interface.h); the
+// history is the previous frame's colour. Each pixel reads and writes only itself in the colour and the mask. Per eye the hits and reuses are
 // counted. No value is ever NaN or Inf: non-finite history or positions are misses.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -28,12 +29,11 @@ FV_SCENE_SET_DECLARE
 #define FV_GBUFFER_BINDING_ALBEDO (FV_TEMPORAL_BINDING_DEPTH + 2)
 #define FV_GBUFFER_BINDING_MATERIAL (FV_TEMPORAL_BINDING_DEPTH + 3)
 #include "fv_gbuffer_decode.glsl"
-layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_MOTION) uniform sampler2DArray g_motion;
+layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_MOTION, rgba32f) uniform readonly image2DArray g_motion;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_MASK, r32ui) uniform uimage2DArray mask_img;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_BLOCKS, r32ui) uniform coherent uimage2DArray blocks_img;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_COLOR, rgba32f) uniform image2DArray color_img;
 layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_PREV, rgba32f) uniform readonly image2DArray prev_img;
-layout(set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_CUR, rgba32f) uniform image2DArray cur_img;
 layout(std430, set = FV_TEMPORAL_SET, binding = FV_TEMPORAL_BINDING_STATS) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { fv_temporal_push pc; };
 
@@ -56,20 +56,21 @@ void main()
     if (inside) {
         uint m = imageLoad(mask_img, p).x;
         bool shaded = m != 0u;
-        uint id = texelFetch(g_material, p, 0).r;
-        bool surf = id != 0u;
-        float depth = texelFetch(g_depth, p, 0).r;
-        vec3 pos = fv_gbuffer_position(uvec3(p), surf ? depth : 1.0);
+        fv_gbuffer_fovea_surf gs = fv_gbuffer_fovea(uvec3(p), imageLoad(g_motion, p));
+        bool surf = gs.hit;
+        vec3 pos = surf ? gs.pos : fv_gbuffer_position(uvec3(p), 1.0);
         vec3 eye = frame.eye_pos[p.z].xyz, prev_eye = vec3(pc.prev_eye[p.z][0], pc.prev_eye[p.z][1],
                                                            pc.prev_eye[p.z][2]);
-        float dist = surf ? length(pos - eye) : float(FV_TEMPORAL_SKY);
+        float dist = surf ? gs.dist : float(FV_TEMPORAL_SKY);
         float expect = surf ? length(pos - prev_eye) : float(FV_TEMPORAL_SKY);
-        bool ok = all_finite(pos) && !isnan(dist) && !isinf(dist) && !isnan(expect) && !isinf(expect);
+        // here: what the next frame needs of this pixel is finite; ok: its history can be looked up as well
+        bool here = all_finite(pos) && !isnan(dist) && !isinf(dist);
+        bool ok = here && !isnan(expect) && !isinf(expect);
         // where this pixel was in the previous frame, in pixels (continuous, centres at + 0.5)
         vec2 uv = (vec2(p.xy) + 0.5) / vec2(size);
         vec2 prev_uv;
         if (surf) {
-            prev_uv = uv - texelFetch(g_motion, p, 0).rg;
+            prev_uv = uv - gs.motion;
         } else {
             vec4 c = frame.prev_view_proj[p.z] * vec4(pos, 1.0);
             prev_uv = c.w > 1e-30 ? c.xy / c.w * 0.5 + 0.5 : vec2(-1.0);
@@ -82,7 +83,7 @@ void main()
         vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / vec2(size);
         float w_px = 2.0 * atan(0.5 * min(dt.x, dt.y));
         vec3 to_eye = eye - pos;
-        float cos_t = surf ? abs(dot(fv_oct_decode(texelFetch(g_normal, p, 0).rg), normalize(to_eye))) : 1.0;
+        float cos_t = surf ? abs(dot(gs.normal, normalize(to_eye))) : 1.0;
         float tan_t = min(sqrt(max(0.0, 1.0 - cos_t * cos_t)) / max(cos_t, 1e-6), float(FV_TEMPORAL_SLOPE_TAN_MAX));
         vec3 hsum = vec3(0.0);
         float wsum = 0.0;
@@ -117,7 +118,6 @@ void main()
         }
         hit = wsum > 1e-4;
         vec3 h = hit ? hsum / wsum : vec3(0.0);
-        vec4 out_v = vec4(0.0);
         if (shaded) {
             vec3 c = imageLoad(color_img, p).rgb;
             if (!all_finite(c)) c = vec3(0.0);
@@ -126,17 +126,14 @@ void main()
                 vec3 tol = float(FV_TEMPORAL_CLAMP_REL) * c + vec3(float(FV_TEMPORAL_CLAMP_ABS));
                 c = mix(clamp(h, c - tol, c + tol), c, float(FV_TEMPORAL_SAMPLE_WEIGHT));
             }
-            out_v = ok ? vec4(c, pack_info(dist, 0u)) : vec4(c, 0.0);
-            imageStore(color_img, p, vec4(c, 1.0));
+            imageStore(color_img, p, vec4(c, here ? pack_info(dist, 0u) : 0.0)); // known next frame
         } else if (hit) {
             reused = true;
-            out_v = vec4(h, pack_info(dist, age + 1u));
-            imageStore(color_img, p, vec4(h, 1.0));
+            imageStore(color_img, p, vec4(h, pack_info(dist, age + 1u)));
             imageStore(mask_img, p, uvec4(FV_TEMPORAL_MASK_REUSED));
             imageAtomicOr(blocks_img, fv_sample_block_word(uvec3(p), pc.block, pc.block_words),
                           fv_sample_block_bit(uvec3(p), pc.block));
         }
-        imageStore(cur_img, p, out_v);
     }
     // counts per eye: one atomic per subgroup (a workgroup is one eye: z)
     uint nh = subgroupAdd(hit ? 1u : 0u), nr = subgroupAdd(reused ? 1u : 0u);

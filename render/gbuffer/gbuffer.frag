@@ -1,6 +1,7 @@
 #version 450
 // @brief G-buffer fragment shader: octahedral normal (facing the eye), albedo (factor x base colour texture),
-// material id + 1, motion vector (current uv - previous uv, from this and the previous frame's matrices).
+// material id + 1, motion vector (current uv - previous uv, from this and the previous frame's matrices) with the
+// distance to the eye and the normal again (gbuffer_interface.h).
 #extension GL_EXT_multiview : require
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
@@ -23,7 +24,7 @@ layout(location = 4) in vec4 v_prev_clip;
 layout(location = FV_GBUFFER_OUT_NORMAL) out vec2 out_normal;
 layout(location = FV_GBUFFER_OUT_ALBEDO) out vec4 out_albedo;
 layout(location = FV_GBUFFER_OUT_MATERIAL) out uint out_material;
-layout(location = FV_GBUFFER_OUT_MOTION) out vec2 out_motion;
+layout(location = FV_GBUFFER_OUT_MOTION) out vec4 out_motion;
 
 void main()
 {
@@ -33,7 +34,8 @@ void main()
     n = len2 > 1e-30 ? n * inversesqrt(len2) : vec3(0.0, 1.0, 0.0);
     // Two-sided: file winding and normals are not trusted; the normal faces the eye that sees the surface.
     if (dot(n, frame.eye_pos[eye].xyz - v_pos_world) < 0.0) n = -n;
-    out_normal = fv_oct_encode(n);
+    vec2 oct = fv_oct_encode(n);
+    out_normal = oct;
 
     uint material = draws[pc.draw_index].info.x;
     vec4 albedo = materials[material].base_color * texture(base_color_tex, v_texcoord);
@@ -44,5 +46,8 @@ void main()
     vec2 cur = v_clip.xy / (abs(v_clip.w) > 1e-20 ? v_clip.w : 1e-20);
     vec2 prev = v_prev_clip.xy / (abs(v_prev_clip.w) > 1e-20 ? v_prev_clip.w : 1e-20);
     vec2 m = (cur - prev) * 0.5;
-    out_motion = clamp(m, vec2(-65000.0), vec2(65000.0));
+    float dist = length(v_pos_world - frame.eye_pos[eye].xyz);
+    // drawn: a distance above 0 (0 is the cleared "nothing drawn")
+    out_motion = vec4(clamp(m, vec2(-65000.0), vec2(65000.0)), isnan(dist) || isinf(dist) ? 1e-20 : max(dist, 1e-20),
+                      uintBitsToFloat(packSnorm2x16(oct)));
 }

@@ -51,4 +51,27 @@ fv_surface fv_gbuffer_surface(uvec3 p)
     return s;
 }
 
+// What foveation's per-pixel passes read of pixel p (inside the image) in one fetch `m` of the motion target
+// (gbuffer_interface.h FV_GBUFFER_OUT_MOTION): drawn, distance from the eye, world position (on the pixel centre's
+// ray; undefined where nothing was drawn), unit normal (the normal target's own value) and motion. One fetch instead
+// of four (material, depth, normal, motion): on lavapipe each costs about half a present pass per pixel.
+struct fv_gbuffer_fovea_surf {
+    bool hit;
+    float dist;
+    vec3 pos, normal;
+    vec2 motion;
+};
+fv_gbuffer_fovea_surf fv_gbuffer_fovea(uvec3 p, vec4 m)
+{
+    fv_gbuffer_fovea_surf s;
+    s.hit = m.b > 0.0;
+    s.dist = m.b;
+    vec3 eye = frame.eye_pos[min(p.z, 1u)].xyz;
+    vec3 ray = fv_gbuffer_position(p, 0.0) - eye; // towards the pixel's near-plane point
+    s.pos = eye + ray * (m.b * inversesqrt(max(dot(ray, ray), 1e-30)));
+    s.normal = fv_oct_decode(unpackSnorm2x16(floatBitsToUint(m.a)));
+    s.motion = m.rg;
+    return s;
+}
+
 #endif

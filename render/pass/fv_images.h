@@ -1,5 +1,5 @@
 /* @brief The renderer's frame images, owned in one table and handed to passes by id: the G-buffer targets, linear
- * colour, a ping-pong history for temporal reuse, the display-encoded output, and per-pass scratch images. Each is a
+ * colour, the history for temporal reuse, the display-encoded output, and per-pass scratch images. Each is a
  * 2-layer array (layer = eye) created on first request, and the table tracks its layout and last accesses so a pass
  * states only how it is about to use an image (fv_images_use) and gets exactly the barrier that needs. One owner
  * thread; recording order must be submission order (one queue). */
@@ -15,10 +15,10 @@ typedef enum fv_image_id {
     FV_IMAGE_NORMAL,     /* octahedral world normal facing the eye: RG16_SNORM (RG32F where unsupported) */
     FV_IMAGE_ALBEDO,     /* RGBA8 sRGB, linear albedo on read */
     FV_IMAGE_MATERIAL,   /* R16UI material index + 1; 0 = nothing drawn */
-    FV_IMAGE_MOTION,     /* RG16F current uv - previous uv */
+    FV_IMAGE_MOTION,     /* RGBA32F current uv - previous uv, distance to the eye, normal (FV_GBUFFER_OUT_MOTION) */
     FV_IMAGE_COLOR,      /* RGBA32F linear radiance (shading's output) */
-    FV_IMAGE_HISTORY_A,  /* RGBA32F history ping-pong: see fv_images_history */
-    FV_IMAGE_HISTORY_B,
+    FV_IMAGE_HISTORY,    /* RGBA32F the previous frame's colour, its known pixels' distance and age in alpha
+                          * (render/fovea: temporal reads it, reconstruction copies the frame's colour into it) */
     FV_IMAGE_DISPLAY,    /* RGBA8 UNORM holding sRGB-encoded values: the present pass's output, what targets show */
     FV_IMAGE_BUILTIN_COUNT,
     FV_IMAGE_MAX = FV_IMAGE_BUILTIN_COUNT + 16 /* + FV_IMAGE_SCRATCH_MAX scratch images of passes */
@@ -46,7 +46,6 @@ typedef struct fv_images {
     uint32_t width, height; /* per eye */
     fv_image_slot slot[FV_IMAGE_MAX];
     uint32_t count;         /* builtins + scratch */
-    uint32_t history_parity;
     /* While a pass starts (the renderer sets these around its init): its id and its declared image names (fv_pass
      * makes, needs, uses_if_made); fv_images_scratch and fv_images_find refuse any other name, with an error that
      * names the pass. starting NULL: nothing is checked (the renderer's own reads, tests). */
@@ -91,10 +90,6 @@ FV_MUST_CHECK fv_result fv_images_get_gbuffer(fv_images *t);
 /** The tracked layout of an image. */
 VkImageLayout fv_images_layout(const fv_images *t, fv_image_id id);
 
-/** The history image of `age` frames ago relative to this frame (0 = written this frame, 1 = the previous frame's);
- *  fv_images_next_frame swaps them. */
-fv_image_id fv_images_history(const fv_images *t, uint32_t age);
-void fv_images_next_frame(fv_images *t);
 
 /** Read one layer back (submits and waits; the GPU must be done with every recorded use, e.g. after the frame's
  *  fence). Texels tightly packed with out_row_pitch bytes per row at out_offset. */

@@ -39,11 +39,12 @@ fv_result fv_images_init(fv_images *t, fv_vk *vk, uint32_t width, uint32_t heigh
     describe(&t->slot[FV_IMAGE_NORMAL], "gbuffer normal (oct)", normal_format, target);
     describe(&t->slot[FV_IMAGE_ALBEDO], "gbuffer albedo", VK_FORMAT_R8G8B8A8_SRGB, target);
     describe(&t->slot[FV_IMAGE_MATERIAL], "gbuffer material id", VK_FORMAT_R16_UINT, target);
-    describe(&t->slot[FV_IMAGE_MOTION], "gbuffer motion", VK_FORMAT_R16G16_SFLOAT, target);
+    /* Motion, distance and normal bits (gbuffer_interface.h FV_GBUFFER_OUT_MOTION): one fetch for foveation. */
+    describe(&t->slot[FV_IMAGE_MOTION], "gbuffer motion", VK_FORMAT_R32G32B32A32_SFLOAT,
+             target | VK_IMAGE_USAGE_STORAGE_BIT);
     /* Full float linear colour: 16-bit storage would cost up to 1e-3 relative error. */
     describe(&t->slot[FV_IMAGE_COLOR], "linear colour (rgba32f)", VK_FORMAT_R32G32B32A32_SFLOAT, linear);
-    describe(&t->slot[FV_IMAGE_HISTORY_A], "history A (rgba32f)", VK_FORMAT_R32G32B32A32_SFLOAT, linear);
-    describe(&t->slot[FV_IMAGE_HISTORY_B], "history B (rgba32f)", VK_FORMAT_R32G32B32A32_SFLOAT, linear);
+    describe(&t->slot[FV_IMAGE_HISTORY], "history (rgba32f)", VK_FORMAT_R32G32B32A32_SFLOAT, linear);
     describe(&t->slot[FV_IMAGE_DISPLAY], "display output (sRGB rgba8)", VK_FORMAT_R8G8B8A8_UNORM,
              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
     t->count = FV_IMAGE_BUILTIN_COUNT;
@@ -221,17 +222,6 @@ fv_result fv_images_get_gbuffer(fv_images *t)
     const fv_vk_image *img;
     for (int i = 0; i < 4; i++) FV_TRY(fv_images_get(t, gbuffer_read[i], &img));
     return FV_OK;
-}
-
-fv_image_id fv_images_history(const fv_images *t, uint32_t age)
-{
-    uint32_t p = (t ? t->history_parity : 0) ^ (age & 1u);
-    return p ? FV_IMAGE_HISTORY_B : FV_IMAGE_HISTORY_A;
-}
-
-void fv_images_next_frame(fv_images *t)
-{
-    if (t) t->history_parity ^= 1u;
 }
 
 fv_result fv_images_read(fv_images *t, fv_image_id id, uint32_t layer, void *out, size_t out_size, size_t out_offset,

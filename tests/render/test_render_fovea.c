@@ -666,6 +666,97 @@ static double dist_of(const fv_frame_input *in, int e, const gbuf *g, int x, int
     return fabs(z) * sqrt(tx * tx + ty * ty + 1.0);
 }
 
+/* The history is the frame's colour (fovea_interface.h): after reconstruction, with temporal reuse on and a moving
+ * head, every pixel a fill wrote (mask UNKNOWN) has alpha 0 whatever the method (the next frame must not reuse a
+ * guess), and every known pixel (shaded or reused) holds its distance from the eye, the G-buffer's to 1e-5, and an
+ * age within fovea.temporal; the G-buffer's motion target carries that distance (the depth's, along the pixel
+ * centre's ray, to 1e-4: the fragment's interpolated position against D32) and the normal target's bits, which foveation reads in one fetch (fv_gbuffer_fovea). */
+static void the_history_in_the_colour_is_known_pixels_only(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    gbuf *g = malloc(sizeof *g);
+    float *rgba = malloc(NPIX * 16), *surf = malloc(NPIX * 16);
+    uint32_t *mask = malloc(NPIX * 4);
+    assert_true(g && rgba && surf && mask);
+    const fv_fovea_recon methods[4] = {FV_FOVEA_RECON_NEAREST, FV_FOVEA_RECON_SIBSON, FV_FOVEA_RECON_IDW,
+                                       FV_FOVEA_RECON_SOFT};
+    const char *const name[4] = {"nearest", "sibson", "idw", "soft"};
+    for (int mi = 0; mi < 4; mi++) {
+        fv_frame_input in;
+        for (int k = 0; k < 3; k++) { /* each method from a history reset: 100 steps of 0.5 degrees away */
+            fv_head h = head_at(s, 100 * mi + k, 0.5);
+            assert_int_equal(fv_renderer_frame_input(g_r, &h, g_frame_id++, 0.0, &in), FV_OK);
+            in.quality.fovea.enabled = true;
+            in.quality.fovea.mar_slope = 0.2f;
+            in.quality.fovea.temporal = 8u;
+            in.quality.fovea.recon = methods[mi];
+            set_gaze(&in, fv_v3(0, 0, -1), 0.5f);
+            assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+        }
+        assert_int_equal(fv_renderer_finish(g_r), FV_OK);
+        size_t filled = 0, known = 0, reused = 0;
+        for (int e = 0; e < 2; e++) {
+            assert_int_equal(fv_renderer_read_linear(g_r, e, rgba, NPIX * 4), FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "gbuffer motion", e, surf, NPIX * 16, 16), FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "gbuffer depth", e, g->depth, sizeof g->depth, 4), FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "gbuffer normal (oct)", e, g->normal, sizeof g->normal, 4),
+                             FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "gbuffer material id", e, g->material, sizeof g->material, 2),
+                             FV_OK);
+            for (int y = 0; y < H; y++)
+                for (int x = 0; x < W; x++) {
+                    size_t i = (size_t)y * W + x;
+                    uint32_t bits;
+                    memcpy(&bits, &rgba[i * 4 + 3], 4);
+                    bool drawn = g->material[i] != 0;
+                    /* the motion target: distance (0 = nothing drawn) and the normal's bits */
+                    if (!drawn) {
+                        assert_true(surf[i * 4 + 2] == 0.0f);
+                    } else {
+                        double want = dist_of(&in, e, g, x, y);
+                        if (!(fabs(surf[i * 4 + 2] - want) <= 1e-4 * want))
+                            fail_msg("%s eye %d (%d,%d): motion target's distance %.9g, from the depth %.9g",
+                                     name[mi], e, x, y, surf[i * 4 + 2], want);
+                        uint32_t nb;
+                        memcpy(&nb, &surf[i * 4 + 3], 4);
+                        assert_int_equal((int16_t)(nb & 0xffffu), g->normal[i][0]);
+                        assert_int_equal((int16_t)(nb >> 16), g->normal[i][1]);
+                    }
+                    if (mask[i] == FV_SAMPLE_MASK_UNKNOWN) { /* filled: nothing known */
+                        if (bits != 0u)
+                            fail_msg("%s eye %d (%d,%d): filled pixel's alpha 0x%08x, not 0",
+                                     name[mi], e, x, y, bits);
+                        filled++;
+                        continue;
+                    }
+                    known++;
+                    reused += mask[i] == FV_SAMPLE_MASK_REUSED;
+                    assert_true(bits != 0u);
+                    assert_true((bits & FV_TEMPORAL_AGE_MAX) <= 8u);
+                    float d;
+                    uint32_t db = bits & ~FV_TEMPORAL_AGE_MAX;
+                    memcpy(&d, &db, 4);
+                    if (!drawn) {
+                        assert_true(d >= 0.5f * (float)FV_TEMPORAL_SKY);
+                    } else if (!(fabs(d - surf[i * 4 + 2]) <= 1e-5 * surf[i * 4 + 2])) {
+                        fail_msg("%s eye %d (%d,%d): known pixel's distance %.9g, the G-buffer's %.9g",
+                                 name[mi], e, x, y, d, surf[i * 4 + 2]);
+                    }
+                }
+        }
+        printf("%s: %zu filled (alpha 0), %zu known (%zu reused) with their distance and age\n",
+               name[mi], filled, known, reused);
+        assert_true(filled > 1000 && reused > 1000);
+    }
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    free(g), free(rgba), free(surf), free(mask);
+    fv_scene_destroy(&s);
+}
+
 /* p with saliency (weight sal) and DoF (fovea_interface.h), in double; the focus pixel is picked with the GPU's
  * float arithmetic (a discrete choice). */
 static double ref_p_sal_dof(const fv_frame_input *in, int e, const gbuf *g, int x, int y, double u_rad, bool valid,
@@ -1246,6 +1337,7 @@ int main(void)
         cmocka_unit_test(fovea_follows_fixed_gazes),
         cmocka_unit_test(foveal_band_equals_full_resolution),
         cmocka_unit_test(temporal_reuse_lowers_periphery_error_and_flicker),
+        cmocka_unit_test(the_history_in_the_colour_is_known_pixels_only),
         cmocka_unit_test(saliency_and_dof_match_cpu),
         cmocka_unit_test(soft_matches_cpu_double),
         cmocka_unit_test(soft_fill_flickers_less_than_nearest),
