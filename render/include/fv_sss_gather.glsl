@@ -349,6 +349,8 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
         float cutoff = layer.view.z; // clusters wholly beyond it are dropped (fv_sss_cutoff_radius_m)
         uint limit = min(sss_header.counts.w, nominal);
         uint start = min(sss_header.counts.z, limit);
+        // the cut at the nominal leaves is every sample: a texel left at its fine samples is walked on to them
+        uint accept_level = limit >= nominal ? leaf : limit;
         uint starts = 1u << (2u * start);
         uint stack[FV_SSS_STACK];
         for (uint r = 0u; r < starts; r++) {
@@ -373,7 +375,7 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 bool near = rc.facing > 0.0 && dist - node.extent.x < near_field;
                 // a leaf, or a nominal texel resolved into one sample (its footprint): as a leaf
                 bool leaf_like = k >= leaf || (k >= nominal && dot(node.extent.yzw, node.extent.yzw) > 0.0);
-                bool accept = leaf_like || (!near && (k >= limit || (node.flux_sim.w > 0.0 &&
+                bool accept = leaf_like || (!near && (k >= accept_level || (node.flux_sim.w > 0.0 &&
                                                                      radius <= theta * node.flux_sim.w * dist)));
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {
                     // a leaf or a resolved nominal texel: its footprint; a cluster: the disk of its area (the
