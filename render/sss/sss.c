@@ -159,6 +159,12 @@ static fv_result create_render_pass(sss *p)
     VkAttachmentReference color[NT];
     for (uint32_t k = 0; k < NT; k++) {
         att[k] = fv_vk_attachment_cleared(MAP_FORMAT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        /* Only the positions are cleared (area 0: no sample); the build reads the others only where a fragment
+         * wrote the positions, and every fragment writes all five (the fine map is 16x the texels to clear). */
+        if (k != FV_SSS_OUT_POS) {
+            att[k].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+            att[k].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        }
         color[k] = (VkAttachmentReference){k, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     }
     att[NT] = fv_vk_attachment_cleared(VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
