@@ -349,8 +349,10 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
         float cutoff = layer.view.z; // clusters wholly beyond it are dropped (fv_sss_cutoff_radius_m)
         uint limit = min(sss_header.counts.w, nominal);
         uint start = min(sss_header.counts.z, limit);
-        // the cut at the nominal leaves is every sample: a texel left at its fine samples is walked on to them
-        uint accept_level = limit >= nominal ? leaf : limit;
+        // a texel left at its fine samples (where the light grazes) is walked on to them within the near field
+        // only: beyond it, one disk of its area is as good and 16x cheaper (the cut at the nominal leaves with the
+        // distance rule off is every sample within the near field)
+        uint accept_level = limit;
         uint starts = 1u << (2u * start);
         uint stack[FV_SSS_STACK];
         for (uint r = 0u; r < starts; r++) {
