@@ -349,10 +349,9 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
         float cutoff = layer.view.z; // clusters wholly beyond it are dropped (fv_sss_cutoff_radius_m)
         uint limit = min(sss_header.counts.w, nominal);
         uint start = min(sss_header.counts.z, limit);
-        // a texel left at its fine samples (where the light grazes) is walked on to them within the near field
-        // only: beyond it, one disk of its area is as good and 16x cheaper (the cut at the nominal leaves with the
-        // distance rule off is every sample within the near field)
-        uint accept_level = limit;
+        // the levels are the nominal map's: a texel left at its fine samples (where the light grazes) is walked on
+        // to them within the near field only; beyond it one disk of its area is as good and 16x cheaper (walking
+        // every receiver's band to the fine leaves cost balanced's shade pass 2x)
         uint starts = 1u << (2u * start);
         uint stack[FV_SSS_STACK];
         for (uint r = 0u; r < starts; r++) {
@@ -379,7 +378,7 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 bool near = dist - node.extent.x < near_field;
                 // a leaf, or a nominal texel resolved into one sample (its footprint): as a leaf
                 bool leaf_like = k >= leaf || (k >= nominal && dot(node.extent.yzw, node.extent.yzw) > 0.0);
-                bool accept = leaf_like || (!near && (k >= accept_level || (node.flux_sim.w > 0.0 &&
+                bool accept = leaf_like || (!near && (k >= limit || (node.flux_sim.w > 0.0 &&
                                                                      radius <= theta * node.flux_sim.w * dist)));
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {
                     // a leaf or a resolved nominal texel: its footprint; a cluster: the disk of its area (the
