@@ -17,7 +17,7 @@ _Static_assert(sizeof(struct fv_fovea_push) == 32, "fv_fovea_push layout");
 _Static_assert(FV_FOVEA_SRGB_TABLE >= FV_FOVEA_BLOCK_MAX * FV_FOVEA_BLOCK_MAX, "the sRGB table follows the ranks");
 _Static_assert(FV_KNOB_MIN_fovea_block == 2 && FV_KNOB_MAX_fovea_block == FV_FOVEA_BLOCK_MAX, "fovea.block's range");
 _Static_assert(sizeof(struct fv_compact_push) == 32, "fv_compact_push layout");
-_Static_assert(sizeof(struct fv_recon_push) == 32, "fv_recon_push layout");
+_Static_assert(sizeof(struct fv_recon_push) == 48, "fv_recon_push layout");
 _Static_assert(FV_COMPACT_TILE_SIZE == FV_GPU_LIST_GROUP_SIZE, "masked lists: one list workgroup per tile");
 _Static_assert(FV_SCENE_SET == 0 && FV_FOVEA_SET == 1 && FV_COMPACT_SET == 1 && FV_RECON_SET == 1,
                "the foveation passes' set order");
@@ -522,7 +522,8 @@ const fv_pass fv_compact_pass = {
 /* ---- "reconstruct" ------------------------------------------------------------------------------------------- */
 
 /* the stages of rc->cs; the soft fill's two are rc->soft's (a compute holds at most 4 variants) */
-enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3, RSTAGE_SOFT_REPS = 4, RSTAGE_SOFT_FILL = 5 };
+enum { RSTAGE_INIT = 0, RSTAGE_STEP = 1, RSTAGE_RESOLVE = 2, RSTAGE_BLOCKS = 3, RSTAGE_SOFT_REPS = 4, RSTAGE_SOFT_FILL = 5,
+       RSTAGE_SOFT_ARGS = 6, RSTAGE_SOFT_EDGE = 7 };
 
 typedef struct recon {
     fv_vk *vk;
@@ -532,6 +533,8 @@ typedef struct recon {
     fv_image_id mask, blocks, voronoi, reps; /* voronoi, reps: FV_IMAGE_MAX until made (mask, blocks: the fovea pass's) */
     VkSampler nearest;                 /* the G-buffer's reads (soft) */
     fv_vk_buffer seeds[2];
+    fv_vk_buffer lists;               /* soft: its two pixel lists and their dispatch arguments (FV_RECON_LIST_*) */
+    uint32_t list_pixels;             /* each list's capacity: 2 W H */
     uint32_t slots;
     fv_vk_timer timer;             /* its stages: "voronoi" (1+JFA or the block search), "fill" */
     bool recorded[FV_MAX_FRAMES_IN_FLIGHT];
@@ -548,6 +551,7 @@ static void recon_fini(void *state)
     fv_vk_compute_fini(rc->vk, &rc->soft);
     fv_vk_timer_fini(&rc->timer, rc->vk);
     for (int i = 0; i < 2; i++) fv_vk_buffer_destroy(rc->vk, &rc->seeds[i]);
+    fv_vk_buffer_destroy(rc->vk, &rc->lists);
     if (rc->nearest) vkDestroySampler(rc->vk->device, rc->nearest, NULL);
     if (rc->voronoi != FV_IMAGE_MAX) fv_images_release(rc->images, rc->voronoi);
     if (rc->reps != FV_IMAGE_MAX) fv_images_release(rc->images, rc->reps);
@@ -572,6 +576,12 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     for (int i = 0; i < 2 && res == FV_OK; i++)
         res = fv_vk_buffer_create(env->vk, seed_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, FV_VK_MEM_DEVICE,
                                   i ? "fovea seeds b" : "fovea seeds a", &rc->seeds[i]);
+    rc->list_pixels = env->width * env->height * 2u;
+    if (res == FV_OK)
+        res = fv_vk_buffer_create(env->vk, ((VkDeviceSize)2u * (FV_RECON_LIST_HEADER + rc->list_pixels) + 8u) * 4u,
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                      VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                  FV_VK_MEM_DEVICE, "fovea fill lists", &rc->lists);
     uint32_t B = env->plan->variant >= 2 ? env->plan->variant : 2; /* the block (the fovea pass checks it) */
     rc->block = B;
     if (res == FV_OK) { /* the soft fill's representatives: FV_RECON_SOFT_REP_UVEC4S texels per block in a row */
@@ -602,9 +612,11 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         {FV_RECON_BINDING_DEPTH + 3, cis, 1, cs, NULL},
         {FV_RECON_BINDING_REPS, si, 1, cs, NULL},
         {FV_RECON_BINDING_MOTION, si, 1, cs, NULL},
+        {FV_RECON_BINDING_LISTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, NULL},
     };
     const uint32_t spec[4] = {FV_RECON_STAGE_INIT, FV_RECON_STAGE_STEP, FV_RECON_STAGE_RESOLVE, FV_RECON_STAGE_BLOCKS};
-    const uint32_t soft_spec[2] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL};
+    const uint32_t soft_spec[4] = {FV_RECON_STAGE_SOFT_REPS, FV_RECON_STAGE_SOFT_FILL, FV_RECON_STAGE_SOFT_ARGS,
+                                   FV_RECON_STAGE_SOFT_EDGE};
     VkDescriptorSetLayout shared[1] = {env->scene->set_layout};
     fv_vk_compute_desc cd = {.name = "reconstruct", .code = fv_spv_reconstruct_comp,
                              .code_size = sizeof fv_spv_reconstruct_comp, .shared_sets = shared,
@@ -614,7 +626,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->cs);
     cd.name = "reconstruct soft";
     cd.spec = soft_spec;
-    cd.variant_count = 2;
+    cd.variant_count = 4;
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &rc->soft);
     if (res != FV_OK) {
         FV_ERROR(MOD, "reconstruction pass could not be created: %s", fv_result_str(res));
@@ -628,6 +640,8 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         for (int i = 0; i < 2; i++)
             fv_vk_write_buffer(env->vk, set, i ? FV_RECON_BINDING_SEEDS_B : FV_RECON_BINDING_SEEDS_A,
                                VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->seeds[i].buffer, 0, VK_WHOLE_SIZE);
+        fv_vk_write_buffer(env->vk, set, FV_RECON_BINDING_LISTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rc->lists.buffer, 0,
+                           VK_WHOLE_SIZE);
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_COLOR, si, color->view, VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_VORONOI, si,
@@ -659,13 +673,20 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
     fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
-    buffers_barrier(cmd, CS, RW, CS, RW);
-    /* SOFT_REPS: a thread per block */
-    uint32_t w = stage == RSTAGE_SOFT_REPS ? (rc->width + rc->block - 1) / rc->block : rc->width;
-    uint32_t h = stage == RSTAGE_SOFT_REPS ? (rc->height + rc->block - 1) / rc->block : rc->height;
+    /* the buffers (seeds, the soft fill's lists): written by the stage before, their arguments read indirectly */
+    buffers_barrier(cmd, CS, RW, CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, RW | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
     if (stage >= RSTAGE_SOFT_REPS) fv_vk_compute_bind(&rc->soft, cmd, stage - RSTAGE_SOFT_REPS, &f->scene_set, 1, 0, pc);
     else fv_vk_compute_bind(&rc->cs, cmd, stage, &f->scene_set, 1, 0, pc);
-    vkCmdDispatch(cmd, (w + FV_RECON_GROUP - 1) / FV_RECON_GROUP, (h + FV_RECON_GROUP - 1) / FV_RECON_GROUP, 2);
+    if (stage == RSTAGE_SOFT_FILL || stage == RSTAGE_SOFT_EDGE) { /* over a list: its arguments (SOFT_ARGS) */
+        uint32_t l = stage == RSTAGE_SOFT_EDGE ? FV_RECON_LIST_EDGE : FV_RECON_LIST_FILL;
+        vkCmdDispatchIndirect(cmd, rc->lists.buffer, ((VkDeviceSize)2u * (FV_RECON_LIST_HEADER + rc->list_pixels) + 4u * l) * 4u);
+    } else if (stage == RSTAGE_SOFT_ARGS) {
+        vkCmdDispatch(cmd, 1, 1, 1);
+    } else { /* SOFT_REPS: a thread per block; the rest a thread per pixel */
+        uint32_t w = stage == RSTAGE_SOFT_REPS ? (rc->width + rc->block - 1) / rc->block : rc->width;
+        uint32_t h = stage == RSTAGE_SOFT_REPS ? (rc->height + rc->block - 1) / rc->block : rc->height;
+        vkCmdDispatch(cmd, (w + FV_RECON_GROUP - 1) / FV_RECON_GROUP, (h + FV_RECON_GROUP - 1) / FV_RECON_GROUP, 2);
+    }
     f->counters->dispatches++;
 }
 
@@ -709,6 +730,12 @@ static void recon_fill(recon *rc, const fv_pass_frame *f, int t, uint32_t stage,
     if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
     t = fv_vk_timer_begin(&rc->timer, f->cmd, f->slot, "fill");
     recon_stage(rc, f, stage, pc);
+    if (stage == RSTAGE_SOFT_FILL) { /* list 1: the edges */
+        struct fv_recon_push edge = *pc;
+        edge.step = FV_RECON_LIST_EDGE;
+        recon_stage(rc, f, RSTAGE_SOFT_ARGS, &edge);
+        recon_stage(rc, f, RSTAGE_SOFT_EDGE, &edge);
+    }
     if (t >= 0) fv_vk_timer_end(&rc->timer, f->cmd, f->slot, t);
     keep_history(f);
     rc->recorded[f->slot] = true;
@@ -743,8 +770,18 @@ static void recon_record(void *state, const fv_pass_frame *f)
         n = 0;
         src = FV_RECON_SRC_SEARCH;
         pc.flags = f->input->quality.debug_view == FV_DEBUG_VIEW_VORONOI ? FV_RECON_FLAG_VORONOI : 0u;
-        recon_stage(rc, f, RSTAGE_SOFT_REPS, &pc);
-        recon_fill(rc, f, t, RSTAGE_SOFT_FILL, &pc, n, src, method);
+        pc.list_pixels = rc->list_pixels;
+        /* both lists start empty (the previous frame's stages are done with them: the barrier in recon_stage) */
+        buffers_barrier(f->cmd, CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, RW | VK_ACCESS_INDIRECT_COMMAND_READ_BIT,
+                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+        for (uint32_t l = 0; l < 2; l++)
+            vkCmdFillBuffer(f->cmd, rc->lists.buffer, (VkDeviceSize)l * (FV_RECON_LIST_HEADER + rc->list_pixels) * 4u,
+                            16u, 0u);
+        buffers_barrier(f->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, CS, RW);
+        recon_stage(rc, f, RSTAGE_SOFT_REPS, &pc); /* the slots, and list 0: the unknown pixels */
+        pc.step = FV_RECON_LIST_FILL;
+        recon_stage(rc, f, RSTAGE_SOFT_ARGS, &pc);
+        recon_fill(rc, f, t, RSTAGE_SOFT_FILL, &pc, n, src, method); /* list 0; its edges to list 1 */
         return;
     }
     if (method != FV_RECON_METHOD_IDW && jfa) {

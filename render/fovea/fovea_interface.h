@@ -128,7 +128,9 @@ struct fv_compact_push {
                                     * in a row (an image: cheaper loads than a buffer on lavapipe) */
 #define FV_RECON_BINDING_MOTION 11 /* image2DArray rgba32f: the G-buffer's motion target, whose distance and normal the
                                     * soft fill reads (fv_gbuffer_fovea: one fetch) */
-#define FV_RECON_BINDING_COUNT 12
+#define FV_RECON_BINDING_LISTS 12 /* storage uint[]: the soft fill's two pixel lists (FV_RECON_LIST_*), then the
+                                   * indirect dispatch arguments of each (4 uints per list) */
+#define FV_RECON_BINDING_COUNT 13
 #define FV_RECON_NONE 0xffffffffu
 
 #define FV_RECON_STAGE_INIT 0    /* seeds A and B = the sampled pixels (a seed is its own nearest: steps skip it) */
@@ -157,6 +159,18 @@ struct fv_compact_push {
  * (underflow): the nearest tap's colour. Reads the colour only at known pixels and writes it only at unknown ones. */
 #define FV_RECON_STAGE_SOFT_REPS 4
 #define FV_RECON_STAGE_SOFT_FILL 5
+/* On a device that runs every branch of a shader for every invocation (llvmpipe: control flow is masks), the fill
+ * pays for its whole code at every pixel, known or not, edge or not. So the fill runs over lists: SOFT_REPS also
+ * appends each block's unknown pixels to list 0; SOFT_ARGS (one thread, push.step = the list) turns a list's count
+ * into its indirect dispatch; SOFT_FILL, over list 0, fills a pixel from the facing slots or, at an edge, appends it
+ * to list 1; SOFT_EDGE, over list 1, fills it from every distinct slot. The same arithmetic as one pass. */
+#define FV_RECON_STAGE_SOFT_ARGS 6
+#define FV_RECON_STAGE_SOFT_EDGE 7
+#define FV_RECON_LIST_FILL 0u
+#define FV_RECON_LIST_EDGE 1u
+/* The lists' buffer, in uints: list l at l * (FV_RECON_LIST_HEADER + pixels) (its count, 3 spare, then packed
+ * pixels, FV_GPU_PIXEL_PACK), the arguments at 2 * (FV_RECON_LIST_HEADER + pixels) + 4 l. */
+#define FV_RECON_LIST_HEADER 4u
 #define FV_RECON_SOFT_SLOTS 4
 #define FV_RECON_SOFT_REP_UVEC4S 8 /* per block, per slot: (colour rgb as bits, x | y << 16 | FV_RECON_SOFT_NOTHING
                                     * where nothing was drawn; FV_RECON_NONE: no slot), (oct normal as 2x16 snorm,
@@ -187,6 +201,8 @@ struct fv_recon_push {
     FV_FOVEA_UINT block_words;
     FV_FOVEA_UINT reach;  /* blocks: how many blocks around a pixel's own can hold its nearest sample (1: B <= 5) */
     FV_FOVEA_UINT flags;  /* FV_RECON_FLAG_* */
+    FV_FOVEA_UINT list_pixels; /* soft: the capacity of each list, 2 W H */
+    FV_FOVEA_UINT pad[3];
 };
 
 

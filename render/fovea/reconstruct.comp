@@ -103,6 +103,27 @@ void gather(ivec3 p, ivec2 size, bool idw, inout uint best, inout uint bd, inout
 // the representatives: FV_RECON_SOFT_REP_UVEC4S texels per block in a row (an image: cheaper loads than a buffer on
 // some devices, lavapipe)
 layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS, rgba32ui) uniform uimage2DArray reps_img;
+layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_LISTS) buffer Lists { uint lists[]; };
+
+uint list_base(uint l) { return l * (FV_RECON_LIST_HEADER + pc.list_pixels); }
+// Append pixel p to list l (its count, then the packed pixels).
+void list_append(uint l, ivec3 p)
+{
+    uint i = atomicAdd(lists[list_base(l)], 1u);
+    if (i < pc.list_pixels) lists[list_base(l) + FV_RECON_LIST_HEADER + i] = FV_GPU_PIXEL_PACK(uint(p.x), uint(p.y), uint(p.z));
+}
+// This invocation's entry of list l (a dispatch of FV_RECON_GROUP^2 per workgroup, FV_GPU_LIST_GROUPS_X wide), or
+// false past its end.
+bool list_entry(uint l, out ivec3 p)
+{
+    uint i = (gl_WorkGroupID.x + gl_WorkGroupID.y * FV_GPU_LIST_GROUPS_X) * uint(FV_RECON_GROUP * FV_RECON_GROUP) +
+             gl_LocalInvocationIndex;
+    p = ivec3(0);
+    if (i >= min(lists[list_base(l)], pc.list_pixels)) return false;
+    uint v = lists[list_base(l) + FV_RECON_LIST_HEADER + i];
+    p = ivec3(int(v & 0x7fffu), int((v >> 15) & 0x7fffu), int(v >> 30));
+    return true;
+}
 
 ivec3 rep_at(ivec2 b, int layer, uint j) { return ivec3(b.x * FV_RECON_SOFT_REP_UVEC4S + int(j), b.y, layer); }
 
@@ -153,6 +174,23 @@ void soft_reps(ivec3 b, ivec2 size)
                 int d = dc.x * dc.x + dc.y * dc.y;
                 if (d < bestd[qd]) bestd[qd] = d, pick[qd] = k; // bits rise: ties keep the first
             }
+        }
+    }
+    // the block's unknown pixels go to the fill's list, one atomic per block (the known ones are kept; the voronoi
+    // view: their own)
+    uint at = atomicAdd(lists[list_base(FV_RECON_LIST_FILL)], uint(bs.x * bs.y) - count);
+    for (int k = 0; k < bs.x * bs.y; k++) {
+        ivec2 l = ivec2(k % bs.x, k / bs.x);
+        int kb = l.y * B + l.x;
+        bool known = (wv[kb / 32] & (1u << uint(kb % 32))) != 0u;
+        ivec3 q = ivec3(o + l, b.z);
+        if (!known) {
+            if (at < pc.list_pixels)
+                lists[list_base(FV_RECON_LIST_FILL) + FV_RECON_LIST_HEADER + at] =
+                    FV_GPU_PIXEL_PACK(uint(q.x), uint(q.y), uint(q.z));
+            at++;
+        } else if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) {
+            imageStore(voronoi_img, q, uvec4(uint(q.x) | (uint(q.y) << 16)));
         }
     }
     for (int s = 0; s < FV_RECON_SOFT_SLOTS; s++) {
@@ -211,12 +249,13 @@ float soft_tap(uvec4 qa, uvec4 qb, ivec3 p, bool hit, vec3 pos, vec3 nrm, float 
 // slot of its quadrant that faces p (the four facing quadrants tile the square between the four centres, so the
 // choice never changes inside it), times a Gaussian of the distance and the edge weight; sigma the tents' blend of
 // the blocks' sigmas.
+// SOFT_FILL and SOFT_EDGE: unknown pixel p (from their lists). The fill stage takes the facing slots and leaves a
+// pixel at an edge to the edge stage, which takes every distinct slot; each stage's variant compiles only its own
+// part (spec constant), so a device that runs every branch for every pixel (llvmpipe) pays for the edges' 16 taps
+// only at the edges.
 void soft_fill(ivec3 p, ivec2 size)
 {
-    if (imageLoad(mask_img, p).x != 0u) { // known: kept
-        if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) imageStore(voronoi_img, p, uvec4(uint(p.x) | (uint(p.y) << 16)));
-        return;
-    }
+    const bool EDGE = STAGE == FV_RECON_STAGE_SOFT_EDGE;
     int B = int(pc.block);
     ivec2 nb = (size + B - 1) / B;
     vec2 g = (vec2(p.xy) + 0.5) / float(B) - 0.5; // p in block-centre coordinates
@@ -257,17 +296,22 @@ void soft_fill(ivec3 p, ivec2 size)
     uint best = FV_RECON_NONE, bd = 0xffffffffu;
     // the facing slots, as wide as their spacing (half a block) at least
     float inv2s2 = 0.5 / pow(max(sigma_d, float(FV_RECON_SOFT_SIGMA) * 0.5 * float(B)), 2.0);
-    for (int k = 0; k < 4; k++) {
-        if (!(tent[k] > 0.0)) continue;
-        float e2 = soft_tap(ta[k], tb[k], p, hit, pos, nrm, kplane, cap, best, bd, best_col);
-        emax = max(emax, e2);
-        float wt = tent[k] * exp(-soft_d2(ta[k], p) * inv2s2 - e2);
-        sum += wt * uintBitsToFloat(ta[k].xyz);
-        wsum += wt;
-    }
-    if (emax > float(FV_RECON_SOFT_EDGE_SPLIT)) {
+    if (!EDGE) {
+        for (int k = 0; k < 4; k++) {
+            if (!(tent[k] > 0.0)) continue;
+            float e2 = soft_tap(ta[k], tb[k], p, hit, pos, nrm, kplane, cap, best, bd, best_col);
+            emax = max(emax, e2);
+            float wt = tent[k] * exp(-soft_d2(ta[k], p) * inv2s2 - e2);
+            sum += wt * uintBitsToFloat(ta[k].xyz);
+            wsum += wt;
+        }
+        if (emax > float(FV_RECON_SOFT_EDGE_SPLIT)) { // an edge among the facing slots: the edge stage's
+            list_append(FV_RECON_LIST_EDGE, p);
+            return;
+        }
+    } else {
         // an edge among the facing slots: every distinct slot of the four blocks, as wide as the sample spacing
-        sum = vec3(0.0), wsum = 0.0;
+        // (the facing ones among them: the nearest tap is the same)
         inv2s2 = 0.5 / (sigma_d * sigma_d);
         for (int k = 0; k < 4; k++) {
             if (!(tent[k] > 0.0)) continue;
@@ -309,8 +353,20 @@ void main()
         if (p.x < (size.x + B - 1) / B && p.y < (size.y + B - 1) / B && p.z <= 1) soft_reps(p, size);
         return;
     }
-    if (STAGE == FV_RECON_STAGE_SOFT_FILL) {
-        if (p.x < size.x && p.y < size.y && p.z <= 1) soft_fill(p, size);
+    if (STAGE == FV_RECON_STAGE_SOFT_ARGS) { // one thread: list push.step's count as its indirect dispatch
+        if (gl_LocalInvocationIndex == 0u) {
+            uint l = pc.step, n = min(lists[list_base(l)], pc.list_pixels);
+            uint groups = (n + uint(FV_RECON_GROUP * FV_RECON_GROUP) - 1u) / uint(FV_RECON_GROUP * FV_RECON_GROUP);
+            uint a = 2u * (FV_RECON_LIST_HEADER + pc.list_pixels) + 4u * l;
+            lists[a] = groups == 0u ? 0u : min(groups, FV_GPU_LIST_GROUPS_X);
+            lists[a + 1u] = groups == 0u ? 0u : (groups + FV_GPU_LIST_GROUPS_X - 1u) / FV_GPU_LIST_GROUPS_X;
+            lists[a + 2u] = groups == 0u ? 0u : 1u;
+        }
+        return;
+    }
+    if (STAGE == FV_RECON_STAGE_SOFT_FILL || STAGE == FV_RECON_STAGE_SOFT_EDGE) {
+        ivec3 q;
+        if (list_entry(STAGE == FV_RECON_STAGE_SOFT_EDGE ? FV_RECON_LIST_EDGE : FV_RECON_LIST_FILL, q)) soft_fill(q, size);
         return;
     }
     if (p.x >= size.x || p.y >= size.y || p.z > 1) return;
