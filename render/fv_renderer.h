@@ -75,7 +75,7 @@ FV_MUST_CHECK fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *
  *  the eye width and y by the eye height for pixels); each vector is current uv - previous uv, i.e. where the
  *  surface at this pixel is now minus where it was in the previously drawn frame (previous view/projection and
  *  previous object transforms). Zero where nothing was drawn, and everywhere in the first frame after a scene load.
- *  Stored as 32-bit floats (the target's first two channels, gbuffer_interface.h). out_rg must hold W * H * 2 floats. Waits for the GPU. */
+ *  Stored as half floats (RG16F) and widened here. out_rg must hold W * H * 2 floats. Waits for the GPU. */
 FV_MUST_CHECK fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t out_floats);
 /** Read one eye of a pass's image of the renderer's table by its name (e.g. "fovea prob": R32F), texel_bytes per
  *  texel, rows tightly packed (waits for the GPU). FV_ERR_NOT_FOUND when no such image exists (the pass is off). */

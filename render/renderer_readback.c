@@ -40,19 +40,37 @@ fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *out_rgba, size
                           (size_t)r->desc.eye_width * 16);
 }
 
+/* IEEE 754 binary16 -> float (exact: every half is a float). */
+static float half_to_float(uint16_t h)
+{
+    uint32_t sign = (uint32_t)(h >> 15) << 31, exp = (h >> 10) & 0x1fu, mant = h & 0x3ffu, bits;
+    if (exp == 0x1fu) {
+        bits = sign | 0x7f800000u | (mant << 13); /* Inf / NaN */
+    } else if (exp != 0) {
+        bits = sign | ((exp + 112u) << 23) | (mant << 13); /* rebias 15 -> 127 */
+    } else {
+        float f = ldexpf((float)mant, -24); /* zero or subnormal */
+        return sign ? -f : f;
+    }
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
 fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t out_floats)
 {
     if (!r || !out_rg || eye < 0 || eye > 1) return FV_ERR_INVALID_ARG;
     FV_TRY(need_floats(r, "read_motion", 2, out_floats));
-    size_t n = (size_t)r->desc.eye_width * r->desc.eye_height;
-    float *rgba = malloc(n * 4 * sizeof *rgba);
-    if (!rgba) return FV_ERR_NO_MEMORY;
+    size_t n = (size_t)r->desc.eye_width * r->desc.eye_height * 2;
+    uint16_t *half = malloc(n * sizeof *half);
+    if (!half) return FV_ERR_NO_MEMORY;
     fv_result res = fv_renderer_finish(r);
     if (res == FV_OK)
-        res = fv_images_read(&r->images, FV_IMAGE_MOTION, (uint32_t)eye, rgba, n * 4 * sizeof *rgba, 0,
-                             (size_t)r->desc.eye_width * 4 * sizeof *rgba);
-    for (size_t i = 0; res == FV_OK && i < n; i++) out_rg[2 * i] = rgba[4 * i], out_rg[2 * i + 1] = rgba[4 * i + 1];
-    free(rgba);
+        res = fv_images_read(&r->images, FV_IMAGE_MOTION, (uint32_t)eye, half, n * sizeof *half, 0,
+                             (size_t)r->desc.eye_width * 2 * sizeof *half);
+    if (res == FV_OK)
+        for (size_t i = 0; i < n; i++) out_rg[i] = half_to_float(half[i]);
+    free(half);
     return res;
 }
 

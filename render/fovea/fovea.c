@@ -228,7 +228,7 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
     }
     const fv_vk_image *motion;
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
-    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MOTION, &motion);
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_SURFACE, &motion);
     if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "fovea nearest sampler", &fv->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -301,7 +301,7 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     fv_images_use(f->images, cmd, fv->prob, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
     fv_images_use(f->images, cmd, fv->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_WRITE_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_SURFACE, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv->variant = variant;
     fv_vk_compute_bind(&fv->cs, cmd, variant, &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
@@ -595,7 +595,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = fv_vk_timer_init(&rc->timer, env->vk, env->slots);
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
     const fv_vk_image *motion;
-    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MOTION, &motion);
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_SURFACE, &motion);
     if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "reconstruct nearest sampler", &rc->nearest);
     VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     VkDescriptorType si = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -652,7 +652,7 @@ static fv_result recon_init(const fv_pass_env *env, void **out_state)
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_REPS, si, fv_images_image(env->images, rc->reps)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_RECON_BINDING_MOTION, si,
-                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, VK_NULL_HANDLE,
+                          fv_images_image(env->images, FV_IMAGE_SURFACE)->view, VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_GENERAL);
     }
     *out_state = rc;
@@ -672,7 +672,7 @@ static void recon_stage(recon *rc, const fv_pass_frame *f, uint32_t stage, const
     fv_images_use(f->images, cmd, rc->reps, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, rc->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_SURFACE, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     /* the buffers (seeds, the soft fill's lists): written by the stage before, their arguments read indirectly */
     buffers_barrier(cmd, CS, RW, CS | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, RW | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
     if (stage >= RSTAGE_SOFT_REPS) fv_vk_compute_bind(&rc->soft, cmd, stage - RSTAGE_SOFT_REPS, &f->scene_set, 1, 0, pc);

@@ -26,7 +26,7 @@
                                    * bits (bit k = its pixel k, row-major, B as the row length), cleared, then
                                    * OR-ed in (atomics) */
 #define FV_FOVEA_BINDING_DEPTH 4  /* G-buffer depth, normal, albedo, material: combined samplers 4..7 (saliency, DoF) */
-#define FV_FOVEA_BINDING_MOTION 8 /* image2DArray rgba32f: the G-buffer's motion target (storage loads: cheaper) */
+#define FV_FOVEA_BINDING_MOTION 8 /* image2DArray rgba32f: the G-buffer's surface target, motion in rg (storage loads) */
 #define FV_FOVEA_BINDING_COUNT 9
 #define FV_FOVEA_BLOCK_WORDS_MAX 8u /* ceil(16 * 16 / 32) */
 #define FV_FOVEA_GROUP 8 /* 8 x 8 pixels per workgroup, z = the eye */
@@ -126,7 +126,7 @@ struct fv_compact_push {
 #define FV_RECON_BINDING_DEPTH 6   /* G-buffer depth, normal, albedo, material: combined samplers 6..9 (soft) */
 #define FV_RECON_BINDING_REPS 10   /* uimage2DArray rgba32ui: soft's slots, FV_RECON_SOFT_REP_UVEC4S texels per block
                                     * in a row (an image: cheaper loads than a buffer on lavapipe) */
-#define FV_RECON_BINDING_MOTION 11 /* image2DArray rgba32f: the G-buffer's motion target, whose distance and normal the
+#define FV_RECON_BINDING_MOTION 11 /* image2DArray rgba32f: the G-buffer's surface target, whose distance and normal the
                                     * soft fill reads (fv_gbuffer_fovea: one fetch) */
 #define FV_RECON_BINDING_LISTS 12 /* storage uint[]: the soft fill's two pixel lists (FV_RECON_LIST_*), then the
                                    * indirect dispatch arguments of each (4 uints per list) */
@@ -216,7 +216,7 @@ struct fv_recon_push {
  * own (on lavapipe a store per pixel costs about 2x a present pass, the copy a fraction of one). */
 #define FV_TEMPORAL_SET 1
 #define FV_TEMPORAL_BINDING_DEPTH 0    /* G-buffer depth, normal, albedo, material: combined samplers 0..3 */
-#define FV_TEMPORAL_BINDING_MOTION 4   /* image2DArray rgba32f: the G-buffer's motion target (fv_gbuffer_fovea) */
+#define FV_TEMPORAL_BINDING_MOTION 4   /* image2DArray rgba32f: the G-buffer's surface target (fv_gbuffer_fovea) */
 #define FV_TEMPORAL_BINDING_MASK 5     /* uimage2DArray r32ui "fovea mask": 1 shaded; written 2 = reused here */
 #define FV_TEMPORAL_BINDING_BLOCKS 6   /* uimage2DArray r32ui "fovea blocks": reused pixels' bits OR-ed in */
 #define FV_TEMPORAL_BINDING_COLOR 7    /* image2DArray rgba32f: linear colour (known pixels: alpha = the history's) */

@@ -90,7 +90,7 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
     if (res == FV_OK) res = fv_images_find(env->images, "fovea mask", &t->mask); /* the fovea pass (earlier) */
     if (res == FV_OK) res = fv_images_find(env->images, "fovea blocks", &t->blocks);
     if (res == FV_OK) res = fv_images_get_gbuffer(env->images);
-    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_MOTION, &img);
+    if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_SURFACE, &img);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_COLOR, &img);
     if (res == FV_OK) res = fv_images_get(env->images, FV_IMAGE_HISTORY, &img);
     if (res == FV_OK) res = fv_vk_sampler_create(env->vk, false, false, "temporal nearest sampler", &t->nearest);
@@ -127,7 +127,7 @@ static fv_result temporal_init(const fv_pass_env *env, void **out_state)
         VkDescriptorSet set = t->cs.sets[0];
         fv_images_bind_gbuffer(env->images, set, FV_TEMPORAL_BINDING_DEPTH, t->nearest);
         fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MOTION, si,
-                          fv_images_image(env->images, FV_IMAGE_MOTION)->view, VK_NULL_HANDLE,
+                          fv_images_image(env->images, FV_IMAGE_SURFACE)->view, VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_GENERAL);
         fv_vk_write_image(env->vk, set, FV_TEMPORAL_BINDING_MASK, si, fv_images_image(env->images, t->mask)->view,
                           VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
@@ -207,7 +207,7 @@ static void temporal_record(void *state, const fv_pass_frame *f)
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, CS, 0, 1, &mb, 0, NULL, 0, NULL);
 
     fv_images_use_gbuffer(f->images, cmd, CS);
-    fv_images_use(f->images, cmd, FV_IMAGE_MOTION, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
+    fv_images_use(f->images, cmd, FV_IMAGE_SURFACE, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv_images_use(f->images, cmd, t->mask, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, t->blocks, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});
     fv_images_use(f->images, cmd, FV_IMAGE_COLOR, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, RW});

@@ -6,15 +6,16 @@
 #include <string.h>
 
 #include "gbuffer_frag.spv.h"
+#include "gbuffer_surface_frag.spv.h"
 #include "gbuffer_interface.h"
 #include "gbuffer_mask.h"
 #include "gbuffer_vert.spv.h"
 
 #define MOD "gbuffer"
-#define TARGETS 5
+#define TARGETS 6 /* at most: the surface target only while foveation runs (FV_GBUFFER_VARIANT_SURFACE) */
 
 static const fv_image_id targets[TARGETS] = {FV_IMAGE_DEPTH, FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO, FV_IMAGE_MATERIAL,
-                                             FV_IMAGE_MOTION};
+                                             FV_IMAGE_MOTION, FV_IMAGE_SURFACE};
 
 #define COLOR_LAYOUT VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL
 #define DEPTH_LAYOUT VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
@@ -38,7 +39,8 @@ typedef struct gbuffer {
     VkImageView eye_views[2][TARGETS];
     VkPipelineLayout layout;
     VkPipeline pipeline;
-    bool masked;        /* the hidden-area mask is drawn (plan variant 1) */
+    bool masked;        /* the hidden-area mask is drawn (FV_GBUFFER_VARIANT_MASK) */
+    uint32_t n;         /* targets drawn: TARGETS with the surface target (FV_GBUFFER_VARIANT_SURFACE), else one fewer */
     gbuffer_mask mask;
 } gbuffer;
 
@@ -54,25 +56,27 @@ static void gbuffer_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         triangles += s->meshes[n->mesh].index_count / 3;
     }
     out->enabled = true;
-    out->variant = gbuffer_mask_wanted(ctx->quality) ? 1u : 0u;
+    out->variant = (gbuffer_mask_wanted(ctx->quality) ? FV_GBUFFER_VARIANT_MASK : 0u) |
+                   (ctx->quality->fovea.enabled ? FV_GBUFFER_VARIANT_SURFACE : 0u);
     snprintf(out->reason, sizeof out->reason, "always: stereo G-buffer, %s (%llu triangle%s in %u draw%s)%s",
              ctx->multiview ? "both eyes in one multiview pass" : (ctx->multiview_why ? ctx->multiview_why : "one pass per eye"),
              (unsigned long long)triangles, triangles == 1 ? "" : "s", draws, draws == 1 ? "" : "s",
-             out->variant ? "; hidden-area mask of the HMD lens" : "");
+             out->variant & FV_GBUFFER_VARIANT_MASK ? "; hidden-area mask of the HMD lens" : "");
 }
 
 static fv_result create_render_pass(gbuffer *gb)
 {
     fv_vk *vk = gb->vk;
     VkAttachmentDescription att[TARGETS];
-    for (int i = 0; i < TARGETS; i++) att[i] = fv_vk_attachment_cleared(gb->img[i]->format, i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT);
+    for (uint32_t i = 0; i < gb->n; i++)
+        att[i] = fv_vk_attachment_cleared(gb->img[i]->format, i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT);
     VkAttachmentReference depth_ref = {0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
     VkAttachmentReference color_refs[TARGETS - 1];
-    for (uint32_t i = 0; i < TARGETS - 1; i++)
+    for (uint32_t i = 0; i < gb->n - 1; i++)
         color_refs[i] = (VkAttachmentReference){i + 1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription sub = {
         .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
-        .colorAttachmentCount = TARGETS - 1,
+        .colorAttachmentCount = gb->n - 1,
         .pColorAttachments = color_refs,
         .pDepthStencilAttachment = &depth_ref,
     };
@@ -106,7 +110,7 @@ static fv_result create_render_pass(gbuffer *gb)
     VkRenderPassCreateInfo ci = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
         .pNext = gb->multiview ? &mv : NULL,
-        .attachmentCount = TARGETS,
+        .attachmentCount = gb->n,
         .pAttachments = att,
         .subpassCount = 1,
         .pSubpasses = &sub,
@@ -119,21 +123,21 @@ static fv_result create_render_pass(gbuffer *gb)
     VkFramebufferCreateInfo fi = {
         .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
         .renderPass = gb->render_pass,
-        .attachmentCount = TARGETS,
+        .attachmentCount = gb->n,
         .width = gb->width,
         .height = gb->height,
         .layers = 1, /* multiview: the view mask selects the layers; per eye: one layer */
     };
     if (gb->multiview) {
         VkImageView views[TARGETS];
-        for (int i = 0; i < TARGETS; i++) views[i] = gb->img[i]->view;
+        for (uint32_t i = 0; i < gb->n; i++) views[i] = gb->img[i]->view;
         fi.pAttachments = views;
         FV_VK_CHECK(vkCreateFramebuffer(vk->device, &fi, NULL, &gb->framebuffer));
         FV_VK_NAME(vk, VK_OBJECT_TYPE_FRAMEBUFFER, gb->framebuffer, "gbuffer framebuffer (both eyes)");
         return FV_OK;
     }
     for (uint32_t e = 0; e < 2; e++) {
-        for (int i = 0; i < TARGETS; i++) {
+        for (uint32_t i = 0; i < gb->n; i++) {
             VkImageViewCreateInfo vi = {
                 .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
                 .image = gb->img[i]->image,
@@ -166,15 +170,15 @@ static fv_result create_pipeline(gbuffer *gb)
     fv_vk_graphics_desc gd = {
         .vert = fv_spv_gbuffer_vert,
         .vert_size = sizeof fv_spv_gbuffer_vert,
-        .frag = fv_spv_gbuffer_frag,
-        .frag_size = sizeof fv_spv_gbuffer_frag,
+        .frag = gb->n == TARGETS ? fv_spv_gbuffer_surface_frag : fv_spv_gbuffer_frag,
+        .frag_size = gb->n == TARGETS ? sizeof fv_spv_gbuffer_surface_frag : sizeof fv_spv_gbuffer_frag,
         .bindings = bind,
         .binding_count = 1,
         .attributes = attrs,
         .attribute_count = attr_count,
         .layout = gb->layout,
         .render_pass = gb->render_pass,
-        .color_attachments = TARGETS - 1,
+        .color_attachments = gb->n - 1,
         .depth_test = true,
         .cull = VK_CULL_MODE_NONE, /* file winding is not trusted; the fragment shader faces normals to the eye */
         .spec = &use_multiview,
@@ -213,13 +217,15 @@ static fv_result gbuffer_init(const fv_pass_env *env, void **out_state)
     gb->height = env->height;
     gb->multiview = env->multiview;
     fv_result res = FV_OK;
-    for (int i = 0; res == FV_OK && i < TARGETS; i++) res = fv_images_get(env->images, targets[i], &gb->img[i]);
+    uint32_t variant = env->plan ? env->plan->variant : 0u;
+    gb->masked = (variant & FV_GBUFFER_VARIANT_MASK) != 0;
+    gb->n = variant & FV_GBUFFER_VARIANT_SURFACE ? TARGETS : TARGETS - 1; /* the surface target is the last */
+    for (uint32_t i = 0; res == FV_OK && i < gb->n; i++) res = fv_images_get(env->images, targets[i], &gb->img[i]);
     if (res == FV_OK) res = create_render_pass(gb);
     if (res == FV_OK) res = create_pipeline(gb);
-    gb->masked = env->plan && env->plan->variant == 1u;
     if (res == FV_OK && gb->masked)
         res = gbuffer_mask_init(&gb->mask, env->vk, gb->render_pass, gb->multiview, env->slots, env->width,
-                                env->height);
+                                env->height, gb->n - 1);
     if (res != FV_OK) {
         FV_ERROR(MOD, "G-buffer %ux%u x2 could not be created: %s", env->width, env->height, fv_result_str(res));
         gbuffer_fini(gb);
@@ -240,7 +246,7 @@ static void record_pass(gbuffer *gb, const fv_pass_frame *f, VkFramebuffer fb, u
         .renderPass = gb->render_pass,
         .framebuffer = fb,
         .renderArea = {{0, 0}, {gb->width, gb->height}},
-        .clearValueCount = TARGETS,
+        .clearValueCount = gb->n,
         .pClearValues = clears,
     };
     vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
@@ -269,7 +275,7 @@ static void gbuffer_record(void *state, const fv_pass_frame *f)
 {
     gbuffer *gb = state;
     /* Earlier users of the targets that the render pass's own dependency does not wait for get a barrier first. */
-    for (int i = 0; i < TARGETS; i++)
+    for (uint32_t i = 0; i < gb->n; i++)
         fv_images_render_pass(f->images, f->cmd, targets[i], READER_STAGES,
                               (fv_vk_image_use){i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT, ATTACH_STAGES,
                                                 i == 0 ? VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT

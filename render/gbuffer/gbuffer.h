@@ -1,7 +1,9 @@
 /* @brief The stereo G-buffer pass: the scene (fv_scene_gpu) drawn for both eyes, in one multiview pass (view mask
  * 0b11) or one render pass per eye where multiview is not trusted, into the image table's 2-layer G-buffer images:
- * depth (D32), octahedral normal, albedo (sRGB), material id + 1 (R16UI) and motion vectors (RGBA32F: current uv -
- * previous uv, with the distance to the eye and the normal's bits for foveation, gbuffer_interface.h). Layouts on exit: colour images SHADER_READ_ONLY_OPTIMAL, depth DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+ * depth (D32), octahedral normal, albedo (sRGB), material id + 1 (R16UI), motion vectors (RG16F, current uv -
+ * previous uv) and, while foveation runs, the surface target foveation reads in one fetch (RGBA32F: motion, distance,
+ * normal bits; gbuffer_interface.h). Layouts on exit: colour images SHADER_READ_ONLY_OPTIMAL, depth
+ * DEPTH_STENCIL_READ_ONLY_OPTIMAL,
  * visible to compute, fragment and transfer reads (tracked in the image table). */
 #ifndef FV_GBUFFER_H
 #define FV_GBUFFER_H

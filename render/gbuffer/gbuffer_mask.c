@@ -5,7 +5,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "gbuffer_interface.h"
 #include "gbuffer_mask_frag.spv.h"
+#include "gbuffer_mask_surface_frag.spv.h"
 #include "gbuffer_mask_vert.spv.h"
 
 #define MOD "gbuffer"
@@ -17,7 +19,7 @@ bool gbuffer_mask_wanted(const fv_quality *q)
 }
 
 fv_result gbuffer_mask_init(gbuffer_mask *m, fv_vk *vk, VkRenderPass render_pass, bool multiview, uint32_t slots,
-                            uint32_t width, uint32_t height)
+                            uint32_t width, uint32_t height, uint32_t color_attachments)
 {
     memset(m, 0, sizeof *m);
     m->vk = vk;
@@ -32,15 +34,16 @@ fv_result gbuffer_mask_init(gbuffer_mask *m, fv_vk *vk, VkRenderPass render_pass
     fv_vk_graphics_desc gd = {
         .vert = fv_spv_gbuffer_mask_vert,
         .vert_size = sizeof fv_spv_gbuffer_mask_vert,
-        .frag = fv_spv_gbuffer_mask_frag,
-        .frag_size = sizeof fv_spv_gbuffer_mask_frag,
+        .frag = color_attachments > FV_GBUFFER_OUT_SURFACE ? fv_spv_gbuffer_mask_surface_frag : fv_spv_gbuffer_mask_frag,
+        .frag_size = color_attachments > FV_GBUFFER_OUT_SURFACE ? sizeof fv_spv_gbuffer_mask_surface_frag
+                                                                 : sizeof fv_spv_gbuffer_mask_frag,
         .bindings = &bind,
         .binding_count = 1,
         .attributes = &attr,
         .attribute_count = 1,
         .layout = m->layout,
         .render_pass = render_pass,
-        .color_attachments = 4,
+        .color_attachments = color_attachments,
         .depth_test = true, /* depth 0 < the cleared 1: written; the scene's LESS test then fails there */
         .cull = VK_CULL_MODE_NONE,
         .spec = &use_multiview,

@@ -23,9 +23,10 @@ typedef struct gbuffer_mask {
 
 /** Whether a frame of this quality is masked: distortion and the mask on, and a lens. */
 bool gbuffer_mask_wanted(const fv_quality *q);
-/** The mask pipeline in the G-buffer's render pass, and the per-slot vertex buffers. fini is safe after a failure. */
+/** The mask pipeline in the G-buffer's render pass (with that many colour attachments), and the per-slot vertex
+ *  buffers. fini is safe after a failure. */
 FV_MUST_CHECK fv_result gbuffer_mask_init(gbuffer_mask *m, fv_vk *vk, VkRenderPass render_pass, bool multiview,
-                                          uint32_t slots, uint32_t width, uint32_t height);
+                                          uint32_t slots, uint32_t width, uint32_t height, uint32_t color_attachments);
 /** Host side, before recording: (re)build the slot's mesh when the frame's lens or frustum changed. */
 void gbuffer_mask_prepare(gbuffer_mask *m, uint32_t slot, const fv_frame_input *in);
 /** Inside the G-buffer render pass, before the scene: draw the slot's mask for `eye` (-1: both, multiview).

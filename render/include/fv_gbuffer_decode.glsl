@@ -51,8 +51,8 @@ fv_surface fv_gbuffer_surface(uvec3 p)
     return s;
 }
 
-// What foveation's per-pixel passes read of pixel p (inside the image) in one fetch `m` of the motion target
-// (gbuffer_interface.h FV_GBUFFER_OUT_MOTION): drawn, distance from the eye, world position (on the pixel centre's
+// What foveation's per-pixel passes read of pixel p (inside the image) in one fetch `m` of the surface target
+// (gbuffer_interface.h FV_GBUFFER_OUT_SURFACE): drawn, distance from the eye, world position (on the pixel centre's
 // ray; undefined where nothing was drawn), unit normal (the normal target's own value) and motion. One fetch instead
 // of four (material, depth, normal, motion): on lavapipe each costs about half a present pass per pixel.
 struct fv_gbuffer_fovea_surf {

@@ -15,7 +15,9 @@ typedef enum fv_image_id {
     FV_IMAGE_NORMAL,     /* octahedral world normal facing the eye: RG16_SNORM (RG32F where unsupported) */
     FV_IMAGE_ALBEDO,     /* RGBA8 sRGB, linear albedo on read */
     FV_IMAGE_MATERIAL,   /* R16UI material index + 1; 0 = nothing drawn */
-    FV_IMAGE_MOTION,     /* RGBA32F current uv - previous uv, distance to the eye, normal (FV_GBUFFER_OUT_MOTION) */
+    FV_IMAGE_MOTION,     /* RG16F current uv - previous uv */
+    FV_IMAGE_SURFACE,    /* RGBA32F what foveation reads of a pixel in one fetch (FV_GBUFFER_OUT_SURFACE): motion,
+                          * distance to the eye, normal bits; drawn only while foveation runs */
     FV_IMAGE_COLOR,      /* RGBA32F linear radiance (shading's output) */
     FV_IMAGE_HISTORY,    /* RGBA32F the previous frame's colour, its known pixels' distance and age in alpha
                           * (render/fovea: temporal reads it, reconstruction copies the frame's colour into it) */

@@ -39,8 +39,9 @@ fv_result fv_images_init(fv_images *t, fv_vk *vk, uint32_t width, uint32_t heigh
     describe(&t->slot[FV_IMAGE_NORMAL], "gbuffer normal (oct)", normal_format, target);
     describe(&t->slot[FV_IMAGE_ALBEDO], "gbuffer albedo", VK_FORMAT_R8G8B8A8_SRGB, target);
     describe(&t->slot[FV_IMAGE_MATERIAL], "gbuffer material id", VK_FORMAT_R16_UINT, target);
-    /* Motion, distance and normal bits (gbuffer_interface.h FV_GBUFFER_OUT_MOTION): one fetch for foveation. */
-    describe(&t->slot[FV_IMAGE_MOTION], "gbuffer motion", VK_FORMAT_R32G32B32A32_SFLOAT,
+    describe(&t->slot[FV_IMAGE_MOTION], "gbuffer motion", VK_FORMAT_R16G16_SFLOAT, target);
+    /* Motion, distance and normal bits (gbuffer_interface.h FV_GBUFFER_OUT_SURFACE): one fetch for foveation. */
+    describe(&t->slot[FV_IMAGE_SURFACE], "gbuffer fovea surface", VK_FORMAT_R32G32B32A32_SFLOAT,
              target | VK_IMAGE_USAGE_STORAGE_BIT);
     /* Full float linear colour: 16-bit storage would cost up to 1e-3 relative error. */
     describe(&t->slot[FV_IMAGE_COLOR], "linear colour (rgba32f)", VK_FORMAT_R32G32B32A32_SFLOAT, linear);

@@ -669,7 +669,7 @@ static double dist_of(const fv_frame_input *in, int e, const gbuf *g, int x, int
 /* The history is the frame's colour (fovea_interface.h): after reconstruction, with temporal reuse on and a moving
  * head, every pixel a fill wrote (mask UNKNOWN) has alpha 0 whatever the method (the next frame must not reuse a
  * guess), and every known pixel (shaded or reused) holds its distance from the eye, the G-buffer's to 1e-5, and an
- * age within fovea.temporal; the G-buffer's motion target carries that distance (the depth's, along the pixel
+ * age within fovea.temporal; the G-buffer's surface target carries that distance (the depth's, along the pixel
  * centre's ray, to 1e-4: the fragment's interpolated position against D32) and the normal target's bits, which foveation reads in one fetch (fv_gbuffer_fovea). */
 static void the_history_in_the_colour_is_known_pixels_only(void **state)
 {
@@ -701,25 +701,28 @@ static void the_history_in_the_colour_is_known_pixels_only(void **state)
         for (int e = 0; e < 2; e++) {
             assert_int_equal(fv_renderer_read_linear(g_r, e, rgba, NPIX * 4), FV_OK);
             assert_int_equal(fv_renderer_read_image(g_r, "fovea mask", e, mask, NPIX * 4, 4), FV_OK);
-            assert_int_equal(fv_renderer_read_image(g_r, "gbuffer motion", e, surf, NPIX * 16, 16), FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "gbuffer fovea surface", e, surf, NPIX * 16, 16), FV_OK);
             assert_int_equal(fv_renderer_read_image(g_r, "gbuffer depth", e, g->depth, sizeof g->depth, 4), FV_OK);
             assert_int_equal(fv_renderer_read_image(g_r, "gbuffer normal (oct)", e, g->normal, sizeof g->normal, 4),
                              FV_OK);
             assert_int_equal(fv_renderer_read_image(g_r, "gbuffer material id", e, g->material, sizeof g->material, 2),
                              FV_OK);
+            assert_int_equal(fv_renderer_read_motion(g_r, e, g->motion, NPIX * 2), FV_OK);
             for (int y = 0; y < H; y++)
                 for (int x = 0; x < W; x++) {
                     size_t i = (size_t)y * W + x;
                     uint32_t bits;
                     memcpy(&bits, &rgba[i * 4 + 3], 4);
                     bool drawn = g->material[i] != 0;
-                    /* the motion target: distance (0 = nothing drawn) and the normal's bits */
+                    /* the surface target: motion, distance (0 = nothing drawn) and the normal's bits */
+                    for (int c = 0; c < 2; c++) /* the motion target holds the same as a half float */
+                        assert_true(fabs(surf[i * 4 + c] - g->motion[2 * i + c]) <= 1e-3 * fabs(surf[i * 4 + c]) + 1e-7);
                     if (!drawn) {
                         assert_true(surf[i * 4 + 2] == 0.0f);
                     } else {
                         double want = dist_of(&in, e, g, x, y);
                         if (!(fabs(surf[i * 4 + 2] - want) <= 1e-4 * want))
-                            fail_msg("%s eye %d (%d,%d): motion target's distance %.9g, from the depth %.9g",
+                            fail_msg("%s eye %d (%d,%d): surface target's distance %.9g, from the depth %.9g",
                                      name[mi], e, x, y, surf[i * 4 + 2], want);
                         uint32_t nb;
                         memcpy(&nb, &surf[i * 4 + 3], 4);

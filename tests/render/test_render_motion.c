@@ -2,7 +2,7 @@
  * on: zero for a static scene and head, the projected displacement of an animated (FV_ANIM_BOB) object, the
  * reprojection of static planes under head motion, and both together over consecutive frames, in both eyes, each
  * pixel against a CPU reference computed in double from the frame inputs' view/projection matrices. Convention
- * checked: the motion target's first two channels per pixel and eye layer, uv units (x / W, y / H, y down), current position minus previous.
+ * checked: RG16F per pixel and eye layer, uv units (x / W, y / H, y down), current position minus previous.
  * Without a Vulkan device the tests skip with a message, except under CI=true where that is a failure. */
 #include <math.h>
 #include <stdio.h>
