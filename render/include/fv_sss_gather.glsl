@@ -357,8 +357,10 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 // refined; one accepted where it fades out has its centroid carried by the same fraction
                 float near_field = max(rc.flat_m, float(FV_SSS_GPU_FLAT_FOOTPRINTS) * node.edge_b.w);
                 // the near field is refined to the leaves whatever the limit level: a cluster's one disk there
-                // shows as a disk on the surface (the fast preset's 64 px map cut at level 5 did)
-                bool near = rc.facing > 0.0 && dist - node.extent.x < near_field;
+                // shows as a disk on the surface (the fast preset's 64 px map cut at level 5 did), on the side
+                // facing the light and on the side facing away alike (the marble bunny's shaded face and the
+                // hollows of its ears under the fast preset: blotches of one disk each)
+                bool near = dist - node.extent.x < near_field;
                 bool accept = k >= leaf || (!near && (k >= limit || (node.flux_sim.w > 0.0 &&
                                                                      radius <= theta * node.flux_sim.w * dist)));
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {

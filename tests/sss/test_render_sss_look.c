@@ -219,11 +219,52 @@ static void the_marble_bunny_is_lit_where_the_head_sees_it(void **state)
     fv_scene_destroy(&s);
 }
 
+/* The fast preset's cut (a 64 px map, limit level 5: clusters of 2 x 2 texels accepted at the limit) against the
+ * cut at the map's leaves (limit 6), on the marble bunny's sss view: within the near field a cluster is refined to
+ * the leaves on the side facing away from the light too. Before, a receiver facing away took the limit level's
+ * clusters next to it as one disk each: blotches on the bunny's shaded face and in its ears' hollows. */
+static void the_fast_cut_has_no_blotches_on_the_bunny(void **state)
+{
+    (void)state;
+    NEED_GPU();
+    fv_scene *s = fv_gpu_test_load_scene(g_r, FV_SOURCE_DIR "/scenes/marble-bunny.scene.json");
+    fv_quality q = fv_quality_default();
+    q.fovea.enabled = false;
+    q.gi.enabled = false;
+    q.sss.map_size_px = 64;
+    q.sss.limit_level = 5;
+    q.sss.distance_scale = 2.0f;
+    q.sss.cutoff = 0.01f;
+    fv_quality leaves = q;
+    leaves.sss.limit_level = 6;
+    float *rgb = malloc(2 * NPIX * 3 * sizeof *rgb), *ref = malloc(2 * NPIX * 3 * sizeof *ref);
+    assert_true(rgb && ref);
+    draw(&leaves, FV_DEBUG_VIEW_SSS, ref);
+    draw(&q, FV_DEBUG_VIEW_SSS, rgb);
+    double top = 0.0;
+    for (size_t i = 0; i < 2 * NPIX; i++) top = fmax(top, lum(ref, i));
+    size_t px = 0, off = 0;
+    for (size_t i = 0; i < 2 * NPIX; i++) {
+        double r = lum(ref, i);
+        if (!(r > 0.02 * top)) continue;
+        px++;
+        off += fabs(lum(rgb, i) - r) > 0.1 * r;
+    }
+    print_message("marble bunny, sss view: the fast cut against the leaves' cut: %zu of %zu px off by more than 10%%\n",
+                  off, px);
+    assert_true(px > 200);
+    if (off > px / 100) fail_msg("the fast cut blotches the bunny: %zu of %zu px off by more than 10%%", off, px);
+    free(rgb);
+    free(ref);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_marble_bunny_is_lit_where_the_head_sees_it),
         cmocka_unit_test(the_sphere_shows_no_rings_in_either_mode),
+        cmocka_unit_test(the_fast_cut_has_no_blotches_on_the_bunny),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
