@@ -143,7 +143,7 @@ struct fv_compact_push {
  * SOFT_REPS, one thread per block: per quadrant of the block a slot, the block's known pixel nearest the quadrant's
  * centre (in a sparse block one sample fills every slot), with its colour, position, unit normal (octahedral,
  * 2x16 snorm) and tangent plane's offset n.x, and the block's sigma (below), into the "fovea soft reps" image;
- * SOFT_FILL, one thread per pixel: every unknown pixel takes the weighted mean of the 2x2 blocks whose centres
+ * SOFT_FILL, one thread per unknown pixel (a list, below): every unknown pixel takes the weighted mean of the 2x2 blocks whose centres
  * surround it, of each the slot of its quadrant that faces the pixel (the four facing quadrants tile the square
  * between the four centres, so the choice never changes inside it): 4 taps.
  * w = b_k exp(-d^2 / (2 sigma^2)) max(g, FV_RECON_SOFT_EDGE_FLOOR), b_k the bilinear tent of block k over the block
@@ -155,7 +155,7 @@ struct fv_compact_push {
  * the tap's tangent plane, foot the pixel's footprint (its distance from the eye times the angle of a pixel), n, n'
  * the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1. At an edge (a facing slot's
  * -log g over FV_RECON_SOFT_EDGE_SPLIT) the pixel takes every distinct slot of the four blocks instead (at most
- * 16 taps, sigma the sample spacing's): the same surface is found where the facing slots miss it. No weight at all
+ * 16 taps, sigma the sample spacing's; SOFT_EDGE): the same surface is found where the facing slots miss it. No weight at all
  * (underflow): the nearest tap's colour. Reads the colour only at known pixels and writes it only at unknown ones. */
 #define FV_RECON_STAGE_SOFT_REPS 4
 #define FV_RECON_STAGE_SOFT_FILL 5

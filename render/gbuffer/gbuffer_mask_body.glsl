@@ -2,13 +2,7 @@
 // gbuffer_mask_surface.frag.
 #include "gbuffer_interface.h"
 
-layout(location = FV_GBUFFER_OUT_NORMAL) out vec2 out_normal;
-layout(location = FV_GBUFFER_OUT_ALBEDO) out vec4 out_albedo;
-layout(location = FV_GBUFFER_OUT_MATERIAL) out uint out_material;
-layout(location = FV_GBUFFER_OUT_MOTION) out vec2 out_motion;
-#ifdef FV_GBUFFER_SURFACE
-layout(location = FV_GBUFFER_OUT_SURFACE) out vec4 out_surface;
-#endif
+#include "gbuffer_outputs.glsl"
 
 void main()
 {
