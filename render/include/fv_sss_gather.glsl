@@ -5,6 +5,9 @@
 // double version the CPU reference and the tests use; a cluster above the leaves: the disk of its area,
 // fv_dipole_kernel). Within the receiver's near field (the material's flat radius, layer.view.w) each footprint is
 // first carried along the light onto the receiver's tangent plane (fv_sss_near_footprint, render/sss/fv_sss_math.h).
+// The leaves are the fine map's texels, s levels below the nominal texels of sss.map_size (fv_sss_sub_levels): a
+// nominal texel resolved into one sample (it has a footprint: fv_sss_texel_resolve) is a leaf to both modes, the
+// others (where the light grazes, at the silhouette) keep their fine samples.
 // Exact mode sums every sample; hierarchy mode walks each map's quad-tree from the start level, accepting a cluster
 // of radius r at distance d when r <= distance_scale x eye distance x similarity x d, or at the limit level (Ki &
 // Oh), but never one with leaves wholly in the near field, and dropping every node wholly beyond the material's
@@ -314,34 +317,46 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
     for (uint l = 0u; l < maps; l++) {
         fv_gpu_sss_layer layer = sss_header.layer[l];
         if (layer.info.x != s.material) continue;
-        uint leaf = min(layer.info.w, 9u);
+        uint leaf = min(layer.info.w & 0xffu, 10u);
+        uint sub = min(layer.info.w >> 8, leaf), nominal = leaf - sub; // the fine map's sub-levels (fv_sss_sub_levels)
         uint base = layer.info.z;
         fv_sss_receiver rc = fv_sss_receiver_of(x, s.normal, layer.info.y, layer.view.w);
         if (sss_header.counts.y == FV_SSS_GPU_MODE_EXACT) {
-            // 16 samples per iteration, the inner loop unrolled: llvmpipe ends a shader's loops after 65535
-            // iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop), and a 512 px map has 262144
-            // samples (at most 16384 iterations here).
-            uint first = base + ((1u << (2u * leaf)) - 1u) / 3u, n = 1u << (2u * leaf);
+            // Every nominal texel: resolved, its one sample; else its 4^s fine samples (fv_sss_texel_resolve). 16
+            // texels per iteration, the inner loop unrolled: llvmpipe ends a shader's loops after 65535 iterations
+            // in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop), and a 512 px map has 262144 texels (at most
+            // 16384 iterations here).
+            uint first = base + ((1u << (2u * nominal)) - 1u) / 3u, n = 1u << (2u * nominal);
+            uint first_leaf = base + ((1u << (2u * leaf)) - 1u) / 3u, per = 1u << (2u * sub);
             for (uint i = 0u; i < n; i += 16u) {
                 [[unroll]] for (uint j = 0u; j < 16u; j++) {
                     uint at = first + i + j;
                     if (at >= total) break;
                     fv_gpu_sss_node node = sss_nodes[at];
                     if (!(node.pos_area.w > 0.0)) continue;
-                    sum += node.flux_sim.rgb * fv_sss_node_kernel(d, node, rc);
-                    count++;
+                    bool resolved = sub == 0u || dot(node.extent.yzw, node.extent.yzw) > 0.0;
+                    uint from = resolved ? at : first_leaf + (i + j) * per, count_ = resolved ? 1u : per;
+                    [[dont_unroll]] for (uint q = 0u; q < count_; q++) {
+                        fv_gpu_sss_node leaf_node = sss_nodes[min(from + q, total - 1u)];
+                        if (!(leaf_node.pos_area.w > 0.0)) continue;
+                        sum += leaf_node.flux_sim.rgb * fv_sss_node_kernel(d, leaf_node, rc);
+                        count++;
+                    }
                 }
             }
             continue;
         }
         float cutoff = layer.view.z; // clusters wholly beyond it are dropped (fv_sss_cutoff_radius_m)
-        uint limit = min(sss_header.counts.w, leaf);
+        uint limit = min(sss_header.counts.w, nominal);
         uint start = min(sss_header.counts.z, limit);
+        // the levels are the nominal map's: a texel left at its fine samples (where the light grazes) is walked on
+        // to them within the near field only; beyond it one disk of its area is as good and 16x cheaper (walking
+        // every receiver's band to the fine leaves cost balanced's shade pass 2x)
         uint starts = 1u << (2u * start);
         uint stack[FV_SSS_STACK];
         for (uint r = 0u; r < starts; r++) {
             uint top = 0u;
-            stack[top++] = (start << 24) | r; // level in the high byte, Morton index below (< 4^9 = 2^18)
+            stack[top++] = (start << 24) | r; // level in the high byte, Morton index below (< 4^10 = 2^20)
             while (top > 0u) {
                 uint e = stack[--top];
                 uint k = e >> 24, i = e & 0xffffffu;
@@ -361,15 +376,18 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
                 // facing the light and on the side facing away alike (the marble bunny's shaded face and the
                 // hollows of its ears under the fast preset: blotches of one disk each)
                 bool near = dist - node.extent.x < near_field;
-                bool accept = k >= leaf || (!near && (k >= limit || (node.flux_sim.w > 0.0 &&
+                // a leaf, or a nominal texel resolved into one sample (its footprint): as a leaf
+                bool leaf_like = k >= leaf || (k >= nominal && dot(node.extent.yzw, node.extent.yzw) > 0.0);
+                bool accept = leaf_like || (!near && (k >= limit || (node.flux_sim.w > 0.0 &&
                                                                      radius <= theta * node.flux_sim.w * dist)));
                 if (accept || top + 4u > uint(FV_SSS_STACK)) {
-                    // a leaf: its texel's footprint; a cluster: the disk of its area (the quadrature over a
-                    // footprint costs 4x a disk's, and a cluster is accepted only away from the receiver)
+                    // a leaf or a resolved nominal texel: its footprint; a cluster: the disk of its area (the
+                    // quadrature over a footprint costs 4x a disk's, and a cluster is accepted only away from the
+                    // receiver)
                     vec3 cc = node.pos_area.xyz, za = vec3(0.0), zb = vec3(0.0);
-                    if (k < leaf) fv_sss_near_footprint(rc, cc, za, zb, node.normal_depth.xyz, node.edge_b.w);
+                    if (!leaf_like) fv_sss_near_footprint(rc, cc, za, zb, node.normal_depth.xyz, node.edge_b.w);
                     sum += node.flux_sim.rgb *
-                           (k >= leaf ? fv_sss_node_kernel(d, node, rc) : fv_sss_kernel(d, length(cc - x), area));
+                           (leaf_like ? fv_sss_node_kernel(d, node, rc) : fv_sss_kernel(d, length(cc - x), area));
                     count++;
                     continue;
                 }

@@ -14,6 +14,7 @@
 #define FV_SSS_GPU_MODE_HIERARCHY 0u
 #define FV_SSS_GPU_MODE_EXACT 1u
 #define FV_SSS_GPU_MIN_COS 0.1 /* = FV_SSS_MIN_COS */
+#define FV_SSS_GPU_RESOLVE_COS 0.3 /* = FV_SSS_RESOLVE_COS */
 #define FV_SSS_STACK 32        /* traversal stack entries per pixel: 3 per level below the start, plus one */
 /* The receiver's near field (render/sss/fv_sss_math.h's fv_sss_near_footprint): */
 #define FV_SSS_GPU_FLAT_FOOTPRINTS 2.0 /* = FV_SSS_FLAT_FOOTPRINTS */
@@ -24,7 +25,9 @@
 
 /** One light-view map. */
 struct fv_gpu_sss_layer {
-    FV_UVEC4 info; /* x material index, y light index, z first node (of its level 0), w leaf level L (2^L texels) */
+    FV_UVEC4 info; /* x material index, y light index, z first node (of its level 0), w leaf level L (2^L texels of
+                    * the fine map) | s << 8, its sub-levels (fv_sss_sub_levels): the nodes of level L - s (the
+                    * nominal texels) that have a footprint are resolved (leaves to the gather) */
     FV_VEC4 view;  /* x 1 = perspective, y texel side m (orthographic) or tan(half-angle), z the material's cutoff
                     * radius (m, fv_sss_cutoff_radius_m; 0 = none), w its flat radius (m, fv_sss_flat_radius_m: the
                     * receiver's near field) */
@@ -48,11 +51,13 @@ struct fv_gpu_sss_node {
     FV_VEC4 flux_sim;    /* rgb flux entering the surface, E * area (W), w similarity (leaves 1, 0..1) */
     FV_VEC4 normal_depth; /* xyz area-weighted mean normal, w mean depth along the light (m) */
     FV_VEC4 extent;       /* x bounding radius around the centroid (m): how far the footprints of its samples reach
-                           * (a leaf: its footprint's half-diagonal); yzw the footprint's edge a (m) */
+                           * (a leaf or a resolved nominal texel: its footprint's half-diagonal); yzw the footprint's
+                           * edge a (m) */
     FV_VEC4 edge_b;       /* xyz the footprint's edge b (m), w the largest footprint half-diagonal of its leaves (m).
                            * The footprint is the parallelogram centroid +- a/2 +- b/2 on the surface
-                           * (fv_sss_texel_footprint; |a x b| = area) of a leaf's texel; a cluster has none (a = b = 0:
-                           * the disk of its area stands in) */
+                           * (fv_sss_texel_footprint; |a x b| = area) of a leaf's texel or of a resolved nominal
+                           * texel (fv_sss_texel_resolve); a cluster has none (a = b = 0: the disk of its area stands
+                           * in) */
 };
 
 /** The map pass's push constants (vertex and fragment stages): the scene's {draw, view} then ours. */
@@ -68,7 +73,7 @@ struct fv_sss_map_push {
 #define FV_SSS_BUILD_SET 1
 #define FV_SSS_BUILD_BINDING_POS 0    /* sampler2DArray: xyz position, w area */
 #define FV_SSS_BUILD_BINDING_FLUX 1   /* sampler2DArray: rgb flux, w depth along the light */
-#define FV_SSS_BUILD_BINDING_NORMAL 2 /* sampler2DArray: xyz normal */
+#define FV_SSS_BUILD_BINDING_NORMAL 2 /* sampler2DArray: xyz normal, w its cosine to the light */
 #define FV_SSS_BUILD_BINDING_NODES 3  /* the nodes (written) */
 #define FV_SSS_BUILD_BINDING_EDGE_A 4 /* sampler2DArray: xyz footprint edge a */
 #define FV_SSS_BUILD_BINDING_EDGE_B 5 /* sampler2DArray: xyz footprint edge b */
@@ -76,13 +81,14 @@ struct fv_sss_map_push {
 #define FV_SSS_BUILD_GROUP 64
 
 struct fv_sss_build_push {
-    FV_UVEC4 level; /* x level being written (leaves: L), y leaf level L, z maps, w first node of level x per map */
+    FV_UVEC4 level; /* x level being written (leaves: L), y leaf level L, z maps, w sub-levels s (level L - s: the
+                     * nominal texels, resolved where they can be) */
 };
 
 /** Map attachments (fragment outputs). */
 #define FV_SSS_OUT_POS 0
 #define FV_SSS_OUT_FLUX 1
-#define FV_SSS_OUT_NORMAL 2
+#define FV_SSS_OUT_NORMAL 2 /* xyz normal facing the light, w its cosine to the light */
 #define FV_SSS_OUT_EDGE_A 3 /* xyz the texel's footprint's edge a along the map's x (fv_sss_texel_footprint), w 0 */
 #define FV_SSS_OUT_EDGE_B 4 /* xyz its edge b along the map's y, w 0 */
 #define FV_SSS_MAP_TARGETS 5

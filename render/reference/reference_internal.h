@@ -161,20 +161,13 @@ bool ref_ray_from_inverse(const double inv[16], uint32_t width, uint32_t height,
 /* ---- subsurface scattering (reference_sss.c) ----------------------------------------------------------------- */
 #include "fv_dipole.h"
 #include "fv_sss_math.h"
-/** One light-view sample, as render/sss stores it, in double. */
-typedef struct ref_sss_sample {
-    dvec3 pos, flux; /* world position; flux entering the surface E A (W) */
-    double area;     /* the surface area the texel covers (m^2) */
-    double a[3], b[3]; /* the texel's footprint, pos +- a/2 +- b/2 (fv_sss_texel_footprint; |a x b| = area) */
-    double n[3];       /* unit normal facing the light */
-} ref_sss_sample;
 typedef struct ref_sss_map {
     uint32_t material;
     double eta;
     fv_dipole dipole[3]; /* per channel, per metre */
     double flat_m;       /* the material's flat radius (fv_sss_flat_radius_m) */
     ref_light light;     /* the map's light: the direction it travels at a receiver */
-    ref_sss_sample *samples;
+    fv_sss_sample *samples; /* the resolved nominal texels and the fine samples of the others (fv_sss_math.h) */
     uint32_t count;
 } ref_sss_map;
 typedef struct ref_sss {

@@ -1,7 +1,9 @@
 /* @brief The reference's subsurface scattering in `model` mode: the exact dipole sum over every sample of each
  * light-view map (render/sss's model), in double — the oracle of the GPU's `exact` mode and of its hierarchy. The
- * maps are not rasterised but ray cast: one Embree ray from the light through each texel centre of the same light
- * view the GPU uses (fv_sss_light_view), the point the GPU's rasteriser samples. Each sample carries what
+ * maps are not rasterised but ray cast: one Embree ray from the light through each texel centre of the same fine
+ * light view the GPU uses (fv_sss_light_view at fv_sss_sub_levels below sss.map_size), the point the GPU's rasteriser
+ * samples; each nominal texel is resolved into one sample where its fine samples allow (fv_sss_texel_resolve), as
+ * the GPU's quad-tree build does. Each sample carries what
  * sss_map.frag computes: the surface area the texel covers (fv_sss_texel_area), its footprint on the surface
  * (fv_sss_texel_footprint) and the flux entering the surface E A = Ft(eta, wi) E_light A. A receiver on the same
  * material sums flux x fv_dipole_tile_kernel over all of them, each footprint carried onto the receiver's tangent
@@ -14,48 +16,79 @@
 #include "fv_sss_math.h"
 #include "reference_internal.h"
 
-/* The samples of one map: a ray through each texel centre; what sss_map.frag stores there. */
-static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light *L, const fv_sss_view *v, double eta)
+/* One fine sample: a ray through the centre of fine texel (i, j); what sss_map.frag stores there. False: none. */
+static bool fine_sample(const ref_sss_map *m, const ref_world *w, const ref_light *L, const fv_sss_view *v,
+                        const double inv[16], double eta, uint32_t i, uint32_t j, fv_sss_sample *s)
 {
-    uint32_t n = v->size;
-    m->samples = calloc((size_t)n * n, sizeof *m->samples);
-    if (!m->samples) return FV_ERR_NO_MEMORY;
+    memset(s, 0, sizeof *s);
+    dvec3 p0, d;
+    double len;
+    if (!ref_ray_from_inverse(inv, v->size, v->size, i + 0.5, j + 0.5, &p0, &d, &len)) return false;
+    ref_hit h;
+    if (!ref_trace(w, p0, d, len, NULL, &h) || h.material != m->material) return false;
+    dvec3 l;
+    double dist;
+    dvec3 nrm = h.n;
+    dvec3 to_light = L->type == FV_LIGHT_DIRECTIONAL ? dv_scale(L->direction, -1.0) : dv_sub(L->position, h.pos);
+    if (dv_dot(nrm, to_light) < 0) nrm = dv_scale(nrm, -1.0); /* the side the light sees, as the GPU */
+    dvec3 e = ref_light_irradiance(L, h.pos, nrm, &l, &dist);
+    double cos_i = dv_dot(nrm, l);
+    fv_vec3 pf = fv_v3((float)h.pos.x, (float)h.pos.y, (float)h.pos.z);
+    double area = fv_sss_texel_area(v, pf, cos_i);
+    fv_vec3 fa, fb;
+    if (!(area > 0.0) || !fv_sss_texel_footprint(v, pf, fv_v3((float)nrm.x, (float)nrm.y, (float)nrm.z), &fa, &fb))
+        return false;
+    dvec3 flux = dv_scale(e, fv_fresnel_transmittance(eta, cos_i) * area);
+    const double pos[3] = {h.pos.x, h.pos.y, h.pos.z}, fl[3] = {flux.x, flux.y, flux.z}, nv[3] = {nrm.x, nrm.y, nrm.z},
+                 ea[3] = {fa.x, fa.y, fa.z}, eb[3] = {fb.x, fb.y, fb.z};
+    memcpy(s->pos, pos, sizeof s->pos);
+    memcpy(s->flux, fl, sizeof s->flux);
+    memcpy(s->n, nv, sizeof s->n);
+    memcpy(s->a, ea, sizeof s->a);
+    memcpy(s->b, eb, sizeof s->b);
+    s->area = area;
+    s->cos_i = cos_i;
+    return true;
+}
+
+/* The samples of one map: its fine map `fine` (sub levels below the nominal texels: fv_sss_sub_levels) ray cast,
+ * each nominal texel resolved into one sample where its fine samples allow (fv_sss_texel_resolve), else its fine
+ * samples. */
+static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light *L, const fv_sss_view *fine,
+                             uint32_t sub, double eta)
+{
+    uint32_t k = 1u << sub, size = fine->size >> sub;
+    size_t cap = (size_t)size * size;
+    m->samples = calloc(cap, sizeof *m->samples);
+    fv_sss_sample *part = calloc((size_t)k * k, sizeof *part);
+    fv_result res = m->samples && part ? FV_OK : FV_ERR_NO_MEMORY;
     double vp[16], inv[16];
     for (int c = 0; c < 4; c++)
-        for (int r = 0; r < 4; r++) vp[c * 4 + r] = v->view_proj.m[c][r];
-    if (!ref_invert4(vp, inv)) return FV_OK;
-    for (uint32_t j = 0; j < n; j++)
-        for (uint32_t i = 0; i < n; i++) {
-            dvec3 p0, d;
-            double len;
-            if (!ref_ray_from_inverse(inv, n, n, i + 0.5, j + 0.5, &p0, &d, &len)) continue; /* the texel's centre */
-            ref_hit h;
-            if (!ref_trace(w, p0, d, len, NULL, &h) || h.material != m->material) continue;
-            dvec3 l;
-            double dist;
-            dvec3 nrm = h.n;
-            dvec3 to_light = L->type == FV_LIGHT_DIRECTIONAL ? dv_scale(L->direction, -1.0) : dv_sub(L->position, h.pos);
-            if (dv_dot(nrm, to_light) < 0) nrm = dv_scale(nrm, -1.0); /* the side the light sees, as the GPU */
-            dvec3 e = ref_light_irradiance(L, h.pos, nrm, &l, &dist);
-            double cos_i = dv_dot(nrm, l);
-            fv_vec3 pf = fv_v3((float)h.pos.x, (float)h.pos.y, (float)h.pos.z);
-            double area = fv_sss_texel_area(v, pf, cos_i);
-            fv_vec3 fa, fb;
-            if (!(area > 0.0) ||
-                !fv_sss_texel_footprint(v, pf, fv_v3((float)nrm.x, (float)nrm.y, (float)nrm.z), &fa, &fb))
-                continue;
-            double ft = fv_fresnel_transmittance(eta, cos_i);
-            ref_sss_sample *s = &m->samples[m->count++];
-            s->pos = h.pos;
-            s->flux = dv_scale(e, ft * area);
-            s->area = area;
-            const double ea[3] = {fa.x, fa.y, fa.z}, eb[3] = {fb.x, fb.y, fb.z};
-            memcpy(s->a, ea, sizeof s->a);
-            memcpy(s->b, eb, sizeof s->b);
-            const double nv[3] = {nrm.x, nrm.y, nrm.z};
-            memcpy(s->n, nv, sizeof s->n);
+        for (int r = 0; r < 4; r++) vp[c * 4 + r] = fine->view_proj.m[c][r];
+    bool ok = ref_invert4(vp, inv);
+    for (uint32_t t = 0; ok && res == FV_OK && t < size * size; t++) {
+        uint32_t ti = t % size, tj = t / size;
+        for (uint32_t q = 0; q < k * k; q++)
+            fine_sample(m, w, L, fine, inv, eta, ti * k + q % k, tj * k + q / k, &part[q]);
+        if (m->count + (size_t)k * k > cap) { /* grazing texels keep their fine samples: grow */
+            size_t grown = cap * 2 + (size_t)k * k;
+            fv_sss_sample *more = realloc(m->samples, grown * sizeof *more);
+            if (!more) {
+                res = FV_ERR_NO_MEMORY;
+                break;
+            }
+            m->samples = more;
+            cap = grown;
         }
-    return FV_OK;
+        if (fv_sss_texel_resolve(part, k * k, sub, &m->samples[m->count])) {
+            m->count++;
+            continue;
+        }
+        for (uint32_t q = 0; q < k * k; q++)
+            if (part[q].area > 0.0) m->samples[m->count++] = part[q];
+    }
+    free(part);
+    return res;
 }
 
 fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_scene *scene, const fv_frame_input *in)
@@ -79,11 +112,12 @@ fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_scene *scene, co
         m->flat_m = fv_sss_flat_radius_m(&scene->materials[m->material].translucency);
         fv_vec3 pos = fv_v3((float)L->position.x, (float)L->position.y, (float)L->position.z);
         fv_vec3 dir = fv_v3((float)L->direction.x, (float)L->direction.y, (float)L->direction.z);
-        fv_sss_view v;
-        if (!fv_sss_light_view(L->type, pos, dir, omin, omax, smin, smax, size, &v)) continue;
+        uint32_t sub = fv_sss_sub_levels(size);
+        fv_sss_view v; /* the fine map's, as the GPU draws it */
+        if (!fv_sss_light_view(L->type, pos, dir, omin, omax, smin, smax, size << sub, &v)) continue;
         double eta = fv_sss_material_dipoles(&scene->materials[m->material].translucency, m->dipole);
         m->eta = eta;
-        FV_TRY(map_samples(m, w, L, &v, eta));
+        FV_TRY(map_samples(m, w, L, &v, sub, eta));
     }
     s->enabled = true;
     return FV_OK;
@@ -116,13 +150,12 @@ dvec3 ref_sss_radiance(const ref_sss *s, dvec3 x, dvec3 n, dvec3 to_eye, uint32_
         fv_sss_receiver rc;
         fv_sss_receiver_make(xr, nr, wr, m->flat_m, &rc);
         for (uint32_t k = 0; k < m->count; k++) {
-            const ref_sss_sample *p = &m->samples[k];
-            const double c0[3] = {p->pos.x, p->pos.y, p->pos.z};
+            const fv_sss_sample *p = &m->samples[k];
             double c[3], a[3], b[3];
-            fv_sss_near_footprint(&rc, c0, p->a, p->b, p->n, c, a, b);
-            sum.x += p->flux.x * fv_dipole_tile_kernel(&m->dipole[0], c, a, b, xr);
-            sum.y += p->flux.y * fv_dipole_tile_kernel(&m->dipole[1], c, a, b, xr);
-            sum.z += p->flux.z * fv_dipole_tile_kernel(&m->dipole[2], c, a, b, xr);
+            fv_sss_near_footprint(&rc, p->pos, p->a, p->b, p->n, c, a, b);
+            sum.x += p->flux[0] * fv_dipole_tile_kernel(&m->dipole[0], c, a, b, xr);
+            sum.y += p->flux[1] * fv_dipole_tile_kernel(&m->dipole[1], c, a, b, xr);
+            sum.z += p->flux[2] * fv_dipole_tile_kernel(&m->dipole[2], c, a, b, xr);
         }
     }
     double len = sqrt(dv_dot(to_eye, to_eye));

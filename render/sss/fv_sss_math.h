@@ -72,6 +72,42 @@ double fv_sss_texel_area(const fv_sss_view *v, fv_vec3 p, double cos_i);
  *  degenerate view, normal or point. The GPU's copy is render/sss/sss_map.frag. */
 bool fv_sss_texel_footprint(const fv_sss_view *v, fv_vec3 p, fv_vec3 n, fv_vec3 *out_a, fv_vec3 *out_b);
 
+/* ---- where the light grazes: the map drawn finer (issue 28 item 5) ------------------------------------------
+ * Near the light's silhouette one texel column covers many texels of surface along the light (at 128 px on a
+ * sphere of 80 mm, the last texel of a row spans up to 19 mm of arc), and which texels the silhouette's staircase
+ * keeps, where their rays meet the surface and how far their footprints reach changes from row to row: the dipole's
+ * sub-millimetre light just past the terminator showed each step (dim streaks along the texel columns). So the map is
+ * drawn 2^s times finer per side (the fine map: s sub-levels below the nominal texels of sss.map_size), and each
+ * nominal texel whose fine samples are all present and lit at a cosine of at least FV_SSS_RESOLVE_COS is resolved
+ * into one sample (their flux and area summed, centroid and normal area-weighted, the footprint 2^s times the
+ * mean of theirs: on a plane exactly the nominal texel's); every other nominal texel (grazing, at the silhouette,
+ * at a shadow's or the object's edge) keeps its fine samples. */
+/** The sub-levels s below the nominal texels... */
+#define FV_SSS_SUB_LEVELS 2
+/** ... as far as a fine map of this side (leaf level 9: the GPU's Morton indices and its node buffer). */
+#define FV_SSS_FINE_MAX 1024
+/** A nominal texel is resolved into one sample when every fine sample's cosine to the light is at least this. */
+#define FV_SSS_RESOLVE_COS 0.3
+
+/** The sub-levels s of a map of `size` (nominal) texels per side: FV_SSS_SUB_LEVELS, fewer where the fine map
+ *  (size 2^s) would pass FV_SSS_FINE_MAX; 0 for a size that is not a power of two in [1, FV_SSS_FINE_MAX]. */
+uint32_t fv_sss_sub_levels(uint32_t size);
+
+/** One light-view sample (of the fine map, or a resolved nominal texel), in double. */
+typedef struct fv_sss_sample {
+    double pos[3];  /* world position (m) */
+    double flux[3]; /* flux entering the surface E A (W) */
+    double area;    /* surface area (m^2); 0 = no sample */
+    double n[3];    /* normal facing the light (unit for a fine sample; a resolved one: the area-weighted mean) */
+    double a[3], b[3]; /* the footprint pos +- a/2 +- b/2 (fv_sss_texel_footprint) */
+    double cos_i;   /* cosine between the normal and the direction to the light (a fine sample) */
+} fv_sss_sample;
+
+/** Whether the count = 4^s fine samples `sub` of one nominal texel (any order) resolve into one (all present, every
+ *  cos_i >= FV_SSS_RESOLVE_COS), and if so that sample in *out: flux and area summed, position and normal
+ *  area-weighted, the footprint's edges the sum of theirs over 2^s. The GPU's copy is render/sss/sss_build.comp. */
+bool fv_sss_texel_resolve(const fv_sss_sample *sub, uint32_t count, uint32_t sub_levels, fv_sss_sample *out);
+
 /* ---- the receiver's near field (issue 28 item 5) -------------------------------------------------------------
  * Near a receiver the surface is taken as its tangent plane: each sample's footprint is carried along the light
  * onto that plane (the texel columns cut it into footprints that tile it exactly, and the flux of each column is

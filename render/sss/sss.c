@@ -29,7 +29,8 @@ typedef struct sss {
     fv_scene_gpu *scene;
     const fv_scene *model;
     fv_shade_inputs *inputs;
-    uint32_t size, leaf, count;        /* map side, leaf level log2(size), maps */
+    uint32_t size, leaf, count;        /* the fine map's side, its leaf level log2(size), maps */
+    uint32_t sub;                      /* sub-levels of the fine map below the nominal texels (fv_sss_sub_levels) */
     fv_sss_pair pair[FV_SSS_MAX_LAYERS];
     uint32_t nodes_per_map;
     fv_vk_image map[FV_SSS_MAP_TARGETS], depth;
@@ -57,8 +58,9 @@ static uint32_t log2u(uint32_t v)
     return l;
 }
 
-/* The loop iterations of the exact sum over a size x size map: it walks the samples 16 at a time (an outer loop)
- * and llvmpipe keeps the 16 a loop too, so every sample is one (fv_sss_gather.glsl). */
+/* The loop iterations of the exact sum over a size x size map (nominal texels): it walks them 16 at a time (an
+ * outer loop) and llvmpipe keeps the 16 a loop too, so every texel is one (fv_sss_gather.glsl); a texel left at
+ * its fine samples adds 16 more (and the footprint quadrature near a receiver its own), which is not known here. */
 static uint64_t exact_iterations(uint32_t size)
 {
     uint64_t n = (uint64_t)size * size;
@@ -102,6 +104,11 @@ static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         snprintf(cut, sizeof cut, "cut, levels %u..%u (%u x %u), distance scale %.3g/m", start % 16u, limit % 16u,
                  1u << (limit % 16u), 1u << (limit % 16u), (double)q->distance_scale);
     uint32_t loop_limit = ctx->device ? ctx->device->shader_loop_limit : 0u;
+    /* Under the limit by the texels alone, the sum still takes 16 more iterations per texel left at its fine samples
+     * (and the footprint quadrature's near each receiver): a surface that grazes the light over much of its map (the
+     * marble bunny at 128 px) passes the limit; how much grazes is not known here. */
+    if (q->mode == FV_SSS_MODE_EXACT && loop_limit && fv_sss_sub_levels(size))
+        snprintf(cut, sizeof cut, "exact: every sample; llvmpipe may stop short where the light grazes");
     if (q->mode == FV_SSS_MODE_EXACT && loop_limit && exact_iterations(size) > loop_limit) {
         snprintf(cut, sizeof cut, "exact: CUT SHORT here (the device's loop limit)");
         static uint32_t warned; /* once per map size in a process: plans are made again on every setting change */
@@ -114,8 +121,11 @@ static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
                     (unsigned long long)exact_iterations(size));
         }
     }
-    int len = snprintf(out->reason, sizeof out->reason, "%u translucent material%s: %u light-view map%s of %upx%s, "
-                       "dipole %s", translucent, plural(translucent), n, plural(n), size,
+    uint32_t sub = fv_sss_sub_levels(size);
+    char fine[40] = "";
+    if (sub) snprintf(fine, sizeof fine, " (%upx where the light grazes)", size << sub);
+    int len = snprintf(out->reason, sizeof out->reason, "%u translucent material%s: %u light-view map%s of %upx%s%s, "
+                       "dipole %s", translucent, plural(translucent), n, plural(n), size, fine,
                        wanted > n ? " (more light x material pairs left out)" : "", cut);
     if (len >= (int)sizeof out->reason) out->reason[sizeof out->reason - 2] = '~'; /* cut short: say so */
 }
@@ -154,6 +164,12 @@ static fv_result create_render_pass(sss *p)
     VkAttachmentReference color[NT];
     for (uint32_t k = 0; k < NT; k++) {
         att[k] = fv_vk_attachment_cleared(MAP_FORMAT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        /* Only the positions are cleared (area 0: no sample); the build reads the others only where a fragment
+         * wrote the positions, and every fragment writes all five (the fine map is 16x the texels to clear). */
+        if (k != FV_SSS_OUT_POS) {
+            att[k].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+            att[k].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        }
         color[k] = (VkAttachmentReference){k, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     }
     att[NT] = fv_vk_attachment_cleared(VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
@@ -255,14 +271,15 @@ static fv_result sss_init(const fv_pass_env *env, void **out_state)
     p->model = env->scene_model;
     p->inputs = env->shade_inputs;
     uint32_t v = env->plan ? env->plan->variant : 0;
-    p->leaf = v & 15u;
+    p->sub = fv_sss_sub_levels(1u << (v & 15u));
+    p->leaf = (v & 15u) + p->sub; /* the fine map's */
     p->size = 1u << p->leaf;
     p->count = fv_sss_pairs(p->model, p->pair, NULL);
     p->cutoff_fraction = -1.0f;
     for (uint32_t l = 0; l < p->count; l++) /* a bisection per channel, once: the material's near field */
         p->flat_m[l] = (float)fmin(fv_sss_flat_radius_m(&p->model->materials[p->pair[l].material].translucency), 1e30);
     p->nodes_per_map = (uint32_t)(((1ull << (2 * (p->leaf + 1))) - 1) / 3);
-    fv_result res = p->count && p->leaf >= 4 && p->leaf <= 9 ? FV_OK : FV_ERR_INVALID_ARG;
+    fv_result res = p->count && p->leaf >= 4 && p->leaf <= 10 ? FV_OK : FV_ERR_INVALID_ARG;
     static const char *const names[FV_SSS_MAP_TARGETS] = {"sss map positions+area", "sss map flux+depth",
                                                           "sss map normals", "sss map footprint edge a",
                                                           "sss map footprint edge b"};
@@ -314,7 +331,8 @@ static void sss_prepare(void *state, const fv_pass_frame *f)
     const fv_quality_sss *q = &f->input->quality.sss;
     fv_vec3 smin, smax;
     bool scene_ok = fv_scene_gpu_world_bounds(p->scene, f->input->time_s, &smin, &smax);
-    uint32_t limit = q->limit_level < p->leaf ? q->limit_level : p->leaf;
+    uint32_t nominal = p->leaf - p->sub; /* the cut's levels are the nominal map's */
+    uint32_t limit = q->limit_level < nominal ? q->limit_level : nominal;
     uint32_t start = q->start_level < limit ? q->start_level : limit;
     blk->counts = (fv_gpu_uvec4){p->count, q->mode == FV_SSS_MODE_EXACT ? FV_SSS_GPU_MODE_EXACT : FV_SSS_GPU_MODE_HIERARCHY,
                                  start, limit};
@@ -330,7 +348,7 @@ static void sss_prepare(void *state, const fv_pass_frame *f)
     for (uint32_t l = 0; l < p->count; l++) {
         const fv_sss_pair *pr = &p->pair[l];
         fv_gpu_sss_layer *g = &blk->layer[l];
-        g->info = (fv_gpu_uvec4){pr->material, pr->light, l * p->nodes_per_map, p->leaf};
+        g->info = (fv_gpu_uvec4){pr->material, pr->light, l * p->nodes_per_map, p->leaf | (p->sub << 8)};
         fv_vec3 omin, omax;
         if (!scene_ok || pr->light >= p->scene->light_count ||
             !fv_sss_material_bounds(p->model, pr->material, f->input->time_s, &omin, &omax))
@@ -396,7 +414,7 @@ static void sss_record(void *state, const fv_pass_frame *f)
     vkCmdPipelineBarrier(cmd, READERS, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, NULL, 0, NULL);
     VkDescriptorSet scene_set = f->scene_set;
     for (int32_t level = (int32_t)p->leaf; level >= 0; level--) {
-        struct fv_sss_build_push bp = {.level = {(uint32_t)level, p->leaf, p->count, 0}};
+        struct fv_sss_build_push bp = {.level = {(uint32_t)level, p->leaf, p->count, p->sub}};
         fv_vk_compute_bind(&p->build, cmd, 0, &scene_set, 1, 0, &bp);
         uint64_t items = (1ull << (2 * level)) * p->count;
         uint32_t groups = (uint32_t)((items + FV_SSS_BUILD_GROUP - 1) / FV_SSS_BUILD_GROUP);
@@ -423,7 +441,7 @@ static uint32_t sss_details(void *state, fv_pass_detail *out, uint32_t cap)
     out[0].value[0] = p->count;
     out[0].count = 1;
     snprintf(out[1].key, sizeof out[1].key, "map_size_px");
-    out[1].value[0] = p->size;
+    out[1].value[0] = p->size >> p->sub; /* nominal (sss.map_size) */
     out[1].count = 1;
     return 2;
 }

@@ -6,8 +6,10 @@
 // offset from the mean over the cluster's size sqrt(area)); and its extent, the radius around the centroid that
 // holds every child's extent (a leaf's: its footprint's half-diagonal), and the widest footprint half-diagonal among
 // its leaves (the gather keeps the leaves whose near field may reach the receiver); a leaf also its texel's
-// footprint (clusters have none: the gather takes the disk of their area). One dispatch per level; empty children
-// are left out.
+// footprint (clusters have none: the gather takes the disk of their area). The leaves are the fine map's texels, s
+// sub-levels below the nominal ones of sss.map_size (fv_sss_sub_levels); a node of level L - s (a nominal texel)
+// whose fine samples allow it is resolved into one sample with a footprint (fv_sss_texel_resolve), which the gather
+// takes as a leaf. One dispatch per level; empty children are left out.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_common.glsl"
@@ -98,5 +100,29 @@ void main()
     o.normal_depth = vec4(nrm, depth);
     o.extent = vec4(reach, 0.0, 0.0, 0.0);
     o.edge_b = vec4(0.0, 0.0, 0.0, widest);
+    // A nominal texel (level L - s): resolved into one sample when its 4^s fine samples are all present and lit at
+    // a cosine of at least FV_SSS_GPU_RESOLVE_COS (fv_sss_texel_resolve): the footprint the sum of theirs over 2^s,
+    // the rest as summed above (the area-weighted centroid and normal).
+    uint sub = pc.level.w;
+    if (sub > 0u && level + sub == leaf) {
+        uint n = 1u << (2u * sub);
+        bool resolved = true;
+        vec3 ea = vec3(0.0), eb = vec3(0.0);
+        for (uint q = 0u; q < n && resolved; q++) {
+            uint m = i * n + q;
+            ivec3 t = ivec3(int(compact_bits(m)), int(compact_bits(m >> 1)), int(map));
+            resolved = texelFetch(map_pos, t, 0).w > 0.0 && texelFetch(map_normal, t, 0).w >= float(FV_SSS_GPU_RESOLVE_COS);
+            ea += texelFetch(map_edge_a, t, 0).xyz;
+            eb += texelFetch(map_edge_b, t, 0).xyz;
+        }
+        ea /= float(1u << sub);
+        eb /= float(1u << sub);
+        if (resolved && !any(isnan(ea)) && !any(isnan(eb)) && !any(isinf(ea)) && !any(isinf(eb))) {
+            float half_diagonal = 0.5 * sqrt(max(dot(ea + eb, ea + eb), dot(ea - eb, ea - eb)));
+            o.flux_sim.w = 1.0;
+            o.extent = vec4(half_diagonal, ea);
+            o.edge_b = vec4(eb, half_diagonal);
+        }
+    }
     nodes[at] = o;
 }

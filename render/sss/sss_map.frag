@@ -2,7 +2,8 @@
 // @brief Light-view sample map, fragments: where the map's material is the nearest surface seen from the light, a
 // sample of position, the surface area A the texel covers (fv_sss_texel_area), the flux entering the surface
 // E A = Ft(eta, wi) I (n.wi) A (fv_light_irradiance through Schlick's transmittance), the depth along the light,
-// the normal facing the light and the texel's footprint on the surface (fv_sss_texel_footprint: its edges a, b).
+// the normal facing the light with its cosine to the light, and the texel's footprint on the surface
+// (fv_sss_texel_footprint: its edges a, b). The map is the fine map (fv_sss_sub_levels below sss.map_size).
 // Every other surface writes depth and an empty sample, so it occludes.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
@@ -77,7 +78,7 @@ void main()
         return;
     out_pos = vec4(v_pos_world, area);
     out_flux = vec4(flux, depth);
-    out_normal = vec4(n, 0.0);
+    out_normal = vec4(n, cos_i); // the cosine: whether its nominal texel resolves (fv_sss_texel_resolve)
     out_edge_a = vec4(ea, 0.0);
     out_edge_b = vec4(eb, 0.0);
 }

@@ -294,3 +294,37 @@ double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const 
     }
     return beta;
 }
+
+uint32_t fv_sss_sub_levels(uint32_t size)
+{
+    if (!size || size > FV_SSS_FINE_MAX || (size & (size - 1u))) return 0;
+    uint32_t s = 0;
+    while (s < FV_SSS_SUB_LEVELS && (size << (s + 1)) <= FV_SSS_FINE_MAX) s++;
+    return s;
+}
+
+bool fv_sss_texel_resolve(const fv_sss_sample *sub, uint32_t count, uint32_t sub_levels, fv_sss_sample *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!sub || !count || sub_levels > 15 || count != 1u << (2 * sub_levels)) return false;
+    for (uint32_t i = 0; i < count; i++)
+        if (!(sub[i].area > 0.0) || !(sub[i].cos_i >= FV_SSS_RESOLVE_COS)) return false;
+    double k = 1.0 / (double)(1u << sub_levels);
+    for (uint32_t i = 0; i < count; i++) {
+        const fv_sss_sample *q = &sub[i];
+        out->area += q->area;
+        for (int c = 0; c < 3; c++) {
+            out->pos[c] += q->area * q->pos[c];
+            out->flux[c] += q->flux[c];
+            out->n[c] += q->area * q->n[c];
+            out->a[c] += k * q->a[c];
+            out->b[c] += k * q->b[c];
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        out->pos[c] /= out->area;
+        out->n[c] /= out->area;
+    }
+    out->cos_i = 1.0; /* resolved: not used again */
+    return isfinite(out->area) && isfinite(out->pos[0] + out->pos[1] + out->pos[2]);
+}

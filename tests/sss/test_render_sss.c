@@ -25,9 +25,11 @@
  * and float rounding of positions (0.1 um at 0.3 m) inside a kernel whose scale is the mean free path (0.4 mm).
  * Bound: mean relative error over the sphere's pixels EXACT_MEAN_REL_MAX, set from the measurement below. */
 #define EXACT_MEAN_REL_MAX 0.01
-/* The hierarchy refined to the leaves (limit = leaf level, distance scale 0) sums exactly the leaves: float
- * summation order only. */
-#define LEAF_MEAN_REL_MAX 1e-4
+/* The hierarchy refined to the nominal leaves (limit = log2 of sss.map_size, distance scale 0) sums every resolved
+ * texel and, within the receiver's near field, every fine sample of the texels where the light grazes; beyond the
+ * near field such a texel is one disk of its area (fv_sss_gather.glsl: 16x cheaper). Measured 5.7e-4 (before the
+ * fine map: exactly the leaves, float summation order only, below 1e-4). */
+#define LEAF_MEAN_REL_MAX 1e-3
 /* The cutoff (sss.cutoff) drops the light of samples beyond the radius R outside which CUTOFF of a point source's
  * diffuse reflectance leaves: CUTOFF of a uniformly lit plane's subsurface light. A sphere's cap within chord R
  * has the plane's area pi R^2 (Archimedes), and the sphere is lit on one side only, so it loses no more
@@ -156,7 +158,7 @@ static void hierarchy_error_falls_as_the_limit_level_rises(void **state)
         print_message("limit level %u (%u x %u), distance scale 0: mean relative error %.4g\n", limit, 1u << limit,
                       1u << limit, rel);
         if (!(rel <= prev * 1.0001 + 1e-6)) fail_msg("limit %u: error %.4g rose from %.4g", limit, rel, prev);
-        if (limit == leaf && rel > LEAF_MEAN_REL_MAX) fail_msg("at the leaves the cut is every sample: %.4g", rel);
+        if (limit == leaf && rel > LEAF_MEAN_REL_MAX) fail_msg("at the nominal leaves: %.4g", rel);
         prev = rel;
     }
     /* The cutoff alone (every leaf nearer than the radius outside which CUTOFF of a point's light leaves): on a

@@ -12,7 +12,12 @@
  * samples on the 48 x 24 mesh's flat facets made bands where the facets bend, at any map size (the footprints where
  * the samples lie: 51 extrema, 23 spurious); each footprint carried onto the receiver's tangent plane near it
  * (fv_sss_near_footprint) leaves the truth's. The CPU reference's exact sum at the map's own size is held to the
- * same (the same model). Validation must stay silent. */
+ * same (the same model). Past the terminator (the sphere's pixels with little direct light whose truth is at least
+ * 5% of its brightest subsurface light) the map's silhouette staircase made dim jagged streaks (24 extrema against
+ * the truth's 6, 19 spurious, rms 0.43); the map drawn finer where the light grazes (fv_sss_sub_levels,
+ * fv_sss_texel_resolve) leaves 8, 3 and 0.036, held to the extrema bounds and rms 0.05 (it converges slowly there:
+ * BENCHMARKS.md "SSS terminator streaks"). And the fast preset's cut on the marble bunny has no blotches (clusters of
+ * its limit level taken as one disk next to a receiver facing away from the light). Validation must stay silent. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,6 +40,10 @@
 #define EXTRA_EXTREMA_MAX 4
 #define SPURIOUS_MAX 4
 #define BANDING_MAX 0.012
+/* Past the terminator: pixels whose truth is at least this fraction of the sphere's brightest subsurface light; their
+ * rms bound (measured 0.036 with the fine map where the light grazes, 0.43 before). */
+#define DARK_MIN 0.05
+#define DARK_BANDING_MAX 0.05
 
 FV_GPU_TEST_GROUP(W, H)
 #define NEED_GPU() FV_NEED_GPU(g_r)
@@ -100,13 +109,21 @@ static banding banding_of(const float *rgb, const float *truth, const bool *mask
 }
 
 /* Fails when `b` bands more than the bounds allow against the truth's `t`. */
-static void check_banding(const char *what, banding b, banding t)
+static void check_banding(const char *what, const char *part, banding b, banding t, double rms_max)
 {
-    print_message("%s: %d significant extrema over %zu profile px (the truth %d), %d where the truth has none; rms "
-                  "second-difference error %.4f\n", what, b.extrema, b.px, t.extrema, b.spurious, b.rms);
-    if (b.extrema > t.extrema + EXTRA_EXTREMA_MAX || b.spurious > SPURIOUS_MAX || !(b.rms <= BANDING_MAX))
-        fail_msg("%s: the sphere's subsurface light bands: %d extrema (the truth %d), %d spurious, rms %.4f", what,
-                 b.extrema, t.extrema, b.spurious, b.rms);
+    print_message("%s, %s: %d significant extrema over %zu profile px (the truth %d), %d where the truth has none; "
+                  "rms second-difference error %.4f\n", what, part, b.extrema, b.px, t.extrema, b.spurious, b.rms);
+    if (b.extrema > t.extrema + EXTRA_EXTREMA_MAX || b.spurious > SPURIOUS_MAX || !(b.rms <= rms_max))
+        fail_msg("%s: the sphere's subsurface light bands (%s): %d extrema (the truth %d), %d spurious, rms %.4f", what,
+                 part, b.extrema, t.extrema, b.spurious, b.rms);
+}
+
+/* Both parts of the sphere: the well-lit one and the dark band past the terminator. */
+static void check_parts(const char *what, const float *rgb, const float *truth, const bool *lit, const bool *dark,
+                        banding bt_lit, banding bt_dark)
+{
+    check_banding(what, "well-lit", banding_of(rgb, truth, lit), bt_lit, BANDING_MAX);
+    check_banding(what, "past the terminator", banding_of(rgb, truth, dark), bt_dark, DARK_BANDING_MAX);
 }
 
 static void the_sphere_shows_no_rings_in_either_mode(void **state)
@@ -124,38 +141,51 @@ static void the_sphere_shows_no_rings_in_either_mode(void **state)
     q.sss.map_size_px = MAP;
     float *rgb = malloc(2 * NPIX * 3 * sizeof *rgb), *ref = malloc(2 * NPIX * 3 * sizeof *ref),
           *truth = malloc(2 * NPIX * 3 * sizeof *truth);
-    bool *mask = calloc(2 * NPIX, sizeof *mask);
-    assert_true(rgb && ref && truth && mask);
+    bool *sphere = calloc(2 * NPIX, sizeof *sphere), *lit = calloc(2 * NPIX, sizeof *lit),
+         *dark = calloc(2 * NPIX, sizeof *dark);
+    assert_true(rgb && ref && truth && sphere && lit && dark);
     /* The sphere (marble's albedo), then its well-lit part. */
     draw(&q, FV_DEBUG_VIEW_ALBEDO, rgb);
     for (size_t i = 0; i < 2 * NPIX; i++) {
         const float *p = &rgb[i * 3];
-        mask[i] = fabsf(p[0] - 0.83f) < 2e-3f && fabsf(p[1] - 0.79f) < 2e-3f && fabsf(p[2] - 0.75f) < 2e-3f;
+        sphere[i] = fabsf(p[0] - 0.83f) < 2e-3f && fabsf(p[1] - 0.79f) < 2e-3f && fabsf(p[2] - 0.75f) < 2e-3f;
     }
     fv_quality opaque = q;
     opaque.sss.enabled = false; /* the direct light of the surface as if opaque */
     draw(&opaque, FV_DEBUG_VIEW_DIRECT, rgb);
     double brightest = 0.0;
     for (size_t i = 0; i < 2 * NPIX; i++)
-        if (mask[i]) brightest = fmax(brightest, (double)rgb[i * 3] + rgb[i * 3 + 1] + rgb[i * 3 + 2]);
-    size_t lit = 0;
+        if (sphere[i]) brightest = fmax(brightest, lum(rgb, i));
+    size_t n_lit = 0;
     for (size_t i = 0; i < 2 * NPIX; i++) {
-        mask[i] = mask[i] && (double)rgb[i * 3] + rgb[i * 3 + 1] + rgb[i * 3 + 2] >= 0.3 * brightest;
-        lit += mask[i];
+        lit[i] = sphere[i] && lum(rgb, i) >= 0.3 * brightest;
+        n_lit += lit[i];
     }
-    assert_true(brightest > 0.0 && lit > 150);
+    assert_true(brightest > 0.0 && n_lit > 150);
     /* The truth: the reference's exact sum over a map twice as fine; and the reference at the map's size. */
     fv_quality rq = q;
     rq.sss.mode = FV_SSS_MODE_EXACT;
     rq.sss.map_size_px = TRUTH_MAP;
     fv_frame_input in = fv_gpu_test_frame_input(g_r, &g_frame, &rq);
     fv_gpu_test_reference_sbs(s, &in, FV_REFERENCE_VIEW_SSS, W, H, truth);
-    banding bt = banding_of(truth, truth, mask);
-    print_message("well-lit sphere: %zu px; the truth (reference, exact, map %u): %d significant extrema over %zu "
-                  "profile px\n", lit, TRUTH_MAP, bt.extrema, bt.px);
+    /* Past the terminator: the sphere's pixels with little direct light (below 30% of its brightest) whose
+     * subsurface light in the truth is at least DARK_MIN of the sphere's brightest. */
+    double brightest_sss = 0.0;
+    for (size_t i = 0; i < 2 * NPIX; i++)
+        if (sphere[i]) brightest_sss = fmax(brightest_sss, lum(truth, i));
+    size_t n_dark = 0;
+    for (size_t i = 0; i < 2 * NPIX; i++) {
+        dark[i] = sphere[i] && !lit[i] && lum(truth, i) >= DARK_MIN * brightest_sss;
+        n_dark += dark[i];
+    }
+    assert_true(n_dark > 100);
+    banding bt = banding_of(truth, truth, lit), bt_dark = banding_of(truth, truth, dark);
+    print_message("well-lit sphere: %zu px, past the terminator %zu px; the truth (reference, exact, map %u): %d and "
+                  "%d significant extrema over %zu and %zu profile px\n", n_lit, n_dark, TRUTH_MAP, bt.extrema,
+                  bt_dark.extrema, bt.px, bt_dark.px);
     in.quality.sss.map_size_px = MAP;
     fv_gpu_test_reference_sbs(s, &in, FV_REFERENCE_VIEW_SSS, W, H, ref);
-    check_banding("reference, exact", banding_of(ref, truth, mask), bt);
+    check_parts("reference, exact", ref, truth, lit, dark, bt, bt_dark);
     /* hierarchy, exact, and the hierarchy cut above the leaves (limit 5 of 7: the fast preset's cut is one level
      * above its 64 px map's leaves), whose clusters near the receiver showed one disk each on the sphere */
     static const char *const name[3] = {"hierarchy", "exact", "hierarchy, limit level 5"};
@@ -166,19 +196,21 @@ static void the_sphere_shows_no_rings_in_either_mode(void **state)
         draw(&m, FV_DEBUG_VIEW_SSS, rgb);
         double num = 0.0, den = 0.0;
         for (size_t i = 0; i < 2 * NPIX; i++)
-            if (mask[i])
+            if (lit[i] || dark[i])
                 for (int c = 0; c < 3; c++) {
                     num += fabs((double)rgb[i * 3 + c] - ref[i * 3 + c]);
                     den += fabs((double)ref[i * 3 + c]);
                 }
         print_message("%s: mean relative difference from the reference %.4f\n", name[mode], num / den);
-        check_banding(name[mode], banding_of(rgb, truth, mask), bt);
+        check_parts(name[mode], rgb, truth, lit, dark, bt, bt_dark);
         if (num / den > (mode == 1 ? 0.01 : 0.02)) fail_msg("%s against the reference: %.4f", name[mode], num / den);
     }
     free(rgb);
     free(ref);
     free(truth);
-    free(mask);
+    free(sphere);
+    free(lit);
+    free(dark);
     fv_scene_destroy(&s);
 }
 

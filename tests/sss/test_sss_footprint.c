@@ -588,6 +588,86 @@ static void the_near_field_stays_finite(void **state)
     assert_true(r.facing == 0.0);
 }
 
+/* The fine map where the light grazes (fv_sss_sub_levels, fv_sss_texel_resolve): the sub-levels per map size; on a
+ * plane lit from a directional light the 4^s fine samples of a nominal texel resolve into its own sample (the
+ * texel's area, its footprint's edges, its centre), and a texel with a grazing or a missing fine sample does not. */
+static void a_nominal_texel_resolves_from_its_fine_samples(void **state)
+{
+    (void)state;
+    assert_int_equal(fv_sss_sub_levels(16), 2);
+    assert_int_equal(fv_sss_sub_levels(128), 2);
+    assert_int_equal(fv_sss_sub_levels(256), 2);
+    assert_int_equal(fv_sss_sub_levels(512), 1);
+    assert_int_equal(fv_sss_sub_levels(1024), 0);
+    assert_int_equal(fv_sss_sub_levels(2048), 0);
+    assert_int_equal(fv_sss_sub_levels(100), 0);
+    assert_int_equal(fv_sss_sub_levels(0), 0);
+    v3d lo = vd(-0.1, -0.1, -0.1), hi = vd(0.1, 0.1, 0.1), light = vd(0, 1, 0), dir = vd(0.3, -1, 0.2);
+    const uint32_t size = 64, sub = fv_sss_sub_levels(size), k = 1u << sub;
+    fv_sss_view nominal = view_of(FV_LIGHT_DIRECTIONAL, light, dir, lo, hi, size);
+    fv_sss_view fine = view_of(FV_LIGHT_DIRECTIONAL, light, dir, lo, hi, size * k);
+    fv_mat4 inv;
+    assert_true(fv_mat4_invert(&nominal.view_proj, &inv)); /* the same for both: the view does not depend on size */
+    const double cosines[] = {1.0, 0.6, FV_SSS_RESOLVE_COS + 0.01, FV_SSS_RESOLVE_COS - 0.01, 0.1};
+    for (size_t c = 0; c < sizeof cosines / sizeof cosines[0]; c++) {
+        v3d o, d;
+        texel_ray(&inv, size, 30, 33, &o, &d);
+        v3d l = vscale(d, -1.0), t = vunit(vcross(l, vd(0.3, 0.2, 1.0)));
+        double cs = cosines[c];
+        surface pl = {PLANE, vadd(o, vscale(d, 0.3)), vadd(vscale(l, cs), vscale(t, sqrt(1 - cs * cs))), 0, 0, 0};
+        fv_sss_sample part[16];
+        assert_true(k * k <= 16);
+        for (uint32_t q = 0; q < k * k; q++) {
+            v3d p, n;
+            texel_ray(&inv, size * k, 30.0 * k + q % k, 33.0 * k + q / k, &o, &d);
+            assert_true(hit(&pl, o, d, &p, &n));
+            fv_vec3 fa, fb;
+            assert_true(fv_sss_texel_footprint(&fine, to_f(p), to_f(n), &fa, &fb));
+            fv_sss_sample *f = &part[q];
+            memset(f, 0, sizeof *f);
+            const double pv[3] = {p.x, p.y, p.z}, nv[3] = {n.x, n.y, n.z}, av[3] = {fa.x, fa.y, fa.z},
+                         bv[3] = {fb.x, fb.y, fb.z};
+            memcpy(f->pos, pv, sizeof pv);
+            memcpy(f->n, nv, sizeof nv);
+            memcpy(f->a, av, sizeof av);
+            memcpy(f->b, bv, sizeof bv);
+            f->area = fv_sss_texel_area(&fine, to_f(p), vdot(n, l));
+            f->flux[0] = f->flux[1] = f->flux[2] = vdot(n, l) * f->area;
+            f->cos_i = vdot(n, l);
+        }
+        fv_sss_sample r;
+        bool resolved = fv_sss_texel_resolve(part, k * k, sub, &r);
+        if (resolved != (cs >= FV_SSS_RESOLVE_COS))
+            fail_msg("cos %g: %s", cs, resolved ? "resolved where the light grazes" : "not resolved");
+        if (!resolved) continue;
+        /* The nominal texel's own sample: its centre's ray, area and footprint. */
+        v3d p, n;
+        texel_ray(&inv, size, 30, 33, &o, &d);
+        assert_true(hit(&pl, o, d, &p, &n));
+        fv_vec3 fa, fb;
+        assert_true(fv_sss_texel_footprint(&nominal, to_f(p), to_f(n), &fa, &fb));
+        double area = fv_sss_texel_area(&nominal, to_f(p), cs);
+        v3d a = of_f(fa), b = of_f(fb), ra = vd(r.a[0], r.a[1], r.a[2]), rb = vd(r.b[0], r.b[1], r.b[2]);
+        double off = vlen(vsub(vd(r.pos[0], r.pos[1], r.pos[2]), p));
+        print_message("cos %.2f: resolved area / the texel's %.6f, edges off by %.2g and %.2g of theirs, centre off by "
+                      "%.2g of a\n", cs, r.area / area, vlen(vsub(ra, a)) / vlen(a), vlen(vsub(rb, b)) / vlen(b),
+                      off / vlen(a));
+        if (fabs(r.area / area - 1.0) > 1e-5 || vlen(vsub(ra, a)) > 1e-5 * vlen(a) ||
+            vlen(vsub(rb, b)) > 1e-5 * vlen(b) || off > 1e-4 * vlen(a) || fabs(r.flux[0] - cs * area) > 1e-5 * cs * area)
+            fail_msg("cos %g: the resolved sample is not the texel's own", cs);
+    }
+    /* One fine sample missing: not resolved. */
+    fv_sss_sample part[16], r;
+    memset(part, 0, sizeof part);
+    for (uint32_t q = 0; q < 16; q++) part[q].area = 1e-6, part[q].cos_i = 1.0;
+    assert_true(fv_sss_texel_resolve(part, 16, 2, &r));
+    part[5].area = 0.0;
+    assert_false(fv_sss_texel_resolve(part, 16, 2, &r));
+    assert_false(fv_sss_texel_resolve(part, 15, 2, &r)); /* a count that is not 4^s */
+    part[5].area = NAN;
+    assert_false(fv_sss_texel_resolve(part, 16, 2, &r));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -597,6 +677,7 @@ int main(void)
         cmocka_unit_test(a_faceted_sphere_shows_no_bands),
         cmocka_unit_test(the_tile_kernel_stays_finite),
         cmocka_unit_test(the_near_field_stays_finite),
+        cmocka_unit_test(a_nominal_texel_resolves_from_its_fine_samples),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
