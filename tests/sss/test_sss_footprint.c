@@ -588,6 +588,31 @@ static void the_near_field_stays_finite(void **state)
     assert_true(r.facing == 0.0);
 }
 
+/* The k x k fine samples (row-major) of nominal texel (30, 33) of a size px map on plane pl, lit along -l, each as
+ * sss_map.frag stores it (flux: unit irradiance times the cosine). */
+static void fine_samples_of(const fv_mat4 *inv, const fv_sss_view *fine, uint32_t size, uint32_t k,
+                            const surface *pl, v3d l, fv_sss_sample *part)
+{
+    for (uint32_t q = 0; q < k * k; q++) {
+        v3d o, d, p, n;
+        texel_ray(inv, size * k, 30.0 * k + q % k, 33.0 * k + q / k, &o, &d);
+        assert_true(hit(pl, o, d, &p, &n));
+        fv_vec3 fa, fb;
+        assert_true(fv_sss_texel_footprint(fine, to_f(p), to_f(n), &fa, &fb));
+        fv_sss_sample *f = &part[q];
+        memset(f, 0, sizeof *f);
+        const double pv[3] = {p.x, p.y, p.z}, nv[3] = {n.x, n.y, n.z}, av[3] = {fa.x, fa.y, fa.z},
+                     bv[3] = {fb.x, fb.y, fb.z};
+        memcpy(f->pos, pv, sizeof pv);
+        memcpy(f->n, nv, sizeof nv);
+        memcpy(f->a, av, sizeof av);
+        memcpy(f->b, bv, sizeof bv);
+        f->area = fv_sss_texel_area(fine, to_f(p), vdot(n, l));
+        f->flux[0] = f->flux[1] = f->flux[2] = vdot(n, l) * f->area;
+        f->cos_i = vdot(n, l);
+    }
+}
+
 /* The fine map where the light grazes (fv_sss_sub_levels, fv_sss_texel_resolve): the sub-levels per map size; on a
  * plane lit from a directional light the 4^s fine samples of a nominal texel resolve into its own sample (the
  * texel's area, its footprint's edges, its centre), and a texel with a grazing or a missing fine sample does not. */
@@ -617,24 +642,7 @@ static void a_nominal_texel_resolves_from_its_fine_samples(void **state)
         surface pl = {PLANE, vadd(o, vscale(d, 0.3)), vadd(vscale(l, cs), vscale(t, sqrt(1 - cs * cs))), 0, 0, 0};
         fv_sss_sample part[16];
         assert_true(k * k <= 16);
-        for (uint32_t q = 0; q < k * k; q++) {
-            v3d p, n;
-            texel_ray(&inv, size * k, 30.0 * k + q % k, 33.0 * k + q / k, &o, &d);
-            assert_true(hit(&pl, o, d, &p, &n));
-            fv_vec3 fa, fb;
-            assert_true(fv_sss_texel_footprint(&fine, to_f(p), to_f(n), &fa, &fb));
-            fv_sss_sample *f = &part[q];
-            memset(f, 0, sizeof *f);
-            const double pv[3] = {p.x, p.y, p.z}, nv[3] = {n.x, n.y, n.z}, av[3] = {fa.x, fa.y, fa.z},
-                         bv[3] = {fb.x, fb.y, fb.z};
-            memcpy(f->pos, pv, sizeof pv);
-            memcpy(f->n, nv, sizeof nv);
-            memcpy(f->a, av, sizeof av);
-            memcpy(f->b, bv, sizeof bv);
-            f->area = fv_sss_texel_area(&fine, to_f(p), vdot(n, l));
-            f->flux[0] = f->flux[1] = f->flux[2] = vdot(n, l) * f->area;
-            f->cos_i = vdot(n, l);
-        }
+        fine_samples_of(&inv, &fine, size, k, &pl, l, part);
         fv_sss_sample r;
         bool resolved = fv_sss_texel_resolve(part, k * k, sub, &r);
         if (resolved != (cs >= FV_SSS_RESOLVE_COS))
@@ -690,27 +698,13 @@ static void a_grazing_texel_is_its_fine_samples_near_and_one_disk_beyond(void **
     assert_true(k * k == 16);
     double area = 0.0, flux = 0.0, widest = 0.0;
     v3d centre = vd(0, 0, 0);
+    fine_samples_of(&inv, &fine, size, k, &pl, l, part);
     for (uint32_t q = 0; q < k * k; q++) {
-        v3d p, n;
-        texel_ray(&inv, size * k, 30.0 * k + q % k, 33.0 * k + q / k, &o, &d);
-        assert_true(hit(&pl, o, d, &p, &n));
-        fv_vec3 fa, fb;
-        assert_true(fv_sss_texel_footprint(&fine, to_f(p), to_f(n), &fa, &fb));
-        fv_sss_sample *f = &part[q];
-        memset(f, 0, sizeof *f);
-        const double pv[3] = {p.x, p.y, p.z}, nv[3] = {n.x, n.y, n.z}, av[3] = {fa.x, fa.y, fa.z},
-                     bv[3] = {fb.x, fb.y, fb.z};
-        memcpy(f->pos, pv, sizeof pv);
-        memcpy(f->n, nv, sizeof nv);
-        memcpy(f->a, av, sizeof av);
-        memcpy(f->b, bv, sizeof bv);
-        f->area = fv_sss_texel_area(&fine, to_f(p), vdot(n, l));
-        f->flux[0] = f->flux[1] = f->flux[2] = vdot(n, l) * f->area;
-        f->cos_i = vdot(n, l);
+        const fv_sss_sample *f = &part[q];
         area += f->area;
         flux += f->flux[0];
-        centre = vadd(centre, vscale(p, f->area));
-        v3d a = of_f(fa), b = of_f(fb);
+        centre = vadd(centre, vscale(vd(f->pos[0], f->pos[1], f->pos[2]), f->area));
+        v3d a = vd(f->a[0], f->a[1], f->a[2]), b = vd(f->b[0], f->b[1], f->b[2]);
         widest = fmax(widest, 0.5 * fmax(vlen(vadd(a, b)), vlen(vsub(a, b))));
     }
     centre = vscale(centre, 1.0 / area);
