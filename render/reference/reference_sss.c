@@ -88,7 +88,9 @@ static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light
             fine_sample(m, w, L, fine, inv, eta, ti * k + q % k, tj * k + q / k, &part[q]);
         fv_sss_sample one;
         bool grown = true;
-        if (fv_sss_texel_resolve(part, k * k, sub, &one)) {
+        if (sub == 0) { /* no fine map: every texel a leaf, as on the GPU */
+            if (part[0].area > 0.0) grown = append((void **)&m->samples, &m->count, &cap, &part[0], 1, sizeof *part);
+        } else if (fv_sss_texel_resolve(part, k * k, sub, &one)) {
             grown = append((void **)&m->samples, &m->count, &cap, &one, 1, sizeof one);
         } else {
             ref_sss_texel texel = {.first = m->fine_count};
