@@ -329,8 +329,9 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
             // fine samples everywhere passed llvmpipe's loop limit on the marble bunny at 128 px: 3% of its light).
             // One loop whose every iteration is one texel or one fine sample, with one call of each kernel:
             // llvmpipe ends a shader's loops after 65535 iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by
-            // every loop), and a sample loop per texel cost one or two more each; render/sss/sss.c's
-            // exact_iterations counts them.
+            // every loop), and a loop over the fine samples nested in the branch that takes them ran (and counted)
+            // for every grazing texel whether any invocation was near it or not: the marble bunny's sum at 128 px
+            // was cut short again; render/sss/sss.c's exact_iterations counts them.
             uint first = base + ((1u << (2u * nominal)) - 1u) / 3u, n = 1u << (2u * nominal);
             uint first_leaf = base + ((1u << (2u * leaf)) - 1u) / 3u, per = 1u << (2u * sub);
             uint t = 0u, from = 0u, left = 0u; // the next texel; the fine samples still to walk from `from`
