@@ -8,11 +8,13 @@
 // The leaves are the fine map's texels, s levels below the nominal texels of sss.map_size (fv_sss_sub_levels): a
 // nominal texel resolved into one sample (it has a footprint: fv_sss_texel_resolve) is a leaf to both modes, the
 // others (where the light grazes, at the silhouette) keep their fine samples.
-// Exact mode sums every sample; hierarchy mode walks each map's quad-tree from the start level, accepting a cluster
-// of radius r at distance d when r <= distance_scale x eye distance x similarity x d, or at the limit level (Ki &
-// Oh), but never one with leaves wholly in the near field, and dropping every node wholly beyond the material's
-// cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light). Requires fv_gpu.h,
-// fv_common.glsl, the scene set and fv_gbuffer_decode.glsl; declares the SSS slot of the shading inputs (set 1).
+// Exact mode sums every nominal texel, an unresolved one's fine samples within the receiver's near field and one
+// disk of its area beyond (as the hierarchy); hierarchy mode walks each map's quad-tree from the start level,
+// accepting a cluster of radius r at distance d when r <= distance_scale x eye distance x similarity x d, or at the
+// limit level (Ki & Oh), but never one with leaves wholly in the near field, and dropping every node wholly beyond
+// the material's cutoff radius (layer.view.z: outside it leaves the fraction sss.cutoff of a point's light).
+// Requires fv_gpu.h, fv_common.glsl, the scene set and fv_gbuffer_decode.glsl; declares the SSS slot of the shading
+// inputs (set 1).
 // With no SSS pass the header is the slot's zero dummy: one load, then nothing.
 #ifndef FV_SSS_GATHER_GLSL
 #define FV_SSS_GATHER_GLSL
@@ -189,7 +191,7 @@ vec3 fv_sss_tile_kernel(fv_sss_dipole d, vec3 c, vec3 a, vec3 b, float area, vec
     float r0 = sqrt(dot(o, o) + h * h);
     vec3 tot = vec3(0.0);
     float wind = 0.0;
-    // Loops kept rolled: exact mode unrolls its sample loop 16 times, and this body inlined 16 x 16 times took
+    // Loops kept rolled: this body inlined 16 x 16 times (an unrolled sample loop of exact mode's, once) took
     // llvmpipe over a minute to compile (they run only for the few footprints near the receiver).
     [[dont_unroll]] for (int k = 0; k < 4; k++) {
         vec2 P = q[k], Q = q[(k + 1) & 3], E = Q - P;
@@ -322,27 +324,41 @@ vec3 fv_sss_radiance(fv_surface s, out uint out_clusters)
         uint base = layer.info.z;
         fv_sss_receiver rc = fv_sss_receiver_of(x, s.normal, layer.info.y, layer.view.w);
         if (sss_header.counts.y == FV_SSS_GPU_MODE_EXACT) {
-            // Every nominal texel: resolved, its one sample; else its 4^s fine samples (fv_sss_texel_resolve). 16
-            // texels per iteration, the inner loop unrolled: llvmpipe ends a shader's loops after 65535 iterations
-            // in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop), and a 512 px map has 262144 texels (at most
-            // 16384 iterations here).
+            // Every nominal texel: resolved, its one sample; else (fv_sss_texel_resolve) its 4^s fine samples where
+            // the receiver's near field reaches it and one disk of its area beyond, as the hierarchy takes it (the
+            // fine samples everywhere passed llvmpipe's loop limit on the marble bunny at 128 px: 3% of its light).
+            // One loop whose every iteration is one texel or one fine sample, with one call of each kernel:
+            // llvmpipe ends a shader's loops after 65535 iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by
+            // every loop), and a loop over the fine samples nested in the branch that takes them ran (and counted)
+            // for every grazing texel whether any invocation was near it or not: the marble bunny's sum at 128 px
+            // was cut short again; render/sss/sss.c's exact_iterations counts them.
             uint first = base + ((1u << (2u * nominal)) - 1u) / 3u, n = 1u << (2u * nominal);
             uint first_leaf = base + ((1u << (2u * leaf)) - 1u) / 3u, per = 1u << (2u * sub);
-            for (uint i = 0u; i < n; i += 16u) {
-                [[unroll]] for (uint j = 0u; j < 16u; j++) {
-                    uint at = first + i + j;
-                    if (at >= total) break;
-                    fv_gpu_sss_node node = sss_nodes[at];
-                    if (!(node.pos_area.w > 0.0)) continue;
-                    bool resolved = sub == 0u || dot(node.extent.yzw, node.extent.yzw) > 0.0;
-                    uint from = resolved ? at : first_leaf + (i + j) * per, count_ = resolved ? 1u : per;
-                    [[dont_unroll]] for (uint q = 0u; q < count_; q++) {
-                        fv_gpu_sss_node leaf_node = sss_nodes[min(from + q, total - 1u)];
-                        if (!(leaf_node.pos_area.w > 0.0)) continue;
-                        sum += leaf_node.flux_sim.rgb * fv_sss_node_kernel(d, leaf_node, rc);
-                        count++;
+            uint t = 0u, from = 0u, left = 0u; // the next texel; the fine samples still to walk from `from`
+            while (t < n || left > 0u) {
+                uint at = left > 0u ? from++ : first + t++;
+                bool fine = left > 0u;
+                if (fine) left--;
+                if (at >= total) continue;
+                fv_gpu_sss_node node = sss_nodes[at];
+                float area = node.pos_area.w;
+                if (!(area > 0.0)) continue;
+                if (!fine && sub > 0u && !(dot(node.extent.yzw, node.extent.yzw) > 0.0)) { // left at its fine samples
+                    float near_field = max(rc.flat_m, float(FV_SSS_GPU_FLAT_FOOTPRINTS) * node.edge_b.w);
+                    if (length(node.pos_area.xyz - x) - node.extent.x < near_field) {
+                        from = first_leaf + (t - 1u) * per;
+                        left = per;
+                        continue;
                     }
+                    // the hierarchy's accept of a cluster: the disk of its area
+                    vec3 cc = node.pos_area.xyz, za = vec3(0.0), zb = vec3(0.0);
+                    fv_sss_near_footprint(rc, cc, za, zb, node.normal_depth.xyz, node.edge_b.w);
+                    sum += node.flux_sim.rgb * fv_sss_kernel(d, length(cc - x), area);
+                    count++;
+                    continue;
                 }
+                sum += node.flux_sim.rgb * fv_sss_node_kernel(d, node, rc);
+                count++;
             }
             continue;
         }

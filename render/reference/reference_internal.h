@@ -161,14 +161,24 @@ bool ref_ray_from_inverse(const double inv[16], uint32_t width, uint32_t height,
 /* ---- subsurface scattering (reference_sss.c) ----------------------------------------------------------------- */
 #include "fv_dipole.h"
 #include "fv_sss_math.h"
+/** A nominal texel left at its fine samples: its cluster (fv_sss_texel_cluster) and its fine samples
+ *  fine[first .. first + count). */
+typedef struct ref_sss_texel {
+    fv_sss_cluster cluster;
+    uint32_t first, count;
+} ref_sss_texel;
 typedef struct ref_sss_map {
     uint32_t material;
     double eta;
     fv_dipole dipole[3]; /* per channel, per metre */
     double flat_m;       /* the material's flat radius (fv_sss_flat_radius_m) */
     ref_light light;     /* the map's light: the direction it travels at a receiver */
-    fv_sss_sample *samples; /* the resolved nominal texels and the fine samples of the others (fv_sss_math.h) */
+    fv_sss_sample *samples; /* the resolved nominal texels (fv_sss_math.h) */
     uint32_t count;
+    fv_sss_sample *fine;    /* the fine samples of the others, texel by texel */
+    uint32_t fine_count;
+    ref_sss_texel *texels;  /* the others: each its cluster and its fine samples */
+    uint32_t texel_count;
 } ref_sss_map;
 typedef struct ref_sss {
     bool enabled;

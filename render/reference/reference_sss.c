@@ -7,7 +7,9 @@
  * sss_map.frag computes: the surface area the texel covers (fv_sss_texel_area), its footprint on the surface
  * (fv_sss_texel_footprint) and the flux entering the surface E A = Ft(eta, wi) E_light A. A receiver on the same
  * material sums flux x fv_dipole_tile_kernel over all of them, each footprint carried onto the receiver's tangent
- * plane as its near field takes it (fv_sss_near_footprint); no visibility inside the object (the model). */
+ * plane as its near field takes it (fv_sss_near_footprint), a texel left at its fine samples walked on to them only
+ * where the receiver's near field reaches it and beyond taken as one disk of its area (fv_sss_cluster_near,
+ * fv_sss_near_cluster, fv_dipole_kernel), as the GPU's sums; no visibility inside the object (the model). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,17 +53,31 @@ static bool fine_sample(const ref_sss_map *m, const ref_world *w, const ref_ligh
     return true;
 }
 
+/* Appends n items of `size` bytes to *arr (count *len, capacity *cap), growing it. */
+static bool append(void **arr, uint32_t *len, size_t *cap, const void *items, uint32_t n, size_t size)
+{
+    if (*len + (size_t)n > *cap) {
+        size_t grown = *cap * 2 + n;
+        void *more = realloc(*arr, grown * size);
+        if (!more) return false;
+        *arr = more;
+        *cap = grown;
+    }
+    memcpy((char *)*arr + (size_t)*len * size, items, (size_t)n * size);
+    *len += n;
+    return true;
+}
+
 /* The samples of one map: its fine map `fine` (sub levels below the nominal texels: fv_sss_sub_levels) ray cast,
- * each nominal texel resolved into one sample where its fine samples allow (fv_sss_texel_resolve), else its fine
- * samples. */
+ * each nominal texel resolved into one sample where its fine samples allow (fv_sss_texel_resolve), else its cluster
+ * and its fine samples (fv_sss_texel_cluster). */
 static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light *L, const fv_sss_view *fine,
                              uint32_t sub, double eta)
 {
     uint32_t k = 1u << sub, size = fine->size >> sub;
-    size_t cap = (size_t)size * size;
-    m->samples = calloc(cap, sizeof *m->samples);
+    size_t cap = 0, fine_cap = 0, texel_cap = 0;
     fv_sss_sample *part = calloc((size_t)k * k, sizeof *part);
-    fv_result res = m->samples && part ? FV_OK : FV_ERR_NO_MEMORY;
+    fv_result res = part ? FV_OK : FV_ERR_NO_MEMORY;
     double vp[16], inv[16];
     for (int c = 0; c < 4; c++)
         for (int r = 0; r < 4; r++) vp[c * 4 + r] = fine->view_proj.m[c][r];
@@ -70,25 +86,35 @@ static fv_result map_samples(ref_sss_map *m, const ref_world *w, const ref_light
         uint32_t ti = t % size, tj = t / size;
         for (uint32_t q = 0; q < k * k; q++)
             fine_sample(m, w, L, fine, inv, eta, ti * k + q % k, tj * k + q / k, &part[q]);
-        if (m->count + (size_t)k * k > cap) { /* grazing texels keep their fine samples: grow */
-            size_t grown = cap * 2 + (size_t)k * k;
-            fv_sss_sample *more = realloc(m->samples, grown * sizeof *more);
-            if (!more) {
-                res = FV_ERR_NO_MEMORY;
-                break;
-            }
-            m->samples = more;
-            cap = grown;
+        fv_sss_sample one;
+        bool grown = true;
+        if (sub == 0) { /* no fine map: every texel a leaf, as on the GPU */
+            if (part[0].area > 0.0) grown = append((void **)&m->samples, &m->count, &cap, &part[0], 1, sizeof *part);
+        } else if (fv_sss_texel_resolve(part, k * k, sub, &one)) {
+            grown = append((void **)&m->samples, &m->count, &cap, &one, 1, sizeof one);
+        } else {
+            ref_sss_texel texel = {.first = m->fine_count};
+            if (!fv_sss_texel_cluster(part, k * k, sub, &texel.cluster)) continue; /* no fine sample */
+            for (uint32_t q = 0; q < k * k && grown; q++)
+                if (part[q].area > 0.0)
+                    grown = append((void **)&m->fine, &m->fine_count, &fine_cap, &part[q], 1, sizeof *part);
+            texel.count = m->fine_count - texel.first;
+            grown = grown && append((void **)&m->texels, &m->texel_count, &texel_cap, &texel, 1, sizeof texel);
         }
-        if (fv_sss_texel_resolve(part, k * k, sub, &m->samples[m->count])) {
-            m->count++;
-            continue;
-        }
-        for (uint32_t q = 0; q < k * k; q++)
-            if (part[q].area > 0.0) m->samples[m->count++] = part[q];
+        if (!grown) res = FV_ERR_NO_MEMORY;
     }
     free(part);
     return res;
+}
+
+/* flux x the footprint kernel of one sample, per channel, its footprint as the receiver's near field takes it. */
+static dvec3 sample_term(const ref_sss_map *m, const fv_sss_receiver *rc, const fv_sss_sample *p)
+{
+    double c[3], a[3], b[3];
+    fv_sss_near_footprint(rc, p->pos, p->a, p->b, p->n, c, a, b);
+    return dv(p->flux[0] * fv_dipole_tile_kernel(&m->dipole[0], c, a, b, rc->x),
+              p->flux[1] * fv_dipole_tile_kernel(&m->dipole[1], c, a, b, rc->x),
+              p->flux[2] * fv_dipole_tile_kernel(&m->dipole[2], c, a, b, rc->x));
 }
 
 fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_scene *scene, const fv_frame_input *in)
@@ -125,7 +151,11 @@ fv_result ref_sss_init(ref_sss *s, const ref_world *w, const fv_scene *scene, co
 
 void ref_sss_fini(ref_sss *s)
 {
-    for (uint32_t i = 0; i < FV_SSS_MAX_LAYERS; i++) free(s->map[i].samples);
+    for (uint32_t i = 0; i < FV_SSS_MAX_LAYERS; i++) {
+        free(s->map[i].samples);
+        free(s->map[i].fine);
+        free(s->map[i].texels);
+    }
     memset(s, 0, sizeof *s);
 }
 
@@ -149,13 +179,23 @@ dvec3 ref_sss_radiance(const ref_sss *s, dvec3 x, dvec3 n, dvec3 to_eye, uint32_
         const double wr[3] = {wl.x, wl.y, wl.z};
         fv_sss_receiver rc;
         fv_sss_receiver_make(xr, nr, wr, m->flat_m, &rc);
-        for (uint32_t k = 0; k < m->count; k++) {
-            const fv_sss_sample *p = &m->samples[k];
-            double c[3], a[3], b[3];
-            fv_sss_near_footprint(&rc, p->pos, p->a, p->b, p->n, c, a, b);
-            sum.x += p->flux[0] * fv_dipole_tile_kernel(&m->dipole[0], c, a, b, xr);
-            sum.y += p->flux[1] * fv_dipole_tile_kernel(&m->dipole[1], c, a, b, xr);
-            sum.z += p->flux[2] * fv_dipole_tile_kernel(&m->dipole[2], c, a, b, xr);
+        for (uint32_t k = 0; k < m->count; k++) sum = dv_add(sum, sample_term(m, &rc, &m->samples[k]));
+        /* a texel left at its fine samples: they within the receiver's near field, beyond it one disk of its area
+         * (the GPU's exact mode and its hierarchy alike) */
+        for (uint32_t t = 0; t < m->texel_count; t++) {
+            const ref_sss_texel *tx = &m->texels[t];
+            if (fv_sss_cluster_near(&rc, &tx->cluster)) {
+                for (uint32_t k = 0; k < tx->count; k++)
+                    sum = dv_add(sum, sample_term(m, &rc, &m->fine[tx->first + k]));
+                continue;
+            }
+            double c[3];
+            fv_sss_near_cluster(&rc, &tx->cluster, c);
+            dvec3 off = dv_sub(dv(c[0], c[1], c[2]), x);
+            double dist = sqrt(dv_dot(off, off));
+            sum = dv_add(sum, dv(tx->cluster.flux[0] * fv_dipole_kernel(&m->dipole[0], dist, tx->cluster.area),
+                                 tx->cluster.flux[1] * fv_dipole_kernel(&m->dipole[1], dist, tx->cluster.area),
+                                 tx->cluster.flux[2] * fv_dipole_kernel(&m->dipole[2], dist, tx->cluster.area)));
         }
     }
     double len = sqrt(dv_dot(to_eye, to_eye));

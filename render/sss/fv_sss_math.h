@@ -108,6 +108,23 @@ typedef struct fv_sss_sample {
  *  area-weighted, the footprint's edges the sum of theirs over 2^s. The GPU's copy is render/sss/sss_build.comp. */
 bool fv_sss_texel_resolve(const fv_sss_sample *sub, uint32_t count, uint32_t sub_levels, fv_sss_sample *out);
 
+/** A nominal texel left at its fine samples (fv_sss_texel_resolve false) as the GPU's quad-tree build makes its node
+ *  (render/sss/sss_build.comp): area and flux summed, position and normal area-weighted (the normal not normalised),
+ *  its reach (the radius around its centroid that holds every fine footprint's half-diagonal, built level by level
+ *  as the GPU's) and the widest half-diagonal among its fine footprints. Both sums (the GPU's exact mode and the
+ *  reference) and the hierarchy walk its fine samples only where the receiver's near field reaches it
+ *  (fv_sss_cluster_near) and beyond take it as one disk of its area (fv_sss_near_cluster, fv_dipole_kernel). */
+typedef struct fv_sss_cluster {
+    double pos[3], flux[3], n[3];
+    double area;   /* m^2; 0: no fine sample */
+    double reach;  /* m */
+    double widest; /* m */
+} fv_sss_cluster;
+
+/** The cluster of the count = 4^s fine samples `sub` of one nominal texel, in row-major order (k = 2^s per side:
+ *  sample q at (q % k, q / k)); empty ones (area 0) left out. False (and *out zero) when none is present. */
+bool fv_sss_texel_cluster(const fv_sss_sample *sub, uint32_t count, uint32_t sub_levels, fv_sss_cluster *out);
+
 /* ---- the receiver's near field (issue 28 item 5) -------------------------------------------------------------
  * Near a receiver the surface is taken as its tangent plane: each sample's footprint is carried along the light
  * onto that plane (the texel columns cut it into footprints that tile it exactly, and the flux of each column is
@@ -159,5 +176,13 @@ void fv_sss_receiver_make(const double x[3], const double n[3], const double w[3
  *  render/include/fv_sss_gather.glsl's fv_sss_near_footprint. */
 double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const double a[3], const double b[3],
                              const double n_s[3], double out_c[3], double out_a[3], double out_b[3]);
+
+/** Whether the receiver's near field reaches the cluster, the hierarchy's test (render/include/fv_sss_gather.glsl):
+ *  |c - x| - reach < max(flat radius, FV_SSS_FLAT_FOOTPRINTS x widest). */
+bool fv_sss_cluster_near(const fv_sss_receiver *r, const fv_sss_cluster *c);
+
+/** The cluster's centroid carried as fv_sss_near_footprint carries a footprint whose half-diagonal is the cluster's
+ *  widest (the GPU's fv_sss_near_footprint with the node's edge_b.w), for the disk of its area. Returns beta. */
+double fv_sss_near_cluster(const fv_sss_receiver *r, const fv_sss_cluster *c, double out_c[3]);
 
 #endif

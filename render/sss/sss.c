@@ -58,13 +58,20 @@ static uint32_t log2u(uint32_t v)
     return l;
 }
 
-/* The loop iterations of the exact sum over a size x size map (nominal texels): it walks them 16 at a time (an
- * outer loop) and llvmpipe keeps the 16 a loop too, so every texel is one (fv_sss_gather.glsl); a texel left at
- * its fine samples adds 16 more (and the footprint quadrature near a receiver its own), which is not known here. */
+/* The loop iterations of the exact sum over a size x size map (nominal texels), but for the near field: one loop
+ * (fv_sss_gather.glsl), one iteration per texel. A texel left at its fine samples is one disk of its area beyond the
+ * receiver's near field; within it its 16 fine samples add 16, and the footprint quadrature near the receiver its
+ * own (20 a footprint within 4 half-diagonals), which the plan cannot count (how much of the near field grazes the
+ * light). */
+/* The near field's share, held free under the limit: its texels left at their fine samples (footprints stretched at
+ * most 1/FV_SSS_MIN_COS = 10x, so a cluster's reach is a couple of texels and the near field a few texels plus the
+ * material's flat radius: tens of grazing texels, 16 iterations each) and the quadrature of the footprints within 4
+ * half-diagonals of the receiver (20 each): a few thousand at most; this leaves about 4x room. */
+#define FV_SSS_NEAR_ITERATIONS 16384u
+
 static uint64_t exact_iterations(uint32_t size)
 {
-    uint64_t n = (uint64_t)size * size;
-    return n + n / 16u;
+    return (uint64_t)size * size;
 }
 
 static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
@@ -104,10 +111,11 @@ static void sss_plan(const fv_plan_context *ctx, fv_plan_entry *out)
         snprintf(cut, sizeof cut, "cut, levels %u..%u (%u x %u), distance scale %.3g/m", start % 16u, limit % 16u,
                  1u << (limit % 16u), 1u << (limit % 16u), (double)q->distance_scale);
     uint32_t loop_limit = ctx->device ? ctx->device->shader_loop_limit : 0u;
-    /* Under the limit by the texels alone, the sum still takes 16 more iterations per texel left at its fine samples
-     * (and the footprint quadrature's near each receiver): a surface that grazes the light over much of its map (the
-     * marble bunny at 128 px) passes the limit; how much grazes is not known here. */
-    if (q->mode == FV_SSS_MODE_EXACT && loop_limit && fv_sss_sub_levels(size))
+    /* Under the limit by the texels, the near field still adds its fine samples and quadrature: a map that leaves
+     * less than FV_SSS_NEAR_ITERATIONS under the limit says so (128 px: 16384 + 16384 fit; from 256 px the texels
+     * alone pass it: cut short). */
+    if (q->mode == FV_SSS_MODE_EXACT && loop_limit && fv_sss_sub_levels(size) &&
+        exact_iterations(size) + FV_SSS_NEAR_ITERATIONS > loop_limit)
         snprintf(cut, sizeof cut, "exact: every sample; llvmpipe may stop short where the light grazes");
     if (q->mode == FV_SSS_MODE_EXACT && loop_limit && exact_iterations(size) > loop_limit) {
         snprintf(cut, sizeof cut, "exact: CUT SHORT here (the device's loop limit)");

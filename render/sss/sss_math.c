@@ -265,8 +265,9 @@ void fv_sss_receiver_make(const double x[3], const double n[3], const double w[3
     out->facing = smooth01(FV_SSS_FLAT_COS_LO, FV_SSS_FLAT_COS_HI, cos_x);
 }
 
-double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const double a[3], const double b[3],
-                             const double n_s[3], double out_c[3], double out_a[3], double out_b[3])
+/* The carry of fv_sss_near_footprint for a footprint (or a cluster: a = b = 0) of half-diagonal half_diag. */
+static double near_carry(const fv_sss_receiver *r, const double c[3], const double a[3], const double b[3],
+                         const double n_s[3], double half_diag, double out_c[3], double out_a[3], double out_b[3])
 {
     memcpy(out_c, c, 3 * sizeof *c);
     memcpy(out_a, a, 3 * sizeof *a);
@@ -274,8 +275,6 @@ double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const 
     if (!(r->facing > 0.0) || !(r->wn < 0.0)) return 0.0;
     dv3 off = d3(c[0] - r->x[0], c[1] - r->x[1], c[2] - r->x[2]), av = d3(a[0], a[1], a[2]), bv = d3(b[0], b[1], b[2]);
     double dist = sqrt(d3_dot(off, off));
-    double half_diag = 0.5 * sqrt(fmax(d3_dot(d3_add(av, bv), d3_add(av, bv)),
-                                       d3_dot(d3_add(av, d3_scale(bv, -1.0)), d3_add(av, d3_scale(bv, -1.0)))));
     if (!isfinite(dist) || !isfinite(half_diag)) return 0.0; /* a broken footprint stays as it came */
     double d1 = fmax(r->flat_m, FV_SSS_FLAT_FOOTPRINTS * half_diag);
     if (!(dist < 2.0 * d1)) return 0.0;
@@ -293,6 +292,86 @@ double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const 
         out_b[k] = b[k] + beta * tb * r->w[k];
     }
     return beta;
+}
+
+static double half_diagonal(const double a[3], const double b[3])
+{
+    dv3 av = d3(a[0], a[1], a[2]), bv = d3(b[0], b[1], b[2]), diff = d3_add(av, d3_scale(bv, -1.0));
+    return 0.5 * sqrt(fmax(d3_dot(d3_add(av, bv), d3_add(av, bv)), d3_dot(diff, diff)));
+}
+
+double fv_sss_near_footprint(const fv_sss_receiver *r, const double c[3], const double a[3], const double b[3],
+                             const double n_s[3], double out_c[3], double out_a[3], double out_b[3])
+{
+    return near_carry(r, c, a, b, n_s, half_diagonal(a, b), out_c, out_a, out_b);
+}
+
+double fv_sss_near_cluster(const fv_sss_receiver *r, const fv_sss_cluster *c, double out_c[3])
+{
+    const double zero[3] = {0.0, 0.0, 0.0};
+    double za[3], zb[3];
+    return near_carry(r, c->pos, zero, zero, c->n, c->widest, out_c, za, zb);
+}
+
+bool fv_sss_cluster_near(const fv_sss_receiver *r, const fv_sss_cluster *c)
+{
+    dv3 off = d3(c->pos[0] - r->x[0], c->pos[1] - r->x[1], c->pos[2] - r->x[2]);
+    return sqrt(d3_dot(off, off)) - c->reach < fmax(r->flat_m, FV_SSS_FLAT_FOOTPRINTS * c->widest);
+}
+
+bool fv_sss_texel_cluster(const fv_sss_sample *sub, uint32_t count, uint32_t sub_levels, fv_sss_cluster *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!sub || sub_levels > FV_SSS_SUB_LEVELS || count != 1u << (2 * sub_levels)) return false;
+    /* level by level from the fine samples, 2 x 2 children per node, as sss_build.comp (its Morton children are
+     * these 2 x 2 blocks) */
+    fv_sss_cluster node[1u << (2 * FV_SSS_SUB_LEVELS)];
+    uint32_t k = 1u << sub_levels;
+    for (uint32_t q = 0; q < count; q++) {
+        fv_sss_cluster *o = &node[q];
+        memset(o, 0, sizeof *o);
+        if (!(sub[q].area > 0.0)) continue;
+        o->area = sub[q].area;
+        memcpy(o->pos, sub[q].pos, sizeof o->pos);
+        memcpy(o->flux, sub[q].flux, sizeof o->flux);
+        memcpy(o->n, sub[q].n, sizeof o->n);
+        o->reach = o->widest = half_diagonal(sub[q].a, sub[q].b);
+    }
+    for (; k > 1; k /= 2) {
+        uint32_t h = k / 2;
+        for (uint32_t j = 0; j < h; j++)
+            for (uint32_t i = 0; i < h; i++) {
+                const fv_sss_cluster *ch[4] = {&node[2 * j * k + 2 * i], &node[2 * j * k + 2 * i + 1],
+                                               &node[(2 * j + 1) * k + 2 * i], &node[(2 * j + 1) * k + 2 * i + 1]};
+                fv_sss_cluster o;
+                memset(&o, 0, sizeof o);
+                for (int c = 0; c < 4; c++) {
+                    double a = ch[c]->area;
+                    if (!(a > 0.0)) continue;
+                    o.area += a;
+                    for (int e = 0; e < 3; e++) {
+                        o.pos[e] += a * ch[c]->pos[e];
+                        o.flux[e] += ch[c]->flux[e];
+                        o.n[e] += a * ch[c]->n[e];
+                    }
+                }
+                if (o.area > 0.0) {
+                    for (int e = 0; e < 3; e++) {
+                        o.pos[e] /= o.area;
+                        o.n[e] /= o.area;
+                    }
+                    for (int c = 0; c < 4; c++) {
+                        if (!(ch[c]->area > 0.0)) continue;
+                        dv3 off = d3(ch[c]->pos[0] - o.pos[0], ch[c]->pos[1] - o.pos[1], ch[c]->pos[2] - o.pos[2]);
+                        o.reach = fmax(o.reach, sqrt(d3_dot(off, off)) + ch[c]->reach);
+                        o.widest = fmax(o.widest, ch[c]->widest);
+                    }
+                }
+                node[j * h + i] = o; /* row-major at the coarser level: written behind what is still read */
+            }
+    }
+    *out = node[0];
+    return out->area > 0.0 && isfinite(out->area);
 }
 
 uint32_t fv_sss_sub_levels(uint32_t size)

@@ -27,9 +27,11 @@
 #define EXACT_MEAN_REL_MAX 0.01
 /* The hierarchy refined to the nominal leaves (limit = log2 of sss.map_size, distance scale 0) sums every resolved
  * texel and, within the receiver's near field, every fine sample of the texels where the light grazes; beyond the
- * near field such a texel is one disk of its area (fv_sss_gather.glsl: 16x cheaper). Measured 5.7e-4 (before the
- * fine map: exactly the leaves, float summation order only, below 1e-4). */
-#define LEAF_MEAN_REL_MAX 1e-3
+ * near field such a texel is one disk of its area (fv_sss_gather.glsl: 16x cheaper), and so does exact mode; what
+ * is left is the hierarchy's 2 x 2 blocks of fine samples beyond their own near field, one disk each. Measured
+ * 2.6e-4 (5.7e-4 while exact summed every fine sample everywhere; before the fine map: exactly the leaves, float
+ * summation order only, below 1e-4). */
+#define LEAF_MEAN_REL_MAX 5e-4
 /* The cutoff (sss.cutoff) drops the light of samples beyond the radius R outside which CUTOFF of a point source's
  * diffuse reflectance leaves: CUTOFF of a uniformly lit plane's subsurface light. A sphere's cap within chord R
  * has the plane's area pi R^2 (Archimedes), and the sphere is lit on one side only, so it loses no more
