@@ -106,12 +106,13 @@ layout(set = FV_RECON_SET, binding = FV_RECON_BINDING_REPS, rgba32ui) uniform ui
 layout(std430, set = FV_RECON_SET, binding = FV_RECON_BINDING_LISTS) buffer Lists { uint lists[]; };
 
 uint list_base(uint l) { return l * (FV_RECON_LIST_HEADER + pc.list_pixels); }
-// Append pixel p to list l (its count, then the packed pixels).
-void list_append(uint l, ivec3 p)
+// Pixel p as entry i of list l (its count, then the packed pixels); past the capacity, nothing.
+void list_store(uint l, uint i, ivec3 p)
 {
-    uint i = atomicAdd(lists[list_base(l)], 1u);
     if (i < pc.list_pixels) lists[list_base(l) + FV_RECON_LIST_HEADER + i] = FV_GPU_PIXEL_PACK(uint(p.x), uint(p.y), uint(p.z));
 }
+// Append pixel p to list l.
+void list_append(uint l, ivec3 p) { list_store(l, atomicAdd(lists[list_base(l)], 1u), p); }
 // This invocation's entry of list l (a dispatch of FV_RECON_GROUP^2 per workgroup, FV_GPU_LIST_GROUPS_X wide), or
 // false past its end.
 bool list_entry(uint l, out ivec3 p)
@@ -120,8 +121,7 @@ bool list_entry(uint l, out ivec3 p)
              gl_LocalInvocationIndex;
     p = ivec3(0);
     if (i >= min(lists[list_base(l)], pc.list_pixels)) return false;
-    uint v = lists[list_base(l) + FV_RECON_LIST_HEADER + i];
-    p = ivec3(int(v & 0x7fffu), int((v >> 15) & 0x7fffu), int(v >> 30));
+    p = ivec3(fv_pixel_unpack(lists[list_base(l) + FV_RECON_LIST_HEADER + i]));
     return true;
 }
 
@@ -185,10 +185,7 @@ void soft_reps(ivec3 b, ivec2 size)
         bool known = (wv[kb / 32] & (1u << uint(kb % 32))) != 0u;
         ivec3 q = ivec3(o + l, b.z);
         if (!known) {
-            if (at < pc.list_pixels)
-                lists[list_base(FV_RECON_LIST_FILL) + FV_RECON_LIST_HEADER + at] =
-                    FV_GPU_PIXEL_PACK(uint(q.x), uint(q.y), uint(q.z));
-            at++;
+            list_store(FV_RECON_LIST_FILL, at++, q);
         } else if ((pc.flags & FV_RECON_FLAG_VORONOI) != 0u) {
             imageStore(voronoi_img, q, uvec4(uint(q.x) | (uint(q.y) << 16)));
         }
