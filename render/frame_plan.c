@@ -84,6 +84,13 @@ static int maker_of(const fv_pass *const *t, uint32_t n, const char *name)
     return -1;
 }
 
+bool fv_frame_plan_reads_from(const fv_pass *const *t, uint32_t reader, uint32_t maker)
+{
+    for (const char *const *m = t[maker]->makes; m && *m; m++)
+        if (listed(t[reader]->needs, *m) || listed(t[reader]->uses_if_made, *m)) return true;
+    return false;
+}
+
 /* Append "<label> a, b (maker), ..." to the entry's io line. */
 static void io_add(fv_plan_entry *e, size_t *at, const char *label, const char *const *names, const fv_pass *const *t,
                    uint32_t n)

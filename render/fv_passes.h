@@ -19,4 +19,8 @@ void fv_frame_plan_build_table(const fv_pass *const *table, uint32_t count, cons
 FV_MUST_CHECK fv_result fv_frame_plan_check(const fv_pass *const *table, uint32_t count, const fv_frame_plan *plan,
                                             char *err, size_t err_size);
 
+/** Whether table entry `reader` needs or uses-if-made an image that entry `maker` makes: a reader keeps views of
+ *  those images, so it starts again whenever the maker starts, stops or starts again with another variant. */
+bool fv_frame_plan_reads_from(const fv_pass *const *table, uint32_t reader, uint32_t maker);
+
 #endif

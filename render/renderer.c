@@ -64,21 +64,24 @@ fv_result fv_renderer_plan_apply(fv_renderer *r, const fv_quality *quality)
                  FV_VK_TIMER_MAX_PASSES);
         return FV_ERR_RANGE;
     }
-    /* Passes write descriptor sets shared with frames in flight when they start or stop: wait for the GPU first. */
-    bool change = false;
+    /* Which passes start, stop or start again (another variant). A pass that reads another's images keeps views of
+     * them: it starts again with its maker (e.g. a debug view of foveation's images when the fovea block changes). */
+    bool change = false, restart[FV_MAX_PASSES] = {false};
     for (uint32_t i = 0; i < r->pass_count; i++) {
-        bool want = plan.entries[i].enabled && r->table[i]->init;
-        change = change || (want != (r->pass_state[i] != NULL)) ||
-                 (want && r->pass_state[i] && r->pass_variant[i] != plan.entries[i].variant);
+        bool want = plan.entries[i].enabled && r->table[i]->init, had = r->pass_state[i] != NULL;
+        restart[i] = want != had || (want && r->pass_variant[i] != plan.entries[i].variant);
+        for (uint32_t j = 0; j < i && want && had && !restart[i]; j++)
+            restart[i] = restart[j] && fv_frame_plan_reads_from(r->table, i, j);
+        change = change || restart[i];
     }
+    /* Passes write descriptor sets shared with frames in flight when they start or stop: wait for the GPU first. */
     if (change) {
         FV_TRY(fv_renderer_finish(r));
         VkResult vr = vkDeviceWaitIdle(r->vk->device);
         if (vr < 0) return fv_vk_fail(vr, "vkDeviceWaitIdle", __FILE__, __LINE__);
     }
     for (uint32_t i = 0; i < r->pass_count; i++) {
-        bool keep = plan.entries[i].enabled && r->table[i]->init && r->pass_variant[i] == plan.entries[i].variant;
-        if (r->pass_state[i] && !keep) fini_pass(r, i);
+        if (r->pass_state[i] && restart[i]) fini_pass(r, i);
     }
     r->plan = plan;
     r->plan_quality = *quality;

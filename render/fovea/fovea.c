@@ -162,6 +162,11 @@ static void recon_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 
 /* ---- "fovea": the sampling map ---------------------------------------------------------------------------------- */
 
+/* The map's variants, made on first use: bit 0 with the G-buffer's reads (fovea.comp USE_GBUFFER), bit 1 with p
+ * stored (WRITE_PROB). */
+#define MAP_VARIANTS 4u
+static const uint32_t MAP_SPEC[MAP_VARIANTS][2] = {{0u, 0u}, {1u, 0u}, {0u, 1u}, {1u, 1u}};
+
 typedef struct fovea {
     fv_vk *vk;
     uint32_t width, height, block;
@@ -171,7 +176,9 @@ typedef struct fovea {
     fv_vk_buffer ranks;
     VkSampler nearest; /* the G-buffer's reads (saliency, DoF) */
     struct fv_fovea_push pc;
-    uint32_t variant; /* of the last recorded frame: 1 reads the G-buffer (saliency, DoF with a pupil) */
+    uint32_t variant; /* of the last recorded frame: bit 0 reads the G-buffer (saliency, DoF with a pupil), bit 1
+                       * stores p ("fovea prob") */
+    bool variant_failed[MAP_VARIANTS];
 } fovea;
 
 static void fovea_fini(void *state)
@@ -187,9 +194,6 @@ static void fovea_fini(void *state)
     if (fv->blocks != FV_IMAGE_MAX) fv_images_release(fv->images, fv->blocks);
     free(fv);
 }
-
-/* The map's variants: without (0) and with (1) the G-buffer's reads (fovea.comp USE_GBUFFER). */
-static const uint32_t FOVEA_SPEC[2] = {0u, 1u};
 
 static fv_result fovea_init(const fv_pass_env *env, void **out_state)
 {
@@ -247,8 +251,7 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
                              .shared_sets = shared, .shared_set_count = 1, .bindings = b,
                              .binding_count = FV_FOVEA_BINDING_COUNT, .set_count = 1,
-                             .push_bytes = sizeof(struct fv_fovea_push), .spec = FOVEA_SPEC, .spec_count = 1,
-                             .variant_count = 2};
+                             .push_bytes = sizeof(struct fv_fovea_push), .lazy = true};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &fv->cs);
     if (res == FV_OK) {
         VkDescriptorSet set = fv->cs.sets[0];
@@ -285,7 +288,22 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     bool dof = q->dof && isfinite(pupil) && pupil > 0.0f && pupil <= FV_GPU_PUPIL_MAX_MM;
     uint32_t flags = (q->uncertainty ? FV_FOVEA_FLAG_UNCERTAINTY : 0u) | (dof ? FV_FOVEA_FLAG_DOF : 0u) |
                      (q->saliency > 0.0f ? FV_FOVEA_FLAG_SALIENCY : 0u);
-    uint32_t variant = flags & (FV_FOVEA_FLAG_DOF | FV_FOVEA_FLAG_SALIENCY) ? 1u : 0u;
+    /* p is stored only for its readers: the views of foveation and the overlay's foveal boundary */
+    fv_debug_view view = f->input->quality.debug_view;
+    bool prob = f->input->quality.overlay || view == FV_DEBUG_VIEW_SAMPLES || view == FV_DEBUG_VIEW_PROB ||
+                view == FV_DEBUG_VIEW_VORONOI;
+    uint32_t variant = (flags & (FV_FOVEA_FLAG_DOF | FV_FOVEA_FLAG_SALIENCY) ? 1u : 0u) | (prob ? 2u : 0u);
+    if (!fv->cs.pipelines[variant] && !fv->variant_failed[variant]) {
+        char name[48];
+        snprintf(name, sizeof name, "fovea (variant %u)", variant);
+        if (FV_FAILED(fv_vk_compute_pipeline(fv->vk, fv_spv_fovea_comp, sizeof fv_spv_fovea_comp, fv->cs.layout,
+                                             MAP_SPEC[variant], 2, name, &fv->cs.pipelines[variant]))) {
+            FV_ERROR(MOD, "%s: the pipeline could not be made; those frames have no sampling map", name);
+            fv->variant_failed[variant] = true;
+            fv->cs.pipelines[variant] = VK_NULL_HANDLE;
+        }
+    }
+    if (!fv->cs.pipelines[variant]) return;
     fv->pc = (struct fv_fovea_push){.block = fv->block, .flags = flags, .mar_slope = q->mar_slope,
                                     .mar_w0_deg = q->mar_w0_deg, .min_prob = q->min_prob,
                                     .block_words = block_words(fv->block), .saliency = q->saliency};
@@ -303,7 +321,7 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     fv_images_use_gbuffer(f->images, cmd, CS);
     fv_images_use(f->images, cmd, FV_IMAGE_SURFACE, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv->variant = variant;
-    fv_vk_compute_bind(&fv->cs, cmd, variant, &f->scene_set, 1, 0, &fv->pc);
+    fv_vk_compute_bind_pipeline(&fv->cs, cmd, fv->cs.pipelines[variant], &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
                   (fv->height + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP, 2);
     f->counters->dispatches++;
@@ -315,7 +333,8 @@ static uint32_t fovea_details(void *state, fv_pass_detail *out, uint32_t cap)
     fovea *fv = state;
     uint32_t n = fv_fovea_add_detail(out, 0, cap, "block_mar_slope_min_prob", 3, fv->block, fv->pc.mar_slope,
                                      fv->pc.min_prob);
-    return fv_fovea_add_detail(out, n, cap, "reads_gbuffer", 1, fv->variant, 0, 0);
+    n = fv_fovea_add_detail(out, n, cap, "reads_gbuffer", 1, fv->variant & 1u, 0, 0);
+    return fv_fovea_add_detail(out, n, cap, "stores_p", 1, fv->variant >> 1, 0, 0);
 }
 
 const fv_pass fv_fovea_pass = {

@@ -5,7 +5,7 @@
 // weighted saliency of the G-buffer (fovea_interface.h); per B x B block a sample mask from the ranks of a low-discrepancy (R2) pattern, turned by a
 // cyclic shift each frame: a pixel is sampled when its rank r has r == 0 or r + 0.5 < p n (n pixels in the block),
 // so every block holds at least one sample. One thread per pixel, no barriers; without saliency only the G-buffer's
-// depth and material are read.
+// depth and material are read. p itself is stored only in the variant that a view or the overlay reads.
 #extension GL_GOOGLE_include_directive : require
 #include "fv_gpu.h"
 #include "fv_scene_set.h"
@@ -16,6 +16,10 @@ layout(local_size_x = FV_FOVEA_GROUP, local_size_y = FV_FOVEA_GROUP, local_size_
 // FV_FOVEA_SPEC_GBUFFER: whether the G-buffer is read at all (saliency, or DoF with a pupil). Off, no texel fetch is
 // compiled in (on llvmpipe their presence alone costs ~10x the rest of the pass); the host picks the variant.
 layout(constant_id = 0) const uint USE_GBUFFER = 1u;
+// FV_FOVEA_SPEC_PROB: whether p is stored ("fovea prob": only a view and the overlay read it). A store per pixel is
+// ~0.6x a present pass on llvmpipe (a store is paid per invocation, whatever the rest), so it is compiled in only
+// where a reader runs.
+layout(constant_id = 1) const uint WRITE_PROB = 1u;
 
 FV_SCENE_SET_DECLARE
 layout(set = FV_FOVEA_SET, binding = FV_FOVEA_BINDING_PROB, r32f) uniform writeonly image2DArray prob_img;
@@ -209,7 +213,7 @@ void main()
     if (p.x >= frame.counts.y || p.y >= frame.counts.z || p.z > 1u) return;
     float prob = sampling_prob(p);
     bool s = sampled(p, prob);
-    imageStore(prob_img, ivec3(p), vec4(prob));
+    if (WRITE_PROB != 0u) imageStore(prob_img, ivec3(p), vec4(prob));
     imageStore(mask_img, ivec3(p), uvec4(s ? FV_SAMPLE_MASK_SHADED : FV_SAMPLE_MASK_UNKNOWN));
     if (s) {
         uint B = pc.block, k = (p.y % B) * B + p.x % B;

@@ -140,6 +140,7 @@ static void sampling_map_matches_cpu_and_every_block_holds_a_sample(void **state
         in.quality.fovea.block = 3 + (uint32_t)(k % 3); /* 3, 4, 5: blocks cut by the 96x80 image's edges too */
         in.quality.fovea.recon = FV_FOVEA_RECON_NEAREST; /* its Voronoi (soft, the default, makes none) */
         in.quality.fovea.voronoi = FV_FOVEA_VORONOI_JFA; /* the paper's; the block search is checked below */
+        in.quality.debug_view = FV_DEBUG_VIEW_PROB; /* p is stored for its readers only */
         assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
         bool valid = c->valid && isfinite(c->dir.x);
         for (int e = 0; e < 2; e++) {
@@ -881,6 +882,7 @@ static void saliency_and_dof_match_cpu(void **state)
                 in.quality.fovea.saliency = (float)sal_w[sw];
                 in.quality.fovea.dof = sw != 2 || k % 2 == 0;
                 if (k >= nc) in.quality.fovea.mar_slope = 0.022f;
+                in.quality.debug_view = FV_DEBUG_VIEW_PROB; /* p is stored for its readers only */
                 assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
             }
             bool valid = c->valid && isfinite(c->dir.x);
@@ -1299,20 +1301,34 @@ static void every_fill_finite_at_extremes(void **state)
 
 /* The sampling map compiles the G-buffer's reads in only where they act (fovea.comp USE_GBUFFER; on llvmpipe their
  * presence costs ~10x the rest of the pass): the variant without them runs with saliency 0 and DoF on but no pupil
- * size (or DoF off), the other with saliency or with DoF and a pupil; the pass reports which ran. */
-static double map_reads_gbuffer(float saliency, bool dof, float pupil_mm)
+ * size (or DoF off), the other with saliency or with DoF and a pupil; and it stores p ("fovea prob", WRITE_PROB: a
+ * store per pixel) only while a reader of it runs: the views of foveation or the overlay. The pass reports which
+ * variant ran. */
+static double map_variant(const char *key, float saliency, bool dof, float pupil_mm, fv_debug_view view, bool overlay)
 {
     fv_frame_input in = frame_in();
     in.quality.fovea.saliency = saliency;
     in.quality.fovea.dof = dof;
+    in.quality.debug_view = view;
+    in.quality.overlay = overlay;
     in.pupil_mm = pupil_mm;
     assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
     fv_pass_detail d[8];
     uint32_t n = fv_renderer_pass_details(g_r, "fovea", d, 8);
     for (uint32_t i = 0; i < n; i++)
-        if (strcmp(d[i].key, "reads_gbuffer") == 0) return d[i].value[0];
-    fail_msg("the fovea pass reports no reads_gbuffer");
+        if (strcmp(d[i].key, key) == 0) return d[i].value[0];
+    fail_msg("the fovea pass reports no %s", key);
     return -1;
+}
+
+static double map_reads_gbuffer(float saliency, bool dof, float pupil_mm)
+{
+    return map_variant("reads_gbuffer", saliency, dof, pupil_mm, FV_DEBUG_VIEW_NONE, false);
+}
+
+static double map_stores_p(fv_debug_view view, bool overlay, float saliency)
+{
+    return map_variant("stores_p", saliency, true, NAN, view, overlay);
 }
 
 static void map_reads_gbuffer_only_when_needed(void **state)
@@ -1327,7 +1343,42 @@ static void map_reads_gbuffer_only_when_needed(void **state)
     assert_true(map_reads_gbuffer(0.0f, false, 4.0f) == 0);
     assert_true(map_reads_gbuffer(0.0f, true, 4.0f) == 1);
     assert_true(map_reads_gbuffer(0.5f, false, NAN) == 1);
+    /* p: not stored for the image alone, nor for a view that does not show it; stored for each of its readers, with
+     * and without the G-buffer's reads; and not again once they are gone */
+    assert_true(map_stores_p(FV_DEBUG_VIEW_NONE, false, 0.0f) == 0);
+    assert_true(map_stores_p(FV_DEBUG_VIEW_NORMAL, false, 0.0f) == 0);
+    assert_true(map_stores_p(FV_DEBUG_VIEW_PROB, false, 0.0f) == 1);
+    assert_true(map_stores_p(FV_DEBUG_VIEW_SAMPLES, false, 0.5f) == 1);
+    assert_true(map_stores_p(FV_DEBUG_VIEW_VORONOI, false, 0.0f) == 1);
+    assert_true(map_stores_p(FV_DEBUG_VIEW_NONE, true, 0.0f) == 1);
+    assert_true(map_stores_p(FV_DEBUG_VIEW_NONE, false, 0.5f) == 0);
     assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    fv_scene_destroy(&s);
+}
+
+/* A pass that reads another's images keeps views of them: when foveation starts again with another block (its
+ * images made again), a view of them starts again too (it kept the destroyed images' views before: validation
+ * errors, then a crash). And p read back is this frame's map. */
+static void a_view_of_foveation_follows_a_new_block(void **state)
+{
+    (void)state;
+    FV_NEED_GPU(g_r);
+    fv_scene *s = NULL;
+    load("cornell", &s);
+    float *prob = malloc(NPIX * 4);
+    assert_non_null(prob);
+    for (uint32_t B = 3; B <= 6; B += 3)
+        for (int v = 0; v < 3; v++) {
+            fv_frame_input in = frame_in();
+            in.quality.fovea.block = B;
+            in.quality.debug_view = (fv_debug_view[]){FV_DEBUG_VIEW_PROB, FV_DEBUG_VIEW_SAMPLES, FV_DEBUG_VIEW_VORONOI}[v];
+            assert_int_equal(fv_renderer_draw(g_r, &in), FV_OK);
+            assert_int_equal(fv_renderer_read_image(g_r, "fovea prob", 0, prob, NPIX * 4, 4), FV_OK);
+            for (size_t i = 0; i < NPIX; i++)
+                if (!(prob[i] >= in.quality.fovea.min_prob && prob[i] <= 1.0f)) fail_msg("p[%zu] = %g", i, prob[i]);
+        }
+    assert_int_equal(fv_renderer_validation_messages(g_r), 0);
+    free(prob);
     fv_scene_destroy(&s);
 }
 
@@ -1346,6 +1397,7 @@ int main(void)
         cmocka_unit_test(soft_fill_flickers_less_than_nearest),
         cmocka_unit_test(every_fill_finite_at_extremes),
         cmocka_unit_test(map_reads_gbuffer_only_when_needed),
+        cmocka_unit_test(a_view_of_foveation_follows_a_new_block),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
