@@ -165,7 +165,7 @@ static void recon_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 /* The map's variants, made on first use: bit 0 with the G-buffer's reads (fovea.comp USE_GBUFFER), bit 1 with p
  * stored (WRITE_PROB). */
 #define MAP_VARIANTS 4u
-static const uint32_t MAP_SPEC[MAP_VARIANTS][2] = {{0u, 0u}, {1u, 0u}, {0u, 1u}, {1u, 1u}};
+static const uint32_t MAP_SPEC[MAP_VARIANTS * 2] = {0u, 0u, 1u, 0u, 0u, 1u, 1u, 1u};
 
 typedef struct fovea {
     fv_vk *vk;
@@ -178,7 +178,6 @@ typedef struct fovea {
     struct fv_fovea_push pc;
     uint32_t variant; /* of the last recorded frame: bit 0 reads the G-buffer (saliency, DoF with a pupil), bit 1
                        * stores p ("fovea prob") */
-    bool variant_failed[MAP_VARIANTS];
 } fovea;
 
 static void fovea_fini(void *state)
@@ -251,7 +250,8 @@ static fv_result fovea_init(const fv_pass_env *env, void **out_state)
     fv_vk_compute_desc cd = {.name = "fovea", .code = fv_spv_fovea_comp, .code_size = sizeof fv_spv_fovea_comp,
                              .shared_sets = shared, .shared_set_count = 1, .bindings = b,
                              .binding_count = FV_FOVEA_BINDING_COUNT, .set_count = 1,
-                             .push_bytes = sizeof(struct fv_fovea_push), .lazy = true};
+                             .push_bytes = sizeof(struct fv_fovea_push), .spec = MAP_SPEC, .spec_count = 2,
+                             .variant_count = MAP_VARIANTS, .lazy = true};
     if (res == FV_OK) res = fv_vk_compute_init(env->vk, &cd, &fv->cs);
     if (res == FV_OK) {
         VkDescriptorSet set = fv->cs.sets[0];
@@ -293,17 +293,8 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     bool prob = f->input->quality.overlay || view == FV_DEBUG_VIEW_SAMPLES || view == FV_DEBUG_VIEW_PROB ||
                 view == FV_DEBUG_VIEW_VORONOI;
     uint32_t variant = (flags & (FV_FOVEA_FLAG_DOF | FV_FOVEA_FLAG_SALIENCY) ? 1u : 0u) | (prob ? 2u : 0u);
-    if (!fv->cs.pipelines[variant] && !fv->variant_failed[variant]) {
-        char name[48];
-        snprintf(name, sizeof name, "fovea (variant %u)", variant);
-        if (FV_FAILED(fv_vk_compute_pipeline(fv->vk, fv_spv_fovea_comp, sizeof fv_spv_fovea_comp, fv->cs.layout,
-                                             MAP_SPEC[variant], 2, name, &fv->cs.pipelines[variant]))) {
-            FV_ERROR(MOD, "%s: the pipeline could not be made; those frames have no sampling map", name);
-            fv->variant_failed[variant] = true;
-            fv->cs.pipelines[variant] = VK_NULL_HANDLE;
-        }
-    }
-    if (!fv->cs.pipelines[variant]) return;
+    VkPipeline pipe = fv_vk_compute_lazy(fv->vk, &fv->cs, variant);
+    if (!pipe) return; /* said once */
     fv->pc = (struct fv_fovea_push){.block = fv->block, .flags = flags, .mar_slope = q->mar_slope,
                                     .mar_w0_deg = q->mar_w0_deg, .min_prob = q->min_prob,
                                     .block_words = block_words(fv->block), .saliency = q->saliency};
@@ -321,7 +312,7 @@ static void fovea_record(void *state, const fv_pass_frame *f)
     fv_images_use_gbuffer(f->images, cmd, CS);
     fv_images_use(f->images, cmd, FV_IMAGE_SURFACE, (fv_vk_image_use){VK_IMAGE_LAYOUT_GENERAL, CS, VK_ACCESS_SHADER_READ_BIT});
     fv->variant = variant;
-    fv_vk_compute_bind_pipeline(&fv->cs, cmd, fv->cs.pipelines[variant], &f->scene_set, 1, 0, &fv->pc);
+    fv_vk_compute_bind_pipeline(&fv->cs, cmd, pipe, &f->scene_set, 1, 0, &fv->pc);
     vkCmdDispatch(cmd, (fv->width + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP,
                   (fv->height + FV_FOVEA_GROUP - 1) / FV_FOVEA_GROUP, 2);
     f->counters->dispatches++;

@@ -328,9 +328,11 @@ typedef struct fv_vk_compute_desc {
     const uint32_t *spec;                     /* variant_count x spec_count uint32 values (constant ids 0..) */
     uint32_t spec_count;
     uint32_t variant_count;                   /* pipelines to build (0 = 1) */
-    bool lazy;                                /* build no pipeline: the pass makes its variants on first use
-                                               * (fv_vk_compute_pipeline with c->layout) and binds them with
-                                               * fv_vk_compute_bind_pipeline */
+    bool lazy;                                /* build no pipeline at init: with variant_count, each variant is
+                                               * made on its first fv_vk_compute_lazy (code, spec and name must
+                                               * then outlive the compute: static data); without, the pass makes
+                                               * its own (fv_vk_compute_pipeline with c->layout) and binds them
+                                               * with fv_vk_compute_bind_pipeline */
 } fv_vk_compute_desc;
 
 #define FV_VK_COMPUTE_MAX_VARIANTS 4
@@ -346,6 +348,12 @@ typedef struct fv_vk_compute {
     uint32_t set_count;
     uint32_t own_set;    /* set number of the pass's own set (= shared_set_count) */
     uint32_t push_bytes;
+    /* lazy variants (fv_vk_compute_desc.lazy with variant_count): what makes them, and those that failed */
+    const uint32_t *code;
+    size_t code_size;
+    const uint32_t *spec;
+    uint32_t spec_count, lazy_variants, lazy_failed;
+    const char *name;
 } fv_vk_compute;
 
 /** Build everything of a compute pass (c is zeroed first; fv_vk_compute_fini is safe after a failure). */
@@ -355,6 +363,9 @@ void fv_vk_compute_fini(fv_vk *vk, fv_vk_compute *c);
  *  `push` (push_bytes of it; NULL = none). */
 void fv_vk_compute_bind(const fv_vk_compute *c, VkCommandBuffer cmd, uint32_t variant, const VkDescriptorSet *shared,
                         uint32_t shared_count, uint32_t set_index, const void *push);
+/** A lazy compute's variant, made on its first use (in the command buffer's recording thread, before the bind);
+ *  VK_NULL_HANDLE when it cannot be made (said once per variant) or `variant` is out of range. */
+VkPipeline fv_vk_compute_lazy(fv_vk *vk, fv_vk_compute *c, uint32_t variant);
 /** The same with a pipeline the pass made itself (a lazy variant, compatible with c->layout). */
 void fv_vk_compute_bind_pipeline(const fv_vk_compute *c, VkCommandBuffer cmd, VkPipeline pipeline,
                                  const VkDescriptorSet *shared, uint32_t shared_count, uint32_t set_index,

@@ -49,6 +49,10 @@ fv_result fv_vk_compute_init(fv_vk *vk, const fv_vk_compute_desc *d, fv_vk_compu
     if (res == FV_OK)
         res = fv_vk_pipeline_layout(vk, layouts, d->shared_set_count + 1, d->push_bytes, VK_SHADER_STAGE_COMPUTE_BIT,
                                     label, &c->layout);
+    if (d->lazy && d->variant_count) {
+        c->code = d->code, c->code_size = d->code_size, c->spec = d->spec, c->spec_count = d->spec_count;
+        c->lazy_variants = variants, c->name = name;
+    }
     for (uint32_t v = 0; res == FV_OK && !d->lazy && v < variants; v++) {
         snprintf(label, sizeof label, variants > 1 ? "%s (variant %u)" : "%s", name, v);
         res = fv_vk_compute_pipeline(vk, d->code, d->code_size, c->layout, d->spec ? d->spec + v * d->spec_count : NULL,
@@ -93,6 +97,22 @@ void fv_vk_compute_fini(fv_vk *vk, fv_vk_compute *c)
     if (c->layout) vkDestroyPipelineLayout(vk->device, c->layout, NULL);
     if (c->set_layout) vkDestroyDescriptorSetLayout(vk->device, c->set_layout, NULL);
     memset(c, 0, sizeof *c);
+}
+
+VkPipeline fv_vk_compute_lazy(fv_vk *vk, fv_vk_compute *c, uint32_t variant)
+{
+    if (!vk || !c || variant >= c->lazy_variants) return VK_NULL_HANDLE;
+    if (!c->pipelines[variant] && !(c->lazy_failed & (1u << variant))) {
+        char label[96];
+        snprintf(label, sizeof label, "%s (variant %u)", c->name, variant);
+        if (fv_vk_compute_pipeline(vk, c->code, c->code_size, c->layout, c->spec ? c->spec + variant * c->spec_count : NULL,
+                                   c->spec_count, label, &c->pipelines[variant]) != FV_OK) {
+            FV_ERROR(MOD, "%s: the pipeline could not be made; the pass skips the frames that need it", label);
+            c->lazy_failed |= 1u << variant;
+            c->pipelines[variant] = VK_NULL_HANDLE;
+        }
+    }
+    return c->pipelines[variant];
 }
 
 void fv_vk_compute_bind(const fv_vk_compute *c, VkCommandBuffer cmd, uint32_t variant, const VkDescriptorSet *shared,
