@@ -28,6 +28,11 @@ void fv_renderer_frame_constants(fv_renderer *r, const fv_frame_input *in, fv_gp
         fr->eye_pos[e] = (fv_gpu_vec4){p.x, p.y, p.z, 1.0f};
         const fv_eye_view *v = &in->eye[e];
         fr->eye_tan[e] = (fv_gpu_vec4){v->tan_left, v->tan_right, v->tan_up, v->tan_down};
+        double step = fmin(fabs((double)v->tan_right - v->tan_left) / r->desc.eye_width,
+                           fabs((double)v->tan_down - v->tan_up) / r->desc.eye_height);
+        float angle = (float)(2.0 * atan(0.5 * step));
+        if (e == 0) fr->pixel_angle.x = isfinite(angle) ? angle : 0.0f;
+        else fr->pixel_angle.y = isfinite(angle) ? angle : 0.0f;
         /* Gaze: a valid, finite, non-zero direction is normalised; anything else is "no gaze" (straight ahead). */
         const fv_eye_gaze *g = &in->gaze[e];
         fv_vec3 d = fv_v3(0, 0, 0);

@@ -142,8 +142,7 @@ float sampling_prob(uvec3 p)
     if (isnan(u)) u = 3.14159265;
     float e = atan(length(cross(r, d)), dot(r, d)); // exact near 0, unlike acos(dot)
     float ep = max(0.0, e - u);
-    vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / size;
-    float w_px = 2.0 * atan(0.5 * min(dt.x, dt.y)) * RAD_TO_DEG;
+    float w_px = frame.pixel_angle[p.z] * RAD_TO_DEG;
     float w_min = max(pc.mar_w0_deg, w_px);
     float w_far = (float(FV_FOVEA_FAR_PX) - 1.0) * w_px;
     float w = pc.mar_slope * ep * RAD_TO_DEG + pc.mar_w0_deg;

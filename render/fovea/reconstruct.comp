@@ -282,9 +282,7 @@ void soft_fill(ivec3 p, ivec2 size)
     bool hit = gs.hit;
     vec3 pos = gs.pos;
     vec3 nrm = hit ? gs.normal : vec3(0.0);
-    vec4 te = frame.eye_tan[p.z];
-    vec2 dt = abs(vec2(te.y - te.x, te.w - te.z)) / vec2(size);
-    float foot = length(pos - frame.eye_pos[p.z].xyz) * 2.0 * atan(0.5 * min(dt.x, dt.y)); // m per px
+    float foot = length(pos - frame.eye_pos[p.z].xyz) * frame.pixel_angle[p.z]; // m per px
     // (t / (foot d PLANE))^2 = t^2 kplane / d^2: no root or division per tap but one
     float kplane = 1.0 / max(foot * foot * float(FV_RECON_SOFT_PLANE * FV_RECON_SOFT_PLANE), 1e-30);
     float cap = -log(float(FV_RECON_SOFT_EDGE_FLOOR));

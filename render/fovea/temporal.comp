@@ -79,9 +79,7 @@ void main()
         ok = ok && !any(isnan(f)) && !any(isinf(f)) && all(greaterThan(f, vec2(-1.0))) &&
              all(lessThan(f, vec2(size)));
         // the slope allowance: how much the distance varies over one pixel on this surface, as seen from the eye
-        vec4 t = frame.eye_tan[p.z];
-        vec2 dt = abs(vec2(t.y - t.x, t.w - t.z)) / vec2(size);
-        float w_px = 2.0 * atan(0.5 * min(dt.x, dt.y));
+        float w_px = frame.pixel_angle[p.z];
         vec3 to_eye = eye - pos;
         float cos_t = surf ? abs(dot(gs.normal, normalize(to_eye))) : 1.0;
         float tan_t = min(sqrt(max(0.0, 1.0 - cos_t * cos_t)) / max(cos_t, 1e-6), float(FV_TEMPORAL_SLOPE_TAN_MAX));

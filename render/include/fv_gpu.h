@@ -42,6 +42,8 @@ struct fv_gpu_frame {
     FV_UVEC4 photon;           /* x low, y high 32 bits of the photon time (host clock ns, 0 = unknown); z debug
                                 * view (FV_GPU_DEBUG_VIEW_*); w 0 */
     FV_VEC4 quality;           /* x exposure (linear scale before tonemapping); y, z, w 0 */
+    FV_VEC4 pixel_angle;       /* x, y: eye 0's and eye 1's centre pixel as an angle, 2 atan(dt / 2) radians, dt the
+                                * smaller of its tangent steps (the display's finest angle: foveation's w_px); z, w 0 */
 };
 
 /** The largest pupil diameter passed on as known (mm); larger values are not a pupil (gaze_info.y = 0). */
@@ -139,7 +141,7 @@ typedef struct fv_gpu_frame fv_gpu_frame;
 typedef struct fv_gpu_draw fv_gpu_draw;
 typedef struct fv_gpu_material fv_gpu_material;
 typedef struct fv_gpu_light fv_gpu_light;
-_Static_assert(sizeof(fv_gpu_frame) == 6 * 64 + 4 * 16 + 9 * 16, "fv_gpu_frame layout");
+_Static_assert(sizeof(fv_gpu_frame) == 6 * 64 + 4 * 16 + 10 * 16, "fv_gpu_frame layout");
 _Static_assert(sizeof(fv_gpu_draw) == 3 * 64 + 16, "fv_gpu_draw layout");
 _Static_assert(sizeof(fv_gpu_material) == 80, "fv_gpu_material layout");
 _Static_assert(sizeof(fv_gpu_light) == 64, "fv_gpu_light layout");
