@@ -37,15 +37,25 @@ static void say(fv_plan_entry *e, bool enabled, const char *fmt, ...)
 static void motion_plan(const fv_plan_context *ctx, fv_plan_entry *out)
 {
     const fv_scene *s = ctx->scene;
+    /* Drawn by the G-buffer where something reads them: foveation's surface target, or the motion target kept for
+     * read-back (fv_renderer_desc.motion_target). */
+    bool fovea = ctx->quality->fovea.enabled;
+    if (!fovea && !ctx->motion_target) {
+        say(out, false, "off — nothing reads motion vectors (fovea.enabled is false)");
+        return;
+    }
+    const char *where = fovea && ctx->motion_target ? "G-buffer: foveation's surface and the motion target"
+                        : fovea                     ? "G-buffer: foveation's surface target"
+                                                    : "G-buffer: the motion target";
     uint32_t animated = 0;
     for (uint32_t i = 0; s && i < s->node_count; i++)
         if (s->nodes[i].anim.kind != FV_ANIM_NONE) animated++;
     if (s && !fv_scene_is_animated(s)) animated = 0;
     if (animated)
-        say(out, true, "%u animated node%s: motion vectors from previous-frame transforms (G-buffer)", animated,
-            plural(animated));
+        say(out, true, "%u animated node%s: motion vectors from previous-frame transforms (%s)", animated,
+            plural(animated), where);
     else
-        say(out, true, "static scene: motion vectors from head motion only (G-buffer)");
+        say(out, true, "static scene: motion vectors from head motion only (%s)", where);
 }
 
 

@@ -30,6 +30,8 @@ typedef struct fv_renderer_desc {
                                      * renderer); NULL = the built-in table (render/frame_plan.c). Tests add a pass
                                      * of their own this way: its folder and one line of a table */
     uint32_t pass_count;            /* entries of pass_table, at most FV_MAX_PASSES */
+    bool motion_target;             /* draw the G-buffer's motion vectors for fv_renderer_read_motion (no pass reads
+                                     * them: off, the target is not drawn) */
 } fv_renderer_desc;
 
 /** Per-pass GPU time and counters of one completed frame (the passes that ran, in order). */
@@ -75,7 +77,8 @@ FV_MUST_CHECK fv_result fv_renderer_read_linear(fv_renderer *r, int eye, float *
  *  the eye width and y by the eye height for pixels); each vector is current uv - previous uv, i.e. where the
  *  surface at this pixel is now minus where it was in the previously drawn frame (previous view/projection and
  *  previous object transforms). Zero where nothing was drawn, and everywhere in the first frame after a scene load.
- *  Stored as half floats (RG16F) and widened here. out_rg must hold W * H * 2 floats. Waits for the GPU. */
+ *  Stored as half floats (RG16F) and widened here. out_rg must hold W * H * 2 floats. Waits for the GPU. Only a
+ *  renderer made with fv_renderer_desc.motion_target draws them (FV_ERR_STATE otherwise, said in one line). */
 FV_MUST_CHECK fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t out_floats);
 /** Read one eye of a pass's image of the renderer's table by its name (e.g. "fovea prob": R32F), texel_bytes per
  *  texel, rows tightly packed (waits for the GPU). FV_ERR_NOT_FOUND when no such image exists (the pass is off). */

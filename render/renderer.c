@@ -49,7 +49,8 @@ fv_result fv_renderer_plan_apply(fv_renderer *r, const fv_quality *quality)
     fv_plan_context ctx = {.scene = r->scene_loaded ? &r->plan_scene : NULL, .device = &r->vk->info,
                            .multiview = r->multiview, .multiview_why = r->multiview ? NULL : r->multiview_why,
                            .quality = quality,
-                           .target = r->target && r->target->ops ? r->target->ops->name : "headless"};
+                           .target = r->target && r->target->ops ? r->target->ops->name : "headless",
+                           .motion_target = r->desc.motion_target};
     fv_frame_plan plan;
     fv_frame_plan_build_table(r->table, r->pass_count, &ctx, &plan);
     char why[256];

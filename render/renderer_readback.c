@@ -61,6 +61,11 @@ fv_result fv_renderer_read_motion(fv_renderer *r, int eye, float *out_rg, size_t
 {
     if (!r || !out_rg || eye < 0 || eye > 1) return FV_ERR_INVALID_ARG;
     FV_TRY(need_floats(r, "read_motion", 2, out_floats));
+    if (!r->desc.motion_target) {
+        FV_ERROR(MOD, "read_motion: the G-buffer draws no motion vectors (no pass reads them); create the renderer "
+                      "with fv_renderer_desc.motion_target to keep them");
+        return FV_ERR_STATE;
+    }
     size_t n = (size_t)r->desc.eye_width * r->desc.eye_height * 2;
     uint16_t *half = malloc(n * sizeof *half);
     if (!half) return FV_ERR_NO_MEMORY;

@@ -12,7 +12,9 @@
 #include "gbuffer_vert.spv.h"
 
 #define MOD "gbuffer"
-#define TARGETS 6 /* at most: the surface target only while foveation runs (FV_GBUFFER_VARIANT_SURFACE) */
+#define TARGETS 6 /* at most: the motion target only when asked for (FV_GBUFFER_VARIANT_MOTION), the surface target
+                   * only while foveation runs (FV_GBUFFER_VARIANT_SURFACE) */
+#define MOTION 4   /* targets[]: the motion target's slot (its colour location, FV_GBUFFER_OUT_MOTION, + 1) */
 
 static const fv_image_id targets[TARGETS] = {FV_IMAGE_DEPTH, FV_IMAGE_NORMAL, FV_IMAGE_ALBEDO, FV_IMAGE_MATERIAL,
                                              FV_IMAGE_MOTION, FV_IMAGE_SURFACE};
@@ -40,7 +42,9 @@ typedef struct gbuffer {
     VkPipelineLayout layout;
     VkPipeline pipeline;
     bool masked;        /* the hidden-area mask is drawn (FV_GBUFFER_VARIANT_MASK) */
-    uint32_t n;         /* targets drawn: TARGETS with the surface target (FV_GBUFFER_VARIANT_SURFACE), else one fewer */
+    uint32_t n;         /* target slots: TARGETS with the surface target (FV_GBUFFER_VARIANT_SURFACE), else one fewer */
+    bool drawn[TARGETS]; /* per slot: the target is an attachment (else its colour location is unused) */
+    uint32_t attachments; /* the drawn ones */
     gbuffer_mask mask;
 } gbuffer;
 
@@ -57,23 +61,28 @@ static void gbuffer_plan(const fv_plan_context *ctx, fv_plan_entry *out)
     }
     out->enabled = true;
     out->variant = (gbuffer_mask_wanted(ctx->quality) ? FV_GBUFFER_VARIANT_MASK : 0u) |
-                   (ctx->quality->fovea.enabled ? FV_GBUFFER_VARIANT_SURFACE : 0u);
-    snprintf(out->reason, sizeof out->reason, "always: stereo G-buffer, %s (%llu triangle%s in %u draw%s)%s",
+                   (ctx->quality->fovea.enabled ? FV_GBUFFER_VARIANT_SURFACE : 0u) |
+                   (ctx->motion_target ? FV_GBUFFER_VARIANT_MOTION : 0u);
+    snprintf(out->reason, sizeof out->reason, "always: stereo G-buffer, %s (%llu triangle%s in %u draw%s)%s%s",
              ctx->multiview ? "both eyes in one multiview pass" : (ctx->multiview_why ? ctx->multiview_why : "one pass per eye"),
              (unsigned long long)triangles, triangles == 1 ? "" : "s", draws, draws == 1 ? "" : "s",
-             out->variant & FV_GBUFFER_VARIANT_MASK ? "; hidden-area mask of the HMD lens" : "");
+             out->variant & FV_GBUFFER_VARIANT_MASK ? "; hidden-area mask of the HMD lens" : "",
+             out->variant & FV_GBUFFER_VARIANT_MOTION ? "; motion vectors kept for read-back" : "");
 }
 
 static fv_result create_render_pass(gbuffer *gb)
 {
     fv_vk *vk = gb->vk;
     VkAttachmentDescription att[TARGETS];
-    for (uint32_t i = 0; i < gb->n; i++)
-        att[i] = fv_vk_attachment_cleared(gb->img[i]->format, i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT);
+    uint32_t index[TARGETS], na = 0; /* per slot: its attachment, or unused */
+    for (uint32_t i = 0; i < gb->n; i++) {
+        index[i] = gb->drawn[i] ? na : VK_ATTACHMENT_UNUSED;
+        if (gb->drawn[i]) att[na++] = fv_vk_attachment_cleared(gb->img[i]->format, i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT);
+    }
     VkAttachmentReference depth_ref = {0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
     VkAttachmentReference color_refs[TARGETS - 1];
     for (uint32_t i = 0; i < gb->n - 1; i++)
-        color_refs[i] = (VkAttachmentReference){i + 1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+        color_refs[i] = (VkAttachmentReference){index[i + 1], VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription sub = {
         .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
         .colorAttachmentCount = gb->n - 1,
@@ -110,7 +119,7 @@ static fv_result create_render_pass(gbuffer *gb)
     VkRenderPassCreateInfo ci = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
         .pNext = gb->multiview ? &mv : NULL,
-        .attachmentCount = gb->n,
+        .attachmentCount = na,
         .pAttachments = att,
         .subpassCount = 1,
         .pSubpasses = &sub,
@@ -123,21 +132,23 @@ static fv_result create_render_pass(gbuffer *gb)
     VkFramebufferCreateInfo fi = {
         .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
         .renderPass = gb->render_pass,
-        .attachmentCount = gb->n,
+        .attachmentCount = na,
         .width = gb->width,
         .height = gb->height,
         .layers = 1, /* multiview: the view mask selects the layers; per eye: one layer */
     };
     if (gb->multiview) {
         VkImageView views[TARGETS];
-        for (uint32_t i = 0; i < gb->n; i++) views[i] = gb->img[i]->view;
+        for (uint32_t i = 0, k = 0; i < gb->n; i++)
+            if (gb->drawn[i]) views[k++] = gb->img[i]->view;
         fi.pAttachments = views;
         FV_VK_CHECK(vkCreateFramebuffer(vk->device, &fi, NULL, &gb->framebuffer));
         FV_VK_NAME(vk, VK_OBJECT_TYPE_FRAMEBUFFER, gb->framebuffer, "gbuffer framebuffer (both eyes)");
         return FV_OK;
     }
     for (uint32_t e = 0; e < 2; e++) {
-        for (uint32_t i = 0; i < gb->n; i++) {
+        for (uint32_t i = 0, k = 0; i < gb->n; i++) {
+            if (!gb->drawn[i]) continue;
             VkImageViewCreateInfo vi = {
                 .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
                 .image = gb->img[i]->image,
@@ -145,8 +156,9 @@ static fv_result create_render_pass(gbuffer *gb)
                 .format = gb->img[i]->format,
                 .subresourceRange = {gb->img[i]->aspect, 0, 1, e, 1},
             };
-            FV_VK_CHECK(vkCreateImageView(vk->device, &vi, NULL, &gb->eye_views[e][i]));
-            FV_VK_NAME(vk, VK_OBJECT_TYPE_IMAGE_VIEW, gb->eye_views[e][i], "gbuffer attachment %d eye %u", i, e);
+            FV_VK_CHECK(vkCreateImageView(vk->device, &vi, NULL, &gb->eye_views[e][k]));
+            FV_VK_NAME(vk, VK_OBJECT_TYPE_IMAGE_VIEW, gb->eye_views[e][k], "gbuffer attachment %u eye %u", i, e);
+            k++;
         }
         fi.pAttachments = gb->eye_views[e];
         FV_VK_CHECK(vkCreateFramebuffer(vk->device, &fi, NULL, &gb->eye_framebuffer[e]));
@@ -220,7 +232,12 @@ static fv_result gbuffer_init(const fv_pass_env *env, void **out_state)
     uint32_t variant = env->plan ? env->plan->variant : 0u;
     gb->masked = (variant & FV_GBUFFER_VARIANT_MASK) != 0;
     gb->n = variant & FV_GBUFFER_VARIANT_SURFACE ? TARGETS : TARGETS - 1; /* the surface target is the last */
-    for (uint32_t i = 0; res == FV_OK && i < gb->n; i++) res = fv_images_get(env->images, targets[i], &gb->img[i]);
+    for (uint32_t i = 0; i < gb->n; i++) {
+        gb->drawn[i] = i != MOTION || (variant & FV_GBUFFER_VARIANT_MOTION);
+        gb->attachments += gb->drawn[i];
+    }
+    for (uint32_t i = 0; res == FV_OK && i < gb->n; i++)
+        if (gb->drawn[i]) res = fv_images_get(env->images, targets[i], &gb->img[i]);
     if (res == FV_OK) res = create_render_pass(gb);
     if (res == FV_OK) res = create_pipeline(gb);
     if (res == FV_OK && gb->masked)
@@ -246,7 +263,7 @@ static void record_pass(gbuffer *gb, const fv_pass_frame *f, VkFramebuffer fb, u
         .renderPass = gb->render_pass,
         .framebuffer = fb,
         .renderArea = {{0, 0}, {gb->width, gb->height}},
-        .clearValueCount = gb->n,
+        .clearValueCount = gb->attachments,
         .pClearValues = clears,
     };
     vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
@@ -276,7 +293,8 @@ static void gbuffer_record(void *state, const fv_pass_frame *f)
     gbuffer *gb = state;
     /* Earlier users of the targets that the render pass's own dependency does not wait for get a barrier first. */
     for (uint32_t i = 0; i < gb->n; i++)
-        fv_images_render_pass(f->images, f->cmd, targets[i], READER_STAGES,
+        if (gb->drawn[i])
+            fv_images_render_pass(f->images, f->cmd, targets[i], READER_STAGES,
                               (fv_vk_image_use){i == 0 ? DEPTH_LAYOUT : COLOR_LAYOUT, ATTACH_STAGES,
                                                 i == 0 ? VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT
                                                        : VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT},

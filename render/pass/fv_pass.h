@@ -24,6 +24,7 @@ typedef struct fv_plan_context {
     const char *multiview_why;         /* when !multiview: why not (one line), else NULL */
     const fv_quality *quality;         /* never NULL */
     const char *target;                /* what the frame is shown on ("headless", "window"); NULL = headless */
+    bool motion_target;                /* the G-buffer keeps its motion vectors for read-back (fv_renderer_desc) */
 } fv_plan_context;
 
 /** What init gets: everything a pass may keep pointers to until fini. */

@@ -8,9 +8,12 @@
 
 #include "fv_test.h"
 
-int fv_gpu_test_setup(uint32_t w, uint32_t h, fv_renderer **r)
+int fv_gpu_test_setup(uint32_t w, uint32_t h, fv_renderer **r) { return fv_gpu_test_setup_with(w, h, false, r); }
+
+int fv_gpu_test_setup_with(uint32_t w, uint32_t h, bool motion, fv_renderer **r)
 {
-    fv_renderer_desc d = {.eye_width = w, .eye_height = h, .validation = 1, .frames_in_flight = 2};
+    fv_renderer_desc d = {.eye_width = w, .eye_height = h, .validation = 1, .frames_in_flight = 2,
+                          .motion_target = motion};
     fv_result res = fv_renderer_create(&d, r);
     if (res == FV_OK) return 0;
     *r = NULL;

@@ -11,6 +11,8 @@
 /** cmocka group setup: create *r at w x h per eye with validation on. 0 on success or skip (*r NULL), -1 on
  *  failure (no device under CI=true). */
 int fv_gpu_test_setup(uint32_t w, uint32_t h, fv_renderer **r);
+/** The same, with the G-buffer's motion vectors drawn for read-back when `motion` (fv_renderer_desc.motion_target). */
+int fv_gpu_test_setup_with(uint32_t w, uint32_t h, bool motion, fv_renderer **r);
 /** cmocka group teardown: destroy *r; -1 if the validation layer said anything. */
 int fv_gpu_test_teardown(fv_renderer **r);
 
@@ -30,13 +32,16 @@ fv_frame_input fv_gpu_test_frame_input(fv_renderer *r, uint64_t *frame, const fv
 void fv_gpu_test_draw_sbs(fv_renderer *r, const fv_frame_input *in, uint32_t w, uint32_t h, float *out_sbs);
 
 /** Define `static fv_renderer *g_r` and the cmocka group `setup` / `teardown` that create it at w x h per eye with
- *  validation on and destroy it (failing on any validation message). */
-#define FV_GPU_TEST_GROUP(w, h)                                                                                        \
+ *  validation on and destroy it (failing on any validation message). FV_GPU_TEST_GROUP_MOTION: a renderer that
+ *  draws the G-buffer's motion vectors for fv_renderer_read_motion (fv_renderer_desc.motion_target). */
+#define FV_GPU_TEST_GROUP(w, h) FV_GPU_TEST_GROUP_WITH(w, h, false)
+#define FV_GPU_TEST_GROUP_MOTION(w, h) FV_GPU_TEST_GROUP_WITH(w, h, true)
+#define FV_GPU_TEST_GROUP_WITH(w, h, motion)                                                                           \
     static fv_renderer *g_r;                                                                                           \
     static int setup(void **state)                                                                                     \
     {                                                                                                                  \
         (void)state;                                                                                                   \
-        return fv_gpu_test_setup((w), (h), &g_r);                                                                      \
+        return fv_gpu_test_setup_with((w), (h), (motion), &g_r);                                                       \
     }                                                                                                                  \
     static int teardown(void **state)                                                                                  \
     {                                                                                                                  \

@@ -24,7 +24,7 @@
 #define P_TOL 1e-4
 #define NONE 0xffffffffu
 
-FV_GPU_TEST_GROUP(W, H)
+FV_GPU_TEST_GROUP_MOTION(W, H) /* the tests read the motion vectors back */
 static uint64_t g_frame_id = 1;
 
 /* p in double: e between the pixel ray and the gaze (invalid: straight ahead, widened 15 deg), e' = max(0, e - u),

@@ -48,7 +48,7 @@
 #define LOOSE_REL 1e-3
 #define LOOSE_LEVELS 2
 
-FV_GPU_TEST_GROUP(W, H)
+FV_GPU_TEST_GROUP_MOTION(W, H) /* the tests read the motion vectors back */
 
 /* ---- files ----------------------------------------------------------------------------------------------------- */
 

@@ -20,7 +20,7 @@
 #define TOL_PX 0.05      /* moving surfaces: |gpu - cpu| per component, pixels */
 #define ZERO_TOL_PX 1e-3 /* static surfaces and empty pixels */
 
-FV_GPU_TEST_GROUP(W, H)
+FV_GPU_TEST_GROUP_MOTION(W, H) /* the tests read the motion vectors back */
 
 #define NEED_GPU() FV_NEED_GPU(g_r)
 
@@ -482,10 +482,42 @@ static void read_motion_refuses_bad_calls(void **state)
     assert_int_equal(fv_renderer_validation_messages(g_r), 0);
 }
 
+/* No pass reads the motion vectors (foveation's surface target holds its own): a renderer made without
+ * fv_renderer_desc.motion_target draws no motion target (the G-buffer's plan says which), and read_motion says so
+ * instead of returning an image nobody drew; with it (g_r), the plan says they are kept. */
+static void motion_vectors_are_drawn_only_when_asked_for(void **state)
+{
+    (void)state;
+    NEED_GPU();
+    fv_renderer *r = NULL;
+    assert_int_equal(fv_gpu_test_setup(16, 16, &r), 0);
+    assert_non_null(r);
+    const quad qs[1] = {{.centre_m = {0, 0, -1.0}, .half_m = 0.15, .emissive = {1, 0, 0}}};
+    fv_scene *s = build_scene(qs, 1);
+    assert_int_equal(fv_renderer_load_scene(r, s), FV_OK);
+    assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
+    fv_frame_input in = frame_at(NULL, 1, 0.0);
+    assert_int_equal(fv_renderer_draw(r, &in), FV_OK);
+    const fv_plan_entry *without = fv_frame_plan_find(fv_renderer_plan(r), "gbuffer");
+    const fv_plan_entry *with = fv_frame_plan_find(fv_renderer_plan(g_r), "gbuffer");
+    assert_non_null(without);
+    assert_non_null(with);
+    assert_null(strstr(without->reason, "motion vectors kept"));
+    assert_non_null(strstr(with->reason, "motion vectors kept"));
+    float mv[16 * 16 * 2];
+    fv_test_log_capture_begin();
+    assert_int_equal(fv_renderer_read_motion(r, 0, mv, 16 * 16 * 2), FV_ERR_STATE);
+    fv_test_log_capture_end();
+    fv_assert_log_contains("draws no motion vectors");
+    assert_int_equal(fv_gpu_test_teardown(&r), 0);
+    fv_scene_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(static_scene_and_head_give_zero_motion_in_both_eyes),
+        cmocka_unit_test(motion_vectors_are_drawn_only_when_asked_for),
         cmocka_unit_test(bobbing_object_moves_by_its_projected_displacement),
         cmocka_unit_test(head_motion_reprojects_static_planes_at_their_depths),
         cmocka_unit_test(head_and_object_motion_combine_over_consecutive_frames),
