@@ -369,6 +369,9 @@ static void stats_report_per_pass_gpu_time_and_memory(void **state)
     s->nodes[s->node_count - 1].anim.kind = FV_ANIM_ROTATE;
     s->nodes[s->node_count - 1].anim.axis = fv_v3(0, 1, 0);
     s->nodes[s->node_count - 1].anim.rate_rad_s = 1.0f;
+    /* motion vectors are drawn where something reads them: foveation (on by default) */
+    fv_quality q = fv_quality_default();
+    assert_int_equal(fv_renderer_set_quality(g_r, &q), FV_OK);
     assert_int_equal(fv_renderer_load_scene(g_r, s), FV_OK);
     const fv_plan_entry *motion = fv_frame_plan_find(fv_renderer_plan(g_r), "motion");
     assert_non_null(motion);
