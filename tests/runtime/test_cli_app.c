@@ -3,7 +3,8 @@
  *   `fovea devices` and followed by `fovea run --gaze`; paths that are no plug-ins are skipped with one line each (tests/xr/test_xr_gaze.c: the same plug-in in an OpenXR app);
  * - `fovea run --gaze pupil:` with no Pupil Capture fails before any rendering work, naming the source;
  * - a progress line (frames completed and submitted, GPU ms so far, time left) for long runs, `reference` and
- *   `bench` (FOVEA_PROGRESS=0 shows it at once, as a terminal would after 2 s);
+ *   `bench`, its baselines (the exact preset, the CPU reference) included (FOVEA_PROGRESS=0 shows it at once, as a
+ *   terminal would after 2 s);
  * - a --gaze run on a software device starts at the interactive size with the budget on, saying so in one line, and
  *   not when the size is given;
  * - --head trace with a recording whose head pose is all zero, or never changes, says so;
@@ -104,6 +105,16 @@ static void long_work_shows_progress_with_gpu_time_and_time_left(void **state)
     assert_int_equal(bench.exit_code, 0);
     assert_contains(bench.err, "fovea bench: 2/2 points done, GPU ");
     assert_contains(bench.err, "point 2/2 shadow.splits=2");
+    /* the baselines a bench renders before its points (often most of its time) are on the line too */
+    static fv_test_cmd base;
+    snprintf(args, sizeof args, "bench --sweep shadow.splits=1,2 --frames 3 --eye-size 16x16 --out '%s'",
+             fv_test_tmp("bench_base"));
+    run_env(&base, "FOVEA_PROGRESS=0", args);
+    print_message("%s", base.err);
+    assert_int_equal(base.exit_code, 0);
+    assert_contains(base.err, "fovea bench: 0/2 points done, 0.0 s, time left known after the first point; the exact "
+                              "preset (the baseline)");
+    assert_contains(base.err, "; the CPU reference");
     /* not a terminal and not asked for: no progress */
     static fv_test_cmd q;
     run_env(&q, NULL, "run --frames 2 --eye-size 16x16");

@@ -22,11 +22,12 @@ struct fv_progress {
     int64_t total, submitted, completed;
     double gpu_ms;
     int64_t t_start_ns;
+    int64_t t_phase_ns, phase_completed; /* where the current phase began: the time left is estimated from there */
     size_t width; /* the longest line printed (to clear it) */
 };
 
 void fv_progress_format(char *out, size_t cap, const char *what, const char *unit, int64_t total, int64_t submitted,
-                        int64_t completed, double gpu_ms, double elapsed_s, const char *detail)
+                        int64_t completed, double gpu_ms, double elapsed_s, double left_s, const char *detail)
 {
     size_t n = 0;
 #define ADD(...) (n += (size_t)snprintf(out + (n < cap ? n : cap), n < cap ? cap - n : 0, __VA_ARGS__))
@@ -38,7 +39,7 @@ void fv_progress_format(char *out, size_t cap, const char *what, const char *uni
     if (gpu_ms >= 0) ADD(", GPU %.0f ms so far", gpu_ms);
     ADD(", %.1f s", elapsed_s);
     if (total > 0 && completed >= total) ADD(", finishing");
-    else if (total > 0 && completed > 0) ADD(", about %.0f s left", elapsed_s / (double)completed * (double)(total - completed));
+    else if (total > 0 && left_s >= 0) ADD(", about %.0f s left", left_s);
     else if (total > 0) ADD(", time left known after the first %s", unit);
     if (detail && detail[0]) ADD("; %s", detail);
 #undef ADD
@@ -47,8 +48,12 @@ void fv_progress_format(char *out, size_t cap, const char *what, const char *uni
 static void print_line(fv_progress *p)
 {
     char line[400];
-    double s = (double)(fv_time_monotonic_ns() - p->t_start_ns) / 1e9;
-    fv_progress_format(line, sizeof line, p->what, p->unit, p->total, p->submitted, p->completed, p->gpu_ms, s,
+    int64_t now = fv_time_monotonic_ns();
+    double s = (double)(now - p->t_start_ns) / 1e9, left = -1.0;
+    int64_t done_in_phase = p->completed - p->phase_completed;
+    if (p->total > 0 && done_in_phase > 0)
+        left = (double)(now - p->t_phase_ns) / 1e9 / (double)done_in_phase * (double)(p->total - p->completed);
+    fv_progress_format(line, sizeof line, p->what, p->unit, p->total, p->submitted, p->completed, p->gpu_ms, s, left,
                        p->detail);
     size_t len = strlen(line);
     if (p->tty) {
@@ -107,7 +112,7 @@ fv_progress *fv_progress_start(const char *what, const char *unit, int64_t total
     p->total = total;
     snprintf(p->what, sizeof p->what, "%s", what);
     snprintf(p->unit, sizeof p->unit, "%s", unit);
-    p->t_start_ns = fv_time_monotonic_ns();
+    p->t_start_ns = p->t_phase_ns = fv_time_monotonic_ns();
     pthread_mutex_init(&p->lock, NULL);
     pthread_condattr_t ca;
     pthread_condattr_init(&ca);
@@ -146,6 +151,17 @@ void fv_progress_detail(fv_progress *p, const char *detail)
     if (!p) return;
     pthread_mutex_lock(&p->lock);
     snprintf(p->detail, sizeof p->detail, "%s", detail ? detail : "");
+    pthread_mutex_unlock(&p->lock);
+}
+
+void fv_progress_phase(fv_progress *p, const char *detail)
+{
+    if (!p) return;
+    pthread_mutex_lock(&p->lock);
+    snprintf(p->detail, sizeof p->detail, "%s", detail ? detail : "");
+    p->t_phase_ns = fv_time_monotonic_ns();
+    p->phase_completed = p->completed;
+    if (!p->tty && (double)(p->t_phase_ns - p->t_start_ns) / 1e9 >= p->after_s) print_line(p);
     pthread_mutex_unlock(&p->lock);
 }
 

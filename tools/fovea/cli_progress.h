@@ -24,11 +24,16 @@ void fv_progress_update(fv_progress *p, int64_t submitted, int64_t completed, do
 void fv_progress_set_total(fv_progress *p, int64_t total);
 /** A short text after the counts ("point 3/12 shadow.resolution=1024"; NULL: none). Any thread; copied. */
 void fv_progress_detail(fv_progress *p, const char *detail);
+/** A new phase of the work (`detail` as fv_progress_detail): the time left is estimated from the items completed
+ *  since it began, so a slow first phase (a baseline, a compile) does not inflate the estimate of the next; when the
+ *  lines stay (not a terminal) and the line is due, the phase's line is printed at once. Any thread. */
+void fv_progress_phase(fv_progress *p, const char *detail);
 /** Stop the thread and clear the line (at a terminal). Sets *p to NULL; safe on NULL. */
 void fv_progress_stop(fv_progress **p);
 
 /** The line itself (no "\r" or newline): pure, for the thread and the tests. */
+/** left_s: the time left estimated by the caller (< 0: not known yet). */
 void fv_progress_format(char *out, size_t cap, const char *what, const char *unit, int64_t total, int64_t submitted,
-                        int64_t completed, double gpu_ms, double elapsed_s, const char *detail);
+                        int64_t completed, double gpu_ms, double elapsed_s, double left_s, const char *detail);
 
 #endif

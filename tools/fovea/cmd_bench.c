@@ -302,10 +302,20 @@ static fv_result bench_point(bench_state *st, const fv_quality *q, fv_bench_poin
     return res;
 }
 
-/* The CPU reference of frame 0's views, both eyes side by side, into img; *out_s: its wall time. */
+/* The CPU reference's tiles, as the progress line's detail. */
+static void reference_tiles(void *user, uint64_t done, uint64_t total)
+{
+    char line[96];
+    snprintf(line, sizeof line, "the CPU reference: %llu/%llu tiles", (unsigned long long)done,
+             (unsigned long long)total);
+    fv_progress_detail(user, line);
+}
+
+/* The CPU reference of frame 0's views, both eyes side by side, into img; *out_s: its wall time; prog: the progress
+ * line (NULL: none). */
 static fv_result render_reference(const bench_opts *o, const fv_scene *scene, const fv_frame_input *views,
                                   const fv_quality *exact, fv_rgb_image *img, double *out_s, uint32_t *out_spp,
-                                  uint32_t *out_bounces)
+                                  uint32_t *out_bounces, fv_progress *prog)
 {
     uint32_t w = o->run.eye_w, h = o->run.eye_h;
     /* model: the same model as the points' exact counterpart (its GI and SSS settings, its lens mask), so that the
@@ -321,12 +331,12 @@ static fv_result render_reference(const bench_opts *o, const fv_scene *scene, co
     *out_bounces = d.bounces;
     float *eyes = malloc((size_t)w * h * 3 * 2 * sizeof *eyes);
     if (!eyes) return FV_ERR_NO_MEMORY;
-    if (isatty(STDERR_FILENO)) fprintf(stderr, "\rfovea bench: CPU reference (%s)...", fv_reference_mode_name(d.mode));
+    fv_progress_phase(prog, "the CPU reference");
+    if (prog) d.progress = reference_tiles, d.progress_user = prog;
     int64_t t0 = fv_time_monotonic_ns();
     d.cancelled = fv_cli_interrupted;
     fv_result res = fv_reference_render(scene, in, &d, eyes, eyes + (size_t)w * h * 3, NULL);
     *out_s = (double)(fv_time_monotonic_ns() - t0) / 1e9;
-    if (isatty(STDERR_FILENO)) fprintf(stderr, "\r%*s\r", 60, "");
     for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++) /* the pixels the GPU's lens mask never shades */
         fv_tool_image_mask_linear(in, eye, eyes + (size_t)eye * w * h * 3, w, h);
     for (int eye = 0; eye < 2 && !FV_FAILED(res); eye++)
@@ -337,15 +347,18 @@ static fv_result render_reference(const bench_opts *o, const fv_scene *scene, co
     return res;
 }
 
-static void progress(bench_state *st, size_t i, size_t n, const fv_bench_plan *plan, const fv_bench_point *p)
+/* first: the points' phase begins (the time left is estimated from the points alone) */
+static void progress(bench_state *st, size_t i, size_t n, const fv_bench_plan *plan, const fv_bench_point *p,
+                     bool first)
 {
     char line[512];
     int len = snprintf(line, sizeof line, "point %zu/%zu", i + 1, n);
     for (size_t s = 0; s < plan->sweep_count && len > 0 && (size_t)len < sizeof line; s++)
         len += snprintf(line + len, sizeof line - (size_t)len, " %s=%s", plan->sweeps[s].name,
                         plan->sweeps[s].values[p->value_index[s]]);
-    fv_progress_detail(st->prog, line);
     fv_progress_update(st->prog, -1, (int64_t)i, st->gpu_ms);
+    if (first) fv_progress_phase(st->prog, line);
+    else fv_progress_detail(st->prog, line);
 }
 
 /* ---- output -------------------------------------------------------------------------------------------------- */
@@ -569,6 +582,9 @@ int fv_cmd_bench(int argc, char **argv)
     res.exact.preset = o.baseline_count ? "baseline" : "exact";
     res.has_exact = !o.no_exact;
     res.exact.frame = (fv_bench_ms){NAN, NAN};
+    /* the line covers the baselines too: the exact preset and the CPU reference are often most of the time */
+    st.prog = fv_progress_start("fovea bench", "point", (int64_t)n);
+    if (res.has_exact) fv_progress_phase(st.prog, "the exact preset (the baseline)");
     fv_result er = res.has_exact ? bench_point(&st, &exact, &res.exact, &exact_img) : FV_OK;
     if (er == FV_ERR_CANCELLED) goto interrupted_early;
     if (FV_FAILED(er)) {
@@ -578,7 +594,7 @@ int fv_cmd_bench(int argc, char **argv)
     if (res.has_reference) {
         if (FV_FAILED(fv_rgb_image_init(&ref_img, 2 * w, h, FV_IMAGE_KIND_LINEAR))) goto done;
         fv_result rr = render_reference(&o, scene, &st.views, &exact, &ref_img, &res.reference_s, &res.reference_spp,
-                                        &res.reference_bounces);
+                                        &res.reference_bounces, st.prog);
         if (rr == FV_ERR_CANCELLED) goto interrupted_early;
         if (FV_FAILED(rr)) {
             fprintf(stderr, "fovea bench: the CPU reference failed: %s\n", fv_result_str(rr));
@@ -589,7 +605,6 @@ int fv_cmd_bench(int argc, char **argv)
     if (res.has_exact && res.has_reference &&
         FV_FAILED(fv_metrics_compare(&exact_img, &ref_img, &md, &res.exact.vs_reference)))
         goto done;
-    st.prog = fv_progress_start("fovea bench", "point", (int64_t)n);
     for (size_t i = 0; i < n; i++) {
         fv_bench_point *p = &points[i];
         fv_bench_point_values(&o.plan, i, p->value_index);
@@ -599,7 +614,7 @@ int fv_cmd_bench(int argc, char **argv)
         }
         p->quality.distort.lens = o.lens;
         p->is_preset = fv_quality_equal(&p->quality, &o.base);
-        progress(&st, i, n, &o.plan, p);
+        progress(&st, i, n, &o.plan, p, i == 0);
         fv_result pr = bench_point(&st, &p->quality, p, &img);
         if (pr == FV_ERR_CANCELLED) { /* Ctrl-C: report the points done */
             res.point_count = i;
@@ -648,7 +663,7 @@ int fv_cmd_bench(int argc, char **argv)
     exit_code = res.point_count < n ? FV_EXIT_INTERRUPTED : FV_EXIT_OK;
     goto done;
 interrupted_early:
-    if (st.tty) fprintf(stderr, "\r%*s\r", 110, "");
+    fv_progress_stop(&st.prog); /* clears the line at a terminal */
     fprintf(stderr, "fovea bench: interrupted (Ctrl-C) before the first of %zu points; no report written\n", n);
     exit_code = FV_EXIT_INTERRUPTED;
 done:
