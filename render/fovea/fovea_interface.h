@@ -153,7 +153,9 @@ struct fv_compact_push {
  * the facing slots at least FV_RECON_SOFT_SIGMA times their spacing, half a block; the edge weight
  * g = exp(-(t / (d foot FV_RECON_SOFT_PLANE))^2 - (1 - n.n') / FV_RECON_SOFT_NORMAL), t the pixel's distance from
  * the tap's tangent plane, foot the pixel's footprint (its distance from the eye times the angle of a pixel), n, n'
- * the normals (G-buffer guided); drawn against nothing drawn: g = 0, both nothing: 1. At an edge (a facing slot's
+ * the normals (G-buffer guided); drawn against nothing drawn, or a tap of another material than the pixel's (the
+ * G-buffer's material id: an emissive light on a wall is the wall's plane, not its colour): g = 0, both nothing: 1.
+ * At an edge (a facing slot's
  * -log g over FV_RECON_SOFT_EDGE_SPLIT) the pixel takes every distinct slot of the four blocks instead (at most
  * 16 taps, sigma the sample spacing's; SOFT_EDGE): the same surface is found where the facing slots miss it. No weight at all
  * (underflow): the nearest tap's colour. Reads the colour only at known pixels and writes it only at unknown ones. */
@@ -174,7 +176,8 @@ struct fv_compact_push {
 #define FV_RECON_SOFT_SLOTS 4
 #define FV_RECON_SOFT_REP_UVEC4S 8 /* per block, per slot: (colour rgb as bits, x | y << 16 | FV_RECON_SOFT_NOTHING
                                     * where nothing was drawn; FV_RECON_NONE: no slot), (oct normal as 2x16 snorm,
-                                    * n . world position as bits, the block's sigma as bits, 0) */
+                                    * n . world position as bits, the block's sigma as bits, the slot's material id
+                                    * as the G-buffer's) */
 #define FV_RECON_SOFT_NOTHING 0x80000000u
 #define FV_RECON_SOFT_SIGMA 0.5
 #define FV_RECON_SOFT_SIGMA_MIN 0.5

@@ -206,7 +206,8 @@ void soft_reps(ivec3 b, ivec2 size)
         uint packed = uint(q.x) | (uint(q.y) << 16) | (hit ? 0u : FV_RECON_SOFT_NOTHING);
         imageStore(reps_img, rep_at(b.xy, b.z, 2u * uint(s)), uvec4(floatBitsToUint(c), packed));
         imageStore(reps_img, rep_at(b.xy, b.z, 2u * uint(s) + 1u),
-                   uvec4(packSnorm2x16(oct), floatBitsToUint(dot(nrm, pos)), floatBitsToUint(sigma), 0u));
+                   uvec4(packSnorm2x16(oct), floatBitsToUint(dot(nrm, pos)), floatBitsToUint(sigma),
+                         texelFetch(g_material, q, 0).r));
     }
 }
 
@@ -220,8 +221,8 @@ float soft_d2(uvec4 qa, ivec3 p)
 
 // -log of the edge weight of pixel p (drawn: hit, at pos with normal nrm) against a slot (qa, qb), capped; the
 // nearest slot so far (ties: the smaller packed position) updated.
-float soft_tap(uvec4 qa, uvec4 qb, ivec3 p, bool hit, vec3 pos, vec3 nrm, float kplane, float cap, inout uint best,
-               inout uint bd, inout vec3 best_col)
+float soft_tap(uvec4 qa, uvec4 qb, ivec3 p, bool hit, uint mat, vec3 pos, vec3 nrm, float kplane, float cap,
+               inout uint best, inout uint bd, inout vec3 best_col)
 {
     uint packed = qa.w & ~FV_RECON_SOFT_NOTHING;
     bool qhit = (qa.w & FV_RECON_SOFT_NOTHING) == 0u;
@@ -229,7 +230,7 @@ float soft_tap(uvec4 qa, uvec4 qb, ivec3 p, bool hit, vec3 pos, vec3 nrm, float 
     uint d2 = uint(fd2);
     if (d2 < bd || (d2 == bd && packed < best)) best = packed, bd = d2, best_col = uintBitsToFloat(qa.xyz);
     float e2;
-    if (hit != qhit) {
+    if (hit != qhit || (hit && qb.w != mat)) { // drawn against nothing, or another material
         e2 = cap;
     } else if (!hit) {
         e2 = 0.0;
@@ -282,6 +283,7 @@ void soft_fill(ivec3 p, ivec2 size)
     bool hit = gs.hit;
     vec3 pos = gs.pos;
     vec3 nrm = hit ? gs.normal : vec3(0.0);
+    uint mat = texelFetch(g_material, p, 0).r;
     float foot = length(pos - frame.eye_pos[p.z].xyz) * frame.pixel_angle[p.z]; // m per px
     // (t / (foot d PLANE))^2 = t^2 kplane / d^2: no root or division per tap but one
     float kplane = 1.0 / max(foot * foot * float(FV_RECON_SOFT_PLANE * FV_RECON_SOFT_PLANE), 1e-30);
@@ -294,7 +296,7 @@ void soft_fill(ivec3 p, ivec2 size)
     if (!EDGE) {
         for (int k = 0; k < 4; k++) {
             if (!(tent[k] > 0.0)) continue;
-            float e2 = soft_tap(ta[k], tb[k], p, hit, pos, nrm, kplane, cap, best, bd, best_col);
+            float e2 = soft_tap(ta[k], tb[k], p, hit, mat, pos, nrm, kplane, cap, best, bd, best_col);
             emax = max(emax, e2);
             float wt = tent[k] * exp(-soft_d2(ta[k], p) * inv2s2 - e2);
             sum += wt * uintBitsToFloat(ta[k].xyz);
@@ -319,7 +321,7 @@ void soft_fill(ivec3 p, ivec2 size)
                 for (uint r = 0u; r < s; r++) dup = dup || seen[r] == qa.w;
                 if (dup) continue;
                 uvec4 qb = imageLoad(reps_img, rep_at(bb, p.z, 2u * s + 1u));
-                float e2 = soft_tap(qa, qb, p, hit, pos, nrm, kplane, cap, best, bd, best_col);
+                float e2 = soft_tap(qa, qb, p, hit, mat, pos, nrm, kplane, cap, best, bd, best_col);
                 float wt = tent[k] * exp(-soft_d2(qa, p) * inv2s2 - e2);
                 sum += wt * uintBitsToFloat(qa.xyz);
                 wsum += wt;
