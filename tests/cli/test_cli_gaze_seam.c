@@ -67,19 +67,27 @@ static void red_peak(const unsigned char *px, int w, int h, int eye, double *cx,
     cpu_pixel(eye, fv_v3((float)sum[0], (float)sum[1], (float)sum[2]), cx, cy);
 }
 
-/* Column `name` of every data row of a frame log, as numbers; returns the count. */
-static int log_column(const char *text, const char *name, double *out, int cap)
+/* The index of column `name` in a frame log's header; *nl: the header's end. */
+static int log_col(const char *text, const char *name, const char **nl)
 {
-    const char *nl = strchr(text, '\n');
-    if (!nl) fail_msg("frame log has no header");
+    *nl = strchr(text, '\n');
+    if (!*nl) fail_msg("frame log has no header");
     int col = -1, k = 0;
-    for (const char *p = text; p < nl; k++) {
+    for (const char *p = text; p < *nl; k++) {
         size_t n = strcspn(p, ",\n");
         if (n == strlen(name) && !strncmp(p, name, n)) col = k;
         p += n + (p[n] == ',' ? 1 : 0);
         if (p[-1] != ',') break;
     }
     if (col < 0) fail_msg("frame log has no column %s", name);
+    return col;
+}
+
+/* Column `name` of every data row of a frame log, as numbers; returns the count. */
+static int log_column(const char *text, const char *name, double *out, int cap)
+{
+    const char *nl;
+    int col = log_col(text, name, &nl);
     int rows = 0;
     for (const char *line = nl + 1; *line && rows < cap; rows++) {
         const char *p = line;
@@ -94,16 +102,8 @@ static int log_column(const char *text, const char *name, double *out, int cap)
 /* Whether row `row` of a frame log has `value` in column `name` (a text column, e.g. gaze_event). */
 static bool log_cell_is(const char *text, const char *name, int row, const char *value)
 {
-    const char *nl = strchr(text, '\n');
-    if (!nl) fail_msg("frame log has no header");
-    int col = -1, k = 0;
-    for (const char *p = text; p < nl; k++) {
-        size_t n = strcspn(p, ",\n");
-        if (n == strlen(name) && !strncmp(p, name, n)) col = k;
-        p += n + (p[n] == ',' ? 1 : 0);
-        if (p[-1] != ',') break;
-    }
-    if (col < 0) fail_msg("frame log has no column %s", name);
+    const char *nl;
+    int col = log_col(text, name, &nl);
     const char *line = nl + 1;
     for (int r = 0; r < row && *line; r++) {
         line += strcspn(line, "\n");
